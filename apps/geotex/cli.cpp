@@ -1,0 +1,82 @@
+#include "cli.h"
+
+#include <cstdio>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "geotex/error.h"
+
+namespace geotex::cli {
+
+GlobalOptions& globals() {
+  static GlobalOptions g;
+  return g;
+}
+std::vector<Command>& commands() {
+  static std::vector<Command> c;
+  return c;
+}
+std::vector<DemoStep>& demo_steps() {
+  static std::vector<DemoStep> s;
+  return s;
+}
+
+void info(const std::string& line) {
+  if (!globals().quiet) std::fprintf(stderr, "%s\n", line.c_str());
+}
+
+Mesh load_mesh(const std::string& path, ReadReport* report, bool strict) {
+  ReadReport rep;
+  ReadOptions opt;
+  opt.strict = strict;
+  Mesh mesh = read_mesh(path, opt, &rep);
+  for (const auto& w : rep.warnings) info(fmt::format("geotex: warning: {}: {}", path, w));
+  if (report) *report = rep;
+  return mesh;
+}
+
+void save_mesh(const Mesh& mesh, const std::string& path, bool binary) {
+  WriteOptions opt;
+  opt.binary = binary;
+  write_mesh(mesh, path, opt);
+  info(fmt::format("wrote {} ({} vertices, {} faces)", path, mesh.n_vertices(), mesh.n_faces()));
+}
+
+void check_output(const std::string& input, const std::string& output) {
+  std::error_code ec;
+  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
+    info(fmt::format("geotex: note: {} is both input and output; it is replaced only once the result is complete", output));
+}
+
+ProgressFn progress_printer(const std::string& label) {
+  if (globals().quiet) return {};
+  const bool tty = ::isatty(STDERR_FILENO);
+  auto last = std::make_shared<int>(-1);
+  return [label, tty, last](double fraction, std::string_view stage) {
+    const int pct = static_cast<int>(fraction * 100 + 0.5);
+    if (tty) {
+      std::fprintf(stderr, "\r%s: %.*s %3d%%%s", label.c_str(), int(stage.size()), stage.data(), pct,
+                   pct >= 100 ? "\n" : "");
+    } else if (pct / 10 != *last / 10 || pct == 100) {
+      if (pct != *last) std::fprintf(stderr, "%s: %.*s %d%%\n", label.c_str(), int(stage.size()), stage.data(), pct);
+    }
+    *last = pct;
+  };
+}
+
+const CLI::Validator ExistingMeshFile(
+    [](std::string& path) -> std::string {
+      std::error_code ec;
+      if (!std::filesystem::exists(path, ec)) return fmt::format("{}: no such file", path);
+      if (std::filesystem::is_directory(path, ec)) return fmt::format("{}: is a directory", path);
+      try {
+        format_from_path(path);
+      } catch (const IoError& e) {
+        return e.what();
+      }
+      return {};
+    },
+    "MESH", "ExistingMeshFile");
+
+}  // namespace geotex::cli

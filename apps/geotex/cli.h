@@ -1,0 +1,68 @@
+#pragma once
+// Shared pieces of the geotex command-line tool: subcommand and demo-step registries, reading and
+// writing with user-facing messages, progress lines.
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "geotex/error.h"
+#include "geotex/io.h"
+#include "geotex/progress.h"
+
+namespace geotex::cli {
+
+struct GlobalOptions {
+  bool quiet = false;  // no progress or warnings on stderr
+};
+GlobalOptions& globals();
+
+// A subcommand registers itself from its own file: `static Registrar r{order, "name", "help", setup};`.
+struct Command {
+  int order;
+  std::string name, help;
+  std::function<void(CLI::App&)> setup;  // adds options and a callback to the subcommand
+};
+std::vector<Command>& commands();
+struct Registrar {
+  Registrar(int order, std::string name, std::string help, std::function<void(CLI::App&)> setup) {
+    commands().push_back({order, std::move(name), std::move(help), std::move(setup)});
+  }
+};
+
+// Steps of `geotex demo`, registered by each capability's demo file the same way.
+struct DemoContext {
+  std::filesystem::path dir;  // output folder
+  nlohmann::json* report;     // each step adds its own section
+};
+struct DemoStep {
+  int order;
+  std::string name;
+  std::function<void(const DemoContext&)> run;
+};
+std::vector<DemoStep>& demo_steps();
+struct DemoRegistrar {
+  DemoRegistrar(int order, std::string name, std::function<void(const DemoContext&)> run) {
+    demo_steps().push_back({order, std::move(name), std::move(run)});
+  }
+};
+
+// Read a mesh, printing the reader's warnings (what was dropped, strips decoded, …) unless quiet.
+Mesh load_mesh(const std::string& path, ReadReport* report = nullptr, bool strict = false);
+// Write a mesh (atomically) and say where it went unless quiet.
+void save_mesh(const Mesh& mesh, const std::string& path, bool binary = true);
+// Refuse an output path that names the input, unless the user allowed it.
+void check_output(const std::string& input, const std::string& output);
+
+// A progress callback printing "stage 42%" on stderr (a carriage-return line on a terminal).
+ProgressFn progress_printer(const std::string& label);
+void info(const std::string& line);  // stderr unless quiet
+
+// Validators for CLI11.
+extern const CLI::Validator ExistingMeshFile;
+
+}  // namespace geotex::cli

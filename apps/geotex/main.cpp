@@ -1,0 +1,59 @@
+// geotex: the command-line tool. Each subcommand lives in its own file and registers itself.
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "cli.h"
+#include "geotex/error.h"
+
+int main(int argc, char** argv) {
+  using namespace geotex::cli;
+  CLI::App app{"geotex: 3D shape modeling with high-level descriptors (after V. Andersen, DTU 2011)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "geotex 0.1.0");
+  app.add_flag("-q,--quiet", globals().quiet, "no progress or warnings on stderr");
+  int threads = 0;
+  app.add_option("--threads", threads, "number of threads (default: all cores)")
+      ->check(CLI::PositiveNumber)
+      ->each([](const std::string& s) { omp_set_num_threads(std::stoi(s)); });
+
+  auto& cmds = commands();
+  std::sort(cmds.begin(), cmds.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
+  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.help));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "geotex: error: %s (see --help)\n", e.what());
+    return 2;
+  } catch (const geotex::InvalidInput& e) {
+    std::fprintf(stderr, "geotex: invalid input: %s\n", e.what());
+    return 1;
+  } catch (const geotex::IoError& e) {
+    std::fprintf(stderr, "geotex: file error: %s\n", e.what());
+    return 1;
+  } catch (const geotex::SolverError& e) {
+    std::fprintf(stderr, "geotex: solver error: %s\n", e.what());
+    return 1;
+  } catch (const geotex::Error& e) {
+    std::fprintf(stderr, "geotex: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "geotex: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "geotex: internal error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}

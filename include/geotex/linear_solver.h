@@ -1,0 +1,41 @@
+#pragma once
+//! \file linear_solver.h Sparse symmetric positive-definite solves: CHOLMOD's supernodal Cholesky
+//! when geotex was built with it, Eigen's SimplicialLDLT otherwise. The symbolic analysis is done
+//! once per sparsity pattern; factorize() may then be called again for new values.
+
+#include <memory>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace geotex {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplet = Eigen::Triplet<double>;
+
+class SpdSolver {
+ public:
+  SpdSolver();
+  ~SpdSolver();
+  SpdSolver(SpdSolver&&) noexcept;
+  SpdSolver& operator=(SpdSolver&&) noexcept;
+
+  //! Symbolic analysis (fill-reducing ordering); reusable for every matrix of the same pattern.
+  void analyze(const SparseMatrix& A);
+  //! Numeric factorization. \throw SolverError if A is not positive definite.
+  void factorize(const SparseMatrix& A);
+  //! analyze() then factorize().
+  void compute(const SparseMatrix& A) { analyze(A); factorize(A); }
+  //! \return A⁻¹ B for the last factorized A. \throw SolverError if nothing is factorized.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+  bool analyzed() const;
+
+  //! "cholmod-supernodal" or "eigen-simplicial-ldlt".
+  static const char* backend();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace geotex

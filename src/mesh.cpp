@@ -1,0 +1,115 @@
+#include "geotex/mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_set>
+
+#include <fmt/format.h>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "geotex/error.h"
+
+namespace geotex {
+
+MatrixX3d positions(const Mesh& mesh) {
+  MatrixX3d V(mesh.n_vertices(), 3);
+  for (auto v : mesh.vertices()) V.row(v.idx()) = to_eigen(mesh.point(v)).transpose();
+  return V;
+}
+
+MatrixX3i faces(const Mesh& mesh) {
+  MatrixX3i F(mesh.n_faces(), 3);
+  for (auto f : mesh.faces()) {
+    int k = 0;
+    for (auto v : f.vertices()) F(f.idx(), k++) = v.idx();
+  }
+  return F;
+}
+
+MatrixX2i edges(const Mesh& mesh) {
+  MatrixX2i E(mesh.n_edges(), 2);
+  for (auto e : mesh.edges()) {
+    E(e.idx(), 0) = e.h0().from().idx();
+    E(e.idx(), 1) = e.h0().to().idx();
+  }
+  return E;
+}
+
+void set_positions(Mesh& mesh, const MatrixX3d& V) {
+  if (static_cast<size_t>(V.rows()) != mesh.n_vertices())
+    throw InvalidInput(fmt::format("set_positions: {} rows for a mesh of {} vertices", V.rows(),
+                                   mesh.n_vertices()));
+  for (auto v : mesh.vertices()) mesh.set_point(v, to_point(V.row(v.idx()).transpose()));
+}
+
+namespace {
+// OpenMesh prints "complex edge" lines on omerr for every refused face; we count them instead.
+struct SilenceOmerr {
+  bool was_enabled = omerr().is_enabled();
+  SilenceOmerr() { omerr().disable(); }
+  ~SilenceOmerr() {
+    if (was_enabled) omerr().enable();
+  }
+};
+
+struct TriKeyHash {
+  size_t operator()(const std::array<int, 3>& k) const {
+    uint64_t h = static_cast<uint64_t>(k[0]) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<uint64_t>(k[1]) + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h ^= static_cast<uint64_t>(k[2]) + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    return static_cast<size_t>(h);
+  }
+};
+}  // namespace
+
+Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report) {
+  BuildReport rep;
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    if (!V.row(i).allFinite())
+      throw InvalidInput(fmt::format("vertex {} has a non-finite coordinate ({}, {}, {})", i,
+                                     V(i, 0), V(i, 1), V(i, 2)));
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (F(f, k) < 0 || F(f, k) >= V.rows())
+        throw InvalidInput(fmt::format("face {} refers to vertex {}, but there are {} vertices", f,
+                                       F(f, k), V.rows()));
+
+  Mesh mesh;
+  mesh.reserve(V.rows(), V.rows() + F.rows(), F.rows());
+  std::vector<Mesh::VertexHandle> vh(V.rows());
+  for (Eigen::Index i = 0; i < V.rows(); ++i) vh[i] = mesh.add_vertex(to_point(V.row(i).transpose()));
+
+  SilenceOmerr silence;
+  std::unordered_set<std::array<int, 3>, TriKeyHash> seen;
+  seen.reserve(F.rows() * 2);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    if (a == b || b == c || a == c) {
+      ++rep.degenerate_faces;
+      continue;
+    }
+    std::array<int, 3> key{a, b, c};
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) {
+      ++rep.duplicate_faces;
+      continue;
+    }
+    if (!mesh.add_face(vh[a], vh[b], vh[c]).is_valid()) ++rep.nonmanifold_faces;
+  }
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) ++rep.isolated_vertices;
+  if (report) *report = rep;
+  return mesh;
+}
+
+void require_valid(const Mesh& mesh, const char* what) {
+  if (mesh.n_faces() == 0) throw InvalidInput(fmt::format("{} has no faces", what));
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InvalidInput(fmt::format("{}: vertex {} has a non-finite coordinate", what, v.idx()));
+  }
+}
+
+}  // namespace geotex

@@ -1,0 +1,58 @@
+#include "test_util.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace geotex::test {
+
+namespace fs = std::filesystem;
+
+TempDir::TempDir() {
+  std::random_device rd;
+  path = fs::temp_directory_path() / ("geotex-test-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
+  fs::create_directories(path);
+}
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path, ec);
+}
+
+fs::path data_dir() {
+  if (const char* env = std::getenv("GEOTEX_DATA")) {
+    if (fs::is_directory(env)) return env;
+  }
+  const fs::path p = GEOTEX_DATA_DIR;
+  if (fs::is_directory(p) && fs::exists(p / "fandisk.obj")) return p;
+  return {};
+}
+
+void write_file(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+CliResult run_cli(const std::string& args) {
+  TempDir tmp;
+  const std::string out = tmp / "out.txt", err = tmp / "err.txt";
+  const std::string cmd = std::string(GEOTEX_CLI) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+}  // namespace geotex::test

@@ -1,0 +1,39 @@
+#pragma once
+// Helpers shared by the tests: temporary folders, the shared data folder, running the CLI.
+
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace geotex::test {
+
+//! A fresh temporary folder, removed at destruction.
+struct TempDir {
+  std::filesystem::path path;
+  TempDir();
+  ~TempDir();
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+//! ../shared/data, or empty when absent (tests then skip with a message).
+std::filesystem::path data_dir();
+
+#define GEOTEX_REQUIRE_DATA()                                                                  \
+  do {                                                                                         \
+    if (::geotex::test::data_dir().empty())                                                    \
+      GTEST_SKIP() << "shared test data not found (expected ../shared/data beside the repo)"; \
+  } while (0)
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+//! Run the geotex CLI with the given argument string (shell-quoted by the caller).
+CliResult run_cli(const std::string& args);
+
+//! Write bytes to a file.
+void write_file(const std::string& path, const std::string& bytes);
+std::string read_file(const std::string& path);
+
+}  // namespace geotex::test
