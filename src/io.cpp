@@ -904,4 +904,58 @@ void write_ply(const Mesh& mesh, const fs::path& path, const PlyExtras& extras, 
 
 void write_text_atomic(const fs::path& path, const std::string& text) { write_bytes_atomic(path, text); }
 
+EdgeValues read_edge_values(const fs::path& path, const std::string& property) {
+  const PlyData d = read_ply_data(path);
+  const PlyElement* e = d.find("edge");
+  if (!e) throw IoError(fmt::format("{}: no 'edge' element", path.string()));
+  for (const std::string p : {"vertex1", "vertex2"})
+    if (!e->scalars.count(p)) throw IoError(fmt::format("{}: edge element has no '{}'", path.string(), p));
+  if (!e->scalars.count(property))
+    throw IoError(fmt::format("{}: edge element has no '{}' property", path.string(), property));
+  EdgeValues out;
+  out.edges.resize(e->count, 2);
+  out.values.resize(e->count);
+  for (size_t i = 0; i < e->count; ++i) {
+    out.edges(i, 0) = static_cast<int>(e->scalars.at("vertex1")[i]);
+    out.edges(i, 1) = static_cast<int>(e->scalars.at("vertex2")[i]);
+    out.values[i] = e->scalars.at(property)[i];
+  }
+  return out;
+}
+
+void write_edge_values(const Mesh& mesh, const Eigen::VectorXd& values, const std::string& property,
+                       const fs::path& path, bool binary) {
+  if (static_cast<size_t>(values.size()) != mesh.n_edges())
+    throw InvalidInput(fmt::format("{} edge values for a mesh of {} edges", values.size(), mesh.n_edges()));
+  PlyExtras x;
+  PlyExtras::Element e{"edge", {}, {}};
+  const MatrixX2i E = edges(mesh);
+  e.int_props["vertex1"].assign(E.col(0).data(), E.col(0).data() + E.rows());
+  e.int_props["vertex2"].assign(E.col(1).data(), E.col(1).data() + E.rows());
+  e.double_props[property].assign(values.data(), values.data() + values.size());
+  x.elements.push_back(std::move(e));
+  write_ply(mesh, path, x, binary);
+}
+
+void write_polylines_obj(const MatrixX3d& V, const MatrixX2i& segments, const fs::path& path) {
+  // Only the vertices the segments use, renumbered.
+  std::vector<int> remap(V.rows(), -1);
+  std::string s = "# line segments written by geotex\n";
+  int next = 0;
+  for (Eigen::Index i = 0; i < segments.rows(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const int v = segments(i, k);
+      if (v < 0 || v >= V.rows()) throw InvalidInput("write_polylines_obj: segment index out of range");
+      if (remap[v] >= 0) continue;
+      remap[v] = next++;
+      s += "v ";
+      append_double(s, V(v, 0)); s += ' ';
+      append_double(s, V(v, 1)); s += ' ';
+      append_double(s, V(v, 2)); s += '\n';
+    }
+  for (Eigen::Index i = 0; i < segments.rows(); ++i)
+    s += fmt::format("l {} {}\n", remap[segments(i, 0)] + 1, remap[segments(i, 1)] + 1);
+  write_bytes_atomic(path, s);
+}
+
 }  // namespace geotex

@@ -99,6 +99,23 @@ struct PlyExtras {
 void write_ply(const Mesh& mesh, const std::filesystem::path& path, const PlyExtras& extras,
                bool binary = true);
 
+//! Per-edge values read from, or written to, a PLY "edge" element (vertex1, vertex2, value).
+struct EdgeValues {
+  MatrixX2i edges;        //!< #E by 2 vertex indices
+  Eigen::VectorXd values; //!< #E values of the named property
+};
+
+//! Read the "edge" element of a PLY file and its property \p property ("label", "tilt", …).
+//! \throw IoError if the file has no such element or property.
+EdgeValues read_edge_values(const std::filesystem::path& path, const std::string& property);
+
+//! Write a mesh with per-edge values (one per mesh edge, OpenMesh edge order) as PLY, atomically.
+void write_edge_values(const Mesh& mesh, const Eigen::VectorXd& values, const std::string& property,
+                       const std::filesystem::path& path, bool binary = true);
+
+//! Write line segments (e.g. labelled sharp edges) as an OBJ of `v` and `l` lines, atomically.
+void write_polylines_obj(const MatrixX3d& V, const MatrixX2i& segments, const std::filesystem::path& path);
+
 //! Write a text file atomically (temporary file + rename). \throw IoError on failure.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 
