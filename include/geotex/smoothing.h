@@ -12,7 +12,8 @@ struct SmoothingOptions {
   bool implicit = true;  //!< backward Euler (5.14), unconditionally stable; else forward Euler (5.12)
   //! Step size λ. Umbrella: dimensionless (explicit steps are stable for λ ≤ 1). Cotangent: in units
   //! of the squared mean edge length h², so the same λ smooths any scale alike (λ h² is a time of
-  //! mean-curvature flow, whose sphere radius obeys r² = r0² − 4t).
+  //! mean-curvature flow, whose sphere radius obeys r² = r0² − 4t). Explicit cotangent steps are stable
+  //! only for λ ≲ 0.05; implicit steps for any λ.
   double lambda = 1.0;
   int steps = 1;                        //!< number of steps
   MassType mass = MassType::Voronoi;    //!< cotangent only: mass matrix (Thesis = Eq. 5.11 verbatim)

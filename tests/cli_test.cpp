@@ -1,0 +1,125 @@
+// End-to-end tests of the geotex command line: help, errors, and the foundation commands.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "geotex/io.h"
+#include "geotex/metrics.h"
+#include "test_util.h"
+
+using geotex::test::run_cli;
+using geotex::test::TempDir;
+
+namespace {
+int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+}  // namespace
+
+TEST(Cli, HelpForEveryCommand) {
+  const auto top = run_cli("--help");
+  EXPECT_EQ(top.exit_code, 0);
+  for (const char* cmd : {"info", "generate", "noise", "smooth", "compare", "demo", "denoise"}) {
+    EXPECT_NE(top.out.find(cmd), std::string::npos) << cmd;
+    const auto r = run_cli(std::string(cmd) + " --help");
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
+  }
+}
+
+TEST(Cli, ErrorsAreOneLineAndNonZero) {
+  TempDir tmp;
+  geotex::test::write_file(tmp / "bad.obj", "v 0 0 0\nv 1 0 nope\n");
+  geotex::test::write_file(tmp / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+  const std::string cases[] = {
+      "info " + (tmp / "missing.obj"),
+      "info " + (tmp / "bad.obj"),
+      "info " + (tmp / "nan.obj"),
+      "smooth " + (tmp / "bad.obj") + " -o " + (tmp / "out.obj"),
+      "generate teapot -o " + (tmp / "t.obj"),
+      "generate cube",                                   // missing -o
+      "noise " + (tmp / "nan.obj") + " -o " + (tmp / "o.obj") + " --sigma -1",
+      "smooth " + (tmp / "nan.obj") + " -o " + (tmp / "o.obj") + " --laplacian fancy",
+      "nosuchcommand",
+  };
+  for (const auto& c : cases) {
+    const auto r = run_cli(c);
+    EXPECT_NE(r.exit_code, 0) << c;
+    EXPECT_EQ(count_lines(r.err), 1) << c << "\n" << r.err;
+    EXPECT_NE(r.err.find("geotex: "), std::string::npos) << c << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp / "out.obj"));
+  }
+}
+
+TEST(Cli, GenerateNoiseSmoothCompare) {
+  TempDir tmp;
+  ASSERT_EQ(run_cli("generate cube --level 1 -o " + (tmp / "c.ply")).exit_code, 0);
+  ASSERT_EQ(run_cli("noise " + (tmp / "c.ply") + " -o " + (tmp / "n.obj") + " --sigma 0.2 --seed 3").exit_code, 0);
+  ASSERT_EQ(run_cli("smooth " + (tmp / "n.obj") + " -o " + (tmp / "s.off") + " --steps 1 --lambda 0.2").exit_code, 0);
+  const auto before = run_cli("compare " + (tmp / "n.obj") + " " + (tmp / "c.ply") + " --json");
+  const auto after = run_cli("compare " + (tmp / "s.off") + " " + (tmp / "c.ply") + " --json");
+  ASSERT_EQ(before.exit_code, 0) << before.err;
+  ASSERT_EQ(after.exit_code, 0) << after.err;
+  const auto jb = nlohmann::json::parse(before.out), ja = nlohmann::json::parse(after.out);
+  for (const char* k : {"mean_normal_error_deg", "ev", "ev_relative", "hausdorff", "hausdorff_relative"}) {
+    EXPECT_TRUE(ja.contains(k)) << k;
+  }
+  EXPECT_LT(ja["mean_normal_error_deg"].get<double>(), jb["mean_normal_error_deg"].get<double>());
+  // The JSON agrees with the library.
+  const auto c = geotex::compare_meshes(geotex::read_mesh(tmp / "s.off"), geotex::read_mesh(tmp / "c.ply"));
+  EXPECT_DOUBLE_EQ(ja["mean_normal_error_deg"].get<double>(), c.mean_normal_error_deg);
+  // Text output has the normal error with at least two decimals.
+  const auto text = run_cli("compare " + (tmp / "s.off") + " " + (tmp / "c.ply"));
+  EXPECT_NE(text.out.find("deg"), std::string::npos);
+  EXPECT_NE(text.out.find("Ev"), std::string::npos);
+  EXPECT_NE(text.out.find("Hausdorff"), std::string::npos);
+}
+
+TEST(Cli, InputIsNeverDamaged) {
+  TempDir tmp;
+  ASSERT_EQ(run_cli("generate sphere --level 0 -o " + (tmp / "s.obj")).exit_code, 0);
+  const std::string before = geotex::test::read_file(tmp / "s.obj");
+  // Output into a folder that does not exist: error, input untouched.
+  EXPECT_NE(run_cli("smooth " + (tmp / "s.obj") + " -o " + (tmp / "no/dir/out.obj")).exit_code, 0);
+  EXPECT_EQ(geotex::test::read_file(tmp / "s.obj"), before);
+}
+
+TEST(Cli, InfoJson) {
+  TempDir tmp;
+  ASSERT_EQ(run_cli("generate torus --level 0 -o " + (tmp / "t.ply")).exit_code, 0);
+  const auto r = run_cli("info --json " + (tmp / "t.ply"));
+  ASSERT_EQ(r.exit_code, 0);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["genus"].get<int>(), 1);
+  EXPECT_EQ(j["euler_characteristic"].get<int>(), 0);
+  EXPECT_EQ(j["boundary_loops"].get<int>(), 0);
+  EXPECT_TRUE(j["manifold"].get<bool>());
+}
+
+TEST(CliData, InfoAndCompareOnEverySharedMesh) {
+  GEOTEX_REQUIRE_DATA();
+  const auto dir = geotex::test::data_dir();
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    const auto ext = e.path().extension().string();
+    if (ext != ".obj" && ext != ".ply") continue;
+    const auto r = run_cli("-q info --json " + e.path().string());
+    EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_GT(j["faces"].get<int>(), 0) << e.path();
+  }
+  for (const char* pair : {"Fandisk0.3", "Block0.4", "Twelve0.5Impulsive", "Bunny0.2"}) {
+    const auto base = dir / "denoise" / pair;
+    const auto r = run_cli("compare --json " + (base / "Noisy.obj").string() + " " + (base / "Original.obj").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_GT(j["mean_normal_error_deg"].get<double>(), 1.0) << pair;
+    EXPECT_EQ(j["faces_matched_by"].get<std::string>(), "index");
+  }
+}
+
+TEST(Cli, DemoWritesItsFolder) {
+  TempDir tmp;
+  const auto r = run_cli("-q demo --only shapes --only \"noise and smoothing\" -o " + (tmp / "demo"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "demo/report.json"));
+  EXPECT_TRUE(std::filesystem::exists(tmp / "demo/cube-noisy.ply"));
+  EXPECT_TRUE(std::filesystem::exists(tmp / "demo/spiky-sphere.ply"));
+}

@@ -1,0 +1,86 @@
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "geotex/geometry.h"
+#include "geotex/metrics.h"
+#include "geotex/random.h"
+#include "geotex/shapes.h"
+#include "geotex/spatial.h"
+#include "test_util.h"
+
+using namespace geotex;
+
+TEST(Metrics, IdenticalMeshesScoreZero) {
+  const Mesh m = subdivided_cube(6);
+  const Comparison c = compare_meshes(m, m);
+  EXPECT_EQ(c.mean_normal_error_deg, 0);
+  EXPECT_EQ(c.ev, 0);
+  EXPECT_EQ(c.hausdorff, 0);
+  EXPECT_TRUE(c.faces_by_index);
+}
+
+TEST(Metrics, RotationGivesItsAngleAsNormalError) {
+  const Mesh m = icosphere(3);
+  Mesh r = m;
+  const double angle = 7.0 * M_PI / 180.0;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  set_positions(r, positions(m) * R.transpose());
+  // A normal at angle a from the axis turns by acos(cos²a + sin²a cos θ) (Rodrigues).
+  const MatrixX3d N = face_normals(m);
+  const Vec3 axis = Vec3(1, 2, 3).normalized();
+  double expect = 0;
+  for (Eigen::Index f = 0; f < N.rows(); ++f) {
+    const double c = N.row(f).dot(axis);
+    expect += std::acos(std::clamp(c * c + (1 - c * c) * std::cos(angle), -1.0, 1.0));
+  }
+  expect *= 180.0 / M_PI / N.rows();
+  const Comparison cmp = compare_meshes(r, m);
+  EXPECT_NEAR(cmp.mean_normal_error_deg, expect, 1e-6);
+  EXPECT_NEAR(cmp.max_normal_error_deg, 7.0, 0.5);  // faces nearly normal to the axis turn by ~θ
+}
+
+TEST(Metrics, ScaledSphereDistances) {
+  const Mesh m = icosphere(4, 1.0);
+  Mesh s = m;
+  set_positions(s, 1.01 * positions(m));
+  const Comparison c = compare_meshes(s, m);
+  // Vertices of the scaled sphere are 0.01 outside the original's vertices; the facets sit slightly
+  // inside the sphere, so distances are a bit above 0.01.
+  EXPECT_NEAR(c.ev, 0.01, 0.002);
+  EXPECT_GE(c.hausdorff, c.ev);
+  EXPECT_NEAR(c.ev_relative, c.ev / bounding_box(m).diagonal(), 1e-15);
+  EXPECT_NEAR(c.mean_normal_error_deg, 0, 1e-9);
+}
+
+TEST(Metrics, TreeClosestPointMatchesBruteForce) {
+  const Mesh m = torus(1, 0.3, 24, 12);
+  const TriangleTree tree(m);
+  const MatrixX3d V = positions(m);
+  const MatrixX3i F = faces(m);
+  Rng rng(11);
+  for (int q = 0; q < 300; ++q) {
+    const Vec3 p(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-1, 1));
+    double best = 1e300;
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      best = std::min(best, (closest_point_on_triangle(p, V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2))) - p).squaredNorm());
+    const auto hit = tree.closest(p);
+    EXPECT_NEAR(hit.sq_distance, best, 1e-12);
+    // barycentric coordinates reproduce the point
+    const Vec3 q2 = hit.bary[0] * V.row(F(hit.face, 0)).transpose() + hit.bary[1] * V.row(F(hit.face, 1)).transpose() +
+                    hit.bary[2] * V.row(F(hit.face, 2)).transpose();
+    EXPECT_LT((q2 - hit.point).norm(), 1e-12);
+  }
+}
+
+TEST(Metrics, EdgeLabelScores) {
+  MatrixX2i truth(4, 2), labelled(3, 2);
+  truth << 0, 1, 1, 2, 2, 3, 3, 4;
+  labelled << 1, 0, 2, 3, 5, 6;  // two right (one reversed), one wrong
+  const LabelScore s = score_edge_labels(labelled, truth);
+  EXPECT_EQ(s.true_positive, 2u);
+  EXPECT_DOUBLE_EQ(s.precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.recall, 0.5);
+  EXPECT_DOUBLE_EQ(s.f1, 2 * (2.0 / 3.0) * 0.5 / (2.0 / 3.0 + 0.5));
+}

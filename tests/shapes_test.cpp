@@ -1,0 +1,60 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "geotex/error.h"
+#include "geotex/geometry.h"
+#include "geotex/shapes.h"
+#include "test_util.h"
+
+using namespace geotex;
+
+TEST(Shapes, CountsAndTopology) {
+  for (int n : {1, 3, 10}) {
+    const Mesh c = subdivided_cube(n);
+    EXPECT_EQ(c.n_vertices(), static_cast<size_t>(6 * n * n + 2));
+    EXPECT_EQ(c.n_faces(), static_cast<size_t>(12 * n * n));
+    const MeshSummary s = summarize(c);
+    EXPECT_TRUE(s.closed);
+    EXPECT_EQ(s.genus, 0);
+    EXPECT_GT(s.volume, 0);  // outward
+  }
+  const Mesh s = icosphere(3, 2.0);
+  EXPECT_EQ(s.n_faces(), 20u * 64u);
+  for (auto v : s.vertices()) EXPECT_NEAR(s.point(v).norm(), 2.0, 1e-12);
+  const MeshSummary cyl = summarize(cylinder(0.5, 1.0, 32, 8));
+  EXPECT_TRUE(cyl.closed);
+  EXPECT_EQ(cyl.genus, 0);
+  EXPECT_GT(cyl.volume, 0);
+  EXPECT_NEAR(cyl.volume, 32 / 2.0 * 0.25 * std::sin(2 * M_PI / 32) * 1.0, 1e-12);  // regular 32-gon prism
+  EXPECT_EQ(summarize(torus()).genus, 1);
+  EXPECT_GT(signed_volume(torus()), 0);
+  EXPECT_EQ(boundary_loops(plane(5)).size(), 1u);
+  for (const auto& name : shape_names()) EXPECT_GT(make_shape(name, 0).textured.n_faces(), 100u) << name;
+  EXPECT_THROW(make_shape("teapot"), InvalidInput);
+}
+
+TEST(Shapes, SpikesLeanPastTheirFootprint) {
+  // The texture cannot be a height field along the normal: each tip has moved sideways by more than
+  // its footprint radius, so the surface overhangs the foot.
+  SpikeOptions o;
+  o.count = 6;
+  const Mesh base = icosphere(4);
+  const TexturedShape s = spiky(base, o);
+  ASSERT_EQ(s.spike_centres.size(), 6u);
+  const double h = mean_edge_length(base);
+  const MatrixX3d B = positions(s.base), T = positions(s.textured);
+  const MatrixX3d N = vertex_normals(s.base);
+  for (size_t k = 0; k < s.spike_centres.size(); ++k) {
+    const int c = s.spike_centres[k];
+    const Vec3 d = (T.row(c) - B.row(c)).transpose();
+    const Vec3 n = N.row(c).transpose();
+    const Vec3 tangential = d - d.dot(n) * n;
+    EXPECT_NEAR(d.norm(), o.height * h, 1e-9);
+    EXPECT_GT(tangential.norm(), o.radius * h) << "spike " << k;
+    EXPECT_GT(tangential.normalized().dot(s.lean[k]), 0.99);  // leans the way it says
+  }
+  // Same connectivity; same seed, same shape.
+  EXPECT_TRUE(faces(s.base) == faces(s.textured));
+  EXPECT_TRUE(positions(spiky(base, o).textured) == T);
+}
