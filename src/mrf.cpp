@@ -818,14 +818,17 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
   MrfResult r;
   double Tv = o.temperature, Te = o.edges.temperature, step = o.step, U_prev = P.value(x.data());
   int sweep_counter = 0;
+  bool quenched = false, quench_now = false;
   for (int it = 0; it < o.iterations; ++it) {
     // Edge process for the current geometry (Eq. 6.12) ...
     compute_normals(T, x.data(), n.data(), nullptr);
     field.update(x.data(), n.data());
     prev = eps;
     double Ue = 0;
-    for (int s = 0; s < o.edges.sweeps; ++s)
-      Ue = field.sweep(eps.data(), o.edges.optimizer, Te, o.seed, sweep_counter++);
+    const bool last = it + 1 == o.iterations || quench_now;
+    const MrfOptimizer eopt = last && o.edges.quench ? MrfOptimizer::Icm : o.edges.optimizer;
+      quenched = quenched || eopt == MrfOptimizer::Icm;
+    for (int s = 0; s < o.edges.sweeps; ++s) Ue = field.sweep(eps.data(), eopt, Te, o.seed, sweep_counter++);
     for (int e = 0; e < T.nE; ++e) w[e] = 1.0 - eps[e];
     // ... then the vertex process for the current labels (Eq. 6.15).
     double Uv = 0;
@@ -861,7 +864,9 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
     report(o.progress, double(it + 1) / o.iterations, "mrf");
     const bool stable = changed < 1e-3 && std::abs(U_prev - Uv) <= o.tolerance * std::abs(U_prev);
     U_prev = Uv;
-    if (stable) {
+    if (stable && !quenched) {
+      quench_now = true;  // one more iteration with the edge process at T = 0
+    } else if (stable) {
       r.converged = true;
       break;
     }

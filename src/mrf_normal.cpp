@@ -176,13 +176,16 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
     }
     const NormalProblem P{T, n0.data(), w.data(), o.alpha, o.potential};
     double Tn = o.temperature, Te = o.edges.temperature, U_prev = 0;
+    bool quenched = false, quench_now = false;
     for (int it = 0; it < o.iterations; ++it) {
       // Edge process on the current normal field (angles between the filtered normals) ...
       field.update(x.data(), n.data());
       prev = eps;
       double Ue = 0;
-      for (int s = 0; s < o.edges.sweeps; ++s)
-        Ue = field.sweep(eps.data(), o.edges.optimizer, Te, o.seed, sweep_counter++);
+      const bool last = it + 1 == o.iterations || quench_now;
+      const MrfOptimizer eopt = last && o.edges.quench ? MrfOptimizer::Icm : o.edges.optimizer;
+      quenched = quenched || eopt == MrfOptimizer::Icm;
+      for (int s = 0; s < o.edges.sweeps; ++s) Ue = field.sweep(eps.data(), eopt, Te, o.seed, sweep_counter++);
       for (int e = 0; e < T.nE; ++e) w[e] = 1.0 - eps[e];
       // ... then the normal process for the current labels.
       double Un = 0;
@@ -212,7 +215,9 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
       report(o.progress, double(round * o.iterations + it + 1) / (o.rounds * o.iterations), "mrf-normal");
       const bool stable = it > 0 && changed < 1e-3 && std::abs(U_prev - Un) <= o.tolerance * std::abs(U_prev);
       U_prev = Un;
-      if (stable) {
+      if (stable && !quenched) {
+        quench_now = true;
+      } else if (stable) {
         r.converged = true;
         break;
       }

@@ -66,6 +66,9 @@ struct EdgeProcessOptions {
   double temperature = 0.05;        //!< T_E, start temperature of the edge process (Fig. 6.3: 0.05)
   double cooling = 0.9;             //!< T_E is multiplied by this after each outer iteration
   int sweeps = 1;                   //!< sweeps over all edges per outer iteration
+  //! End the annealing at T = 0: in the last outer iteration the edge sweep takes each site's
+  //! conditional mode (ICM), so that the final labels are exactly 0 or 1.
+  bool quench = true;
 };
 
 //! The vertex process and the alternation (Sec. 6.3.1–6.3.5).
