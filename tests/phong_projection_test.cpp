@@ -1,0 +1,172 @@
+// Phong-normal projection (thesis Sec. 5.2): analytic cubic vs Newton, derivatives, mesh projection.
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "geotex/geometry.h"
+#include "geotex/phong_projection.h"
+#include "geotex/random.h"
+#include "geotex/shapes.h"
+#include "test_util.h"
+
+using namespace geotex;
+
+namespace {
+
+Vec3 random_unit(Rng& rng) { return Vec3(rng.normal(), rng.normal(), rng.normal()).normalized(); }
+
+// A random triangle near the xy-plane with normals around +z, tilted by up to \p spread, and a point
+// above it.
+PhongTriangle random_config(Rng& rng, double spread, Vec3* p) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0.3, 0.9, 0);
+  auto n = [&] { return (Vec3(0, 0, 1) + spread * random_unit(rng)).normalized(); };
+  *p = Vec3(rng.uniform() * 1.2 - 0.1, rng.uniform() * 1.1 - 0.1, (rng.uniform() - 0.3) * 1.5);
+  return PhongTriangle(a, b, c, n(), n(), n());
+}
+
+double residual(const Vec3& p, const PhongCandidate& c) { return (p - c.point).cross(c.normal).norm(); }
+
+}  // namespace
+
+TEST(PhongProjection, CubicCoefficientsVanishAtEveryCandidate) {
+  Rng rng(3);
+  int total = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Vec3 p;
+    const PhongTriangle t = random_config(rng, 0.8, &p);
+    for (const PhongCandidate& c : phong_project_analytic(p, t)) {
+      ++total;
+      // p = q + d n_q, hence the residual (p − q) × n_q of Eq. (5.27) vanishes and p − q = d n_q.
+      // Relative to the size of the terms: far-outside candidates have huge barycentric coordinates.
+      const double scale = (1 + (p - c.point).norm()) * std::max(1.0, c.normal.norm());
+      EXPECT_LT(residual(p, c), 1e-10 * scale) << "trial " << trial;
+      EXPECT_LT((p - c.point - c.d * c.normal).norm(), 1e-10 * scale);
+      EXPECT_NEAR(c.bary.sum(), 1.0, 1e-12);
+    }
+  }
+  EXPECT_GT(total, 2000);
+}
+
+TEST(PhongProjection, FlatTriangleWithEqualNormalsIsOrthogonalProjection) {
+  const Vec3 n(0, 0, 1);
+  const PhongTriangle t(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), n, n, n);
+  const Vec3 p(0.5, 0.25, 0.7);
+  const auto cands = phong_project_analytic(p, t);
+  ASSERT_EQ(cands.size(), 1u);
+  EXPECT_NEAR(cands[0].d, 0.7, 1e-14);
+  EXPECT_TRUE(cands[0].inside);
+  EXPECT_NEAR((cands[0].point - Vec3(0.5, 0.25, 0)).norm(), 0, 1e-14);
+  EXPECT_NEAR(cands[0].bary[1], 0.25, 1e-14);
+  EXPECT_NEAR(cands[0].bary[2], 0.125, 1e-14);
+}
+
+TEST(PhongProjection, DerivativesMatchFiniteDifferences) {
+  Rng rng(5);
+  for (int trial = 0; trial < 50; ++trial) {
+    Vec3 p;
+    const PhongTriangle t = random_config(rng, 0.7, &p);
+    const PhongQuadratic q(p, t);
+    const double u = rng.uniform(), v = rng.uniform(), h = 1e-6;
+    // F itself against its definition, Eq. (5.28) with the corrected bracket.
+    const Vec3 qp = u * t.a + v * t.b + (1 - u - v) * t.c;
+    const Vec3 nq = u * t.na + v * t.nb + (1 - u - v) * t.nc;
+    EXPECT_LT((q.F(u, v) - (p - qp).cross(nq)).norm(), 1e-13);
+    EXPECT_LT((q.Fu(u, v) - (q.F(u + h, v) - q.F(u - h, v)) / (2 * h)).norm(), 1e-8);
+    EXPECT_LT((q.Fv(u, v) - (q.F(u, v + h) - q.F(u, v - h)) / (2 * h)).norm(), 1e-8);
+    const Eigen::Vector2d g = q.gradient(u, v);
+    EXPECT_NEAR(g[0], (q.f(u + h, v) - q.f(u - h, v)) / (2 * h), 1e-7);
+    EXPECT_NEAR(g[1], (q.f(u, v + h) - q.f(u, v - h)) / (2 * h), 1e-7);
+    const Eigen::Matrix2d H = q.hessian(u, v);
+    const Eigen::Vector2d gu = (q.gradient(u + h, v) - q.gradient(u - h, v)) / (2 * h);
+    const Eigen::Vector2d gv = (q.gradient(u, v + h) - q.gradient(u, v - h)) / (2 * h);
+    EXPECT_LT((H.col(0) - gu).norm(), 1e-6);
+    EXPECT_LT((H.col(1) - gv).norm(), 1e-6);
+  }
+}
+
+TEST(PhongProjection, NewtonAgreesWithAnalyticWhereItConverges) {
+  Rng rng(7);
+  int converged = 0, matched = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Vec3 p;
+    const PhongTriangle t = random_config(rng, 0.3, &p);
+    const PhongNewtonResult nr = phong_project_newton(p, t);
+    if (!nr.converged) continue;
+    ++converged;
+    double best = 1e300;
+    for (const PhongCandidate& c : phong_project_analytic(p, t))
+      best = std::min(best, (c.bary - nr.candidate.bary).norm());
+    EXPECT_LT(best, 1e-7) << "trial " << trial;
+    matched += best < 1e-7;
+  }
+  EXPECT_GT(converged, 1000);
+  EXPECT_EQ(matched, converged);
+}
+
+// Figure 5.8: three candidates close to the triangle; Newton from the barycentre may end at an outside
+// one (or between them) while an inside solution exists, which the analytic method finds.
+TEST(PhongProjection, Figure58NewtonLandsOutsideWhileAnalyticFindsInside) {
+  Rng rng(11);
+  int cases = 0;
+  for (int trial = 0; trial < 20000 && cases < 3; ++trial) {
+    Vec3 p;
+    const PhongTriangle t = random_config(rng, 1.2, &p);
+    const auto cands = phong_project_analytic(p, t);
+    const PhongCandidate* inside = nullptr;
+    for (const auto& c : cands)
+      if (c.inside) { inside = &c; break; }
+    if (!inside || cands.size() < 3) continue;
+    const PhongNewtonResult nr = phong_project_newton(p, t);
+    if (nr.candidate.inside && nr.converged) continue;
+    ++cases;
+    EXPECT_LT(residual(p, *inside), 1e-9);
+    EXPECT_GE(inside->bary.minCoeff(), -1e-9);
+    if (nr.converged) EXPECT_LT(nr.candidate.bary.minCoeff(), 0.0);
+  }
+  EXPECT_GE(cases, 1) << "no configuration of Figure 5.8's kind found";
+}
+
+TEST(PhongProjection, MeshProjectionOfOffsetSphereRecoversRadialFeet) {
+  // On a sphere the vertex normals are radial; a point pushed out along the Phong normal of a surface
+  // point projects back to that point.
+  const Mesh s = icosphere(3, 1.0);
+  const MatrixX3d V = positions(s);
+  const MatrixX3i F = faces(s);
+  MatrixX3d N(V.rows(), 3);
+  for (Eigen::Index i = 0; i < V.rows(); ++i) N.row(i) = V.row(i).normalized();
+  const PhongProjector proj(s, N);
+  Rng rng(13);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int f = static_cast<int>(rng.uniform() * F.rows());
+    double u = rng.uniform(), v = rng.uniform();
+    if (u + v > 1) { u = 1 - u; v = 1 - v; }
+    const Vec3 bary(u, v, 1 - u - v);
+    Vec3 q = Vec3::Zero(), n = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      q += bary[k] * V.row(F(f, k)).transpose();
+      n += bary[k] * N.row(F(f, k)).transpose();
+    }
+    const double d = (rng.uniform() - 0.5) * 0.3;
+    const Vec3 p = q + d * n;
+    const PhongHit hit = proj.project(p);
+    ASSERT_TRUE(hit.found);
+    EXPECT_LT((hit.point - q).norm(), 1e-9) << "trial " << trial;
+    EXPECT_NEAR(hit.d, d, 1e-9);
+  }
+}
+
+TEST(PhongProjection, MeshProjectionBatchMatchesSingle) {
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  const PhongProjector proj(s.base);
+  const MatrixX3d P = positions(s.textured);
+  const auto hits = proj.project(P);
+  int found = 0;
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    const PhongHit h = proj.project(Vec3(P.row(i).transpose()));
+    EXPECT_EQ(h.face, hits[i].face);
+    found += hits[i].found;
+    if (hits[i].found) EXPECT_LT((P.row(i).transpose() - hits[i].point).cross(hits[i].normal).norm(), 1e-8);
+  }
+  EXPECT_GT(found, P.rows() * 9 / 10);
+}
