@@ -644,7 +644,7 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
       flush();
     }
     rep.file_polygons += strips->count;
-    rep.warnings.push_back(fmt::format("decoded {} triangle(s) from {} triangle strip(s)",
+    rep.notes.push_back(fmt::format("decoded {} triangle(s) from {} triangle strip(s)",
                                        rep.strip_triangles, strips->count));
   }
   rep.format = "ply (" + ply.format + ")";

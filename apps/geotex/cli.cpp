@@ -32,6 +32,7 @@ Mesh load_mesh(const std::string& path, ReadReport* report, bool strict) {
   opt.strict = strict;
   Mesh mesh = read_mesh(path, opt, &rep);
   for (const auto& w : rep.warnings) info(fmt::format("geotex: warning: {}: {}", path, w));
+  for (const auto& n : rep.notes) info(fmt::format("geotex: note: {}: {}", path, n));
   if (report) *report = rep;
   return mesh;
 }

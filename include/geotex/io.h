@@ -36,7 +36,8 @@ struct ReadReport {
   size_t strip_triangles = 0;        //!< triangles decoded from PLY triangle strips
   size_t merged_vertices = 0;        //!< STL corners merged into shared vertices
   BuildReport build;                 //!< what make_mesh() dropped
-  std::vector<std::string> warnings; //!< one line per thing the user should know
+  std::vector<std::string> warnings; //!< one line per thing that was dropped or looks wrong
+  std::vector<std::string> notes;    //!< informational lines (e.g. triangle strips decoded)
 };
 
 //! Read a mesh file.
