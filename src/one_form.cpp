@@ -1,0 +1,268 @@
+// Discrete 1-forms: line integrals, Whitney interpolation, vertex reconstruction, least-squares fit
+// (thesis Sec. 5.3 and 8.2).
+
+#include "geotex/one_form.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "geotex/error.h"
+#include "geotex/geometry.h"
+
+namespace geotex {
+namespace {
+
+// A face with its corners (faces(mesh) order), the mesh edge under each local edge l (corner l →
+// corner l+1) with the sign of that edge's orientation relative to the face, its area, and the local
+// edges rotated by π/2 in the face's plane.
+struct FaceFrame {
+  int v[3];
+  int e[3];
+  double s[3];
+  double area;
+  Vec3 perp[3];
+};
+
+FaceFrame face_frame(const Mesh& mesh, const MatrixX3d& V, const MatrixX3i& F, const MatrixX2i& E, int f) {
+  FaceFrame fr;
+  for (int l = 0; l < 3; ++l) fr.v[l] = F(f, l);
+  const Vec3 x0 = V.row(fr.v[0]), x1 = V.row(fr.v[1]), x2 = V.row(fr.v[2]);
+  const Vec3 cr = (x1 - x0).cross(x2 - x0);
+  fr.area = 0.5 * cr.norm();
+  const Vec3 n = fr.area > 0 ? Vec3(cr / (2 * fr.area)) : Vec3::Zero();
+  for (int l = 0; l < 3; ++l) {
+    const int a = fr.v[l], b = fr.v[(l + 1) % 3];
+    const auto h = mesh.find_halfedge(mesh.vertex_handle(a), mesh.vertex_handle(b));
+    const int e = mesh.edge_handle(h).idx();
+    fr.e[l] = e;
+    fr.s[l] = E(e, 0) == a ? 1.0 : -1.0;
+    fr.perp[l] = n.cross(Vec3(V.row(b) - V.row(a)));  // e^⊥, Eq. (5.72)
+  }
+  return fr;
+}
+
+std::vector<FaceFrame> face_frames(const Mesh& mesh) {
+  const MatrixX3d V = positions(mesh);
+  const MatrixX3i F = faces(mesh);
+  const MatrixX2i E = edges(mesh);
+  std::vector<FaceFrame> out(F.rows());
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index f = 0; f < F.rows(); ++f) out[f] = face_frame(mesh, V, F, E, static_cast<int>(f));
+  return out;
+}
+
+FaceFrame face_frame(const Mesh& mesh, int f) {
+  if (f < 0 || f >= static_cast<int>(mesh.n_faces())) throw InvalidInput("1-form: face index out of range");
+  FaceFrame fr;
+  int k = 0;
+  for (auto v : mesh.fv_range(mesh.face_handle(f))) fr.v[k++] = v.idx();
+  auto X = [&](int l) { return to_eigen(mesh.point(mesh.vertex_handle(fr.v[l]))); };
+  const Vec3 cr = (X(1) - X(0)).cross(X(2) - X(0));
+  fr.area = 0.5 * cr.norm();
+  const Vec3 n = fr.area > 0 ? Vec3(cr / (2 * fr.area)) : Vec3::Zero();
+  for (int l = 0; l < 3; ++l) {
+    const auto h = mesh.find_halfedge(mesh.vertex_handle(fr.v[l]), mesh.vertex_handle(fr.v[(l + 1) % 3]));
+    const auto eh = mesh.edge_handle(h);
+    fr.e[l] = eh.idx();
+    fr.s[l] = mesh.halfedge_handle(eh, 0) == h ? 1.0 : -1.0;
+    fr.perp[l] = n.cross(X((l + 1) % 3) - X(l));  // e^⊥, Eq. (5.72)
+  }
+  return fr;
+}
+
+void check_coefficients(const Mesh& mesh, const Eigen::VectorXd& c) {
+  if (c.size() != static_cast<Eigen::Index>(mesh.n_edges()))
+    throw InvalidInput("1-form: expected one coefficient per edge (" + std::to_string(mesh.n_edges()) + "), got " +
+                       std::to_string(c.size()));
+}
+
+}  // namespace
+
+Eigen::VectorXd one_form_from_function(const Mesh& mesh, const std::function<Vec3(const Vec3&)>& field) {
+  // 5-point Gauss–Legendre on [0, 1].
+  static const double x[5] = {0.0469100770306680, 0.2307653449471585, 0.5, 0.7692346550528415, 0.9530899229693320};
+  static const double w[5] = {0.1184634425280945, 0.2393143352496832, 0.2844444444444444, 0.2393143352496832,
+                              0.1184634425280945};
+  const MatrixX3d V = positions(mesh);
+  const MatrixX2i E = edges(mesh);
+  Eigen::VectorXd c(E.rows());
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const Vec3 a = V.row(E(e, 0)), b = V.row(E(e, 1)), d = b - a;
+    double s = 0;
+    for (int k = 0; k < 5; ++k) s += w[k] * field(a + x[k] * d).dot(d);  // Eq. (5.69)
+    c[e] = s;
+  }
+  return c;
+}
+
+Eigen::VectorXd one_form_average(const Mesh& mesh, const MatrixX3d& T) {
+  if (T.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
+    throw InvalidInput("1-form: expected one vector per vertex");
+  const MatrixX3d V = positions(mesh);
+  const MatrixX2i E = edges(mesh);
+  Eigen::VectorXd c(E.rows());
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const int i = E(e, 0), j = E(e, 1);
+    c[e] = 0.5 * (T.row(i) + T.row(j)).dot(V.row(j) - V.row(i));  // Eq. (5.80)
+  }
+  return c;
+}
+
+Vec3 whitney_basis(const Mesh& mesh, int face, int l, const Vec3& bary) {
+  if (l < 0 || l > 2) throw InvalidInput("whitney_basis: local edge must be 0, 1 or 2");
+  const FaceFrame fr = face_frame(mesh, face);
+  if (!(fr.area > 0)) return Vec3::Zero();
+  const int a = l, b = (l + 1) % 3;
+  // dφ_m = (edge opposite corner m)^⊥ / 2A (Eq. 5.72); φ_ab = α_a dφ_b − α_b dφ_a (Eq. 5.71, 5.73).
+  const Vec3 dphi_a = fr.perp[(a + 1) % 3] / (2 * fr.area), dphi_b = fr.perp[(b + 1) % 3] / (2 * fr.area);
+  return bary[a] * dphi_b - bary[b] * dphi_a;
+}
+
+Vec3 whitney_interpolate(const Mesh& mesh, const Eigen::VectorXd& c, int face, const Vec3& al) {
+  check_coefficients(mesh, c);
+  const FaceFrame fr = face_frame(mesh, face);
+  if (!(fr.area > 0)) return Vec3::Zero();
+  const double cij = fr.s[0] * c[fr.e[0]], cjk = fr.s[1] * c[fr.e[1]], cki = fr.s[2] * c[fr.e[2]];
+  // Eq. (5.77) with (i, j, k) the face's corners 0, 1, 2.
+  return ((cki * al[2] - cij * al[1]) * fr.perp[1] + (cij * al[0] - cjk * al[2]) * fr.perp[2] +
+          (cjk * al[1] - cki * al[0]) * fr.perp[0]) /
+         (2 * fr.area);
+}
+
+SparseMatrix one_form_reconstruction_matrix(const Mesh& mesh) {
+  const std::vector<FaceFrame> frames = face_frames(mesh);
+  const Eigen::Index n = mesh.n_vertices(), m = mesh.n_edges();
+  std::vector<int> nfaces(n, 0);
+  for (const FaceFrame& fr : frames)
+    for (int l = 0; l < 3; ++l) ++nfaces[fr.v[l]];
+  std::vector<Triplet> trip;
+  trip.reserve(frames.size() * 18);
+  for (const FaceFrame& fr : frames) {
+    if (!(fr.area > 0)) continue;
+    for (int r = 0; r < 3; ++r) {
+      const int i = fr.v[r], ki = (r + 2) % 3;
+      const double w = 1.0 / (2 * fr.area * nfaces[i]);
+      // Eq. (5.78): t_ijk(x_i) = (c_ij e_ki^⊥ − c_ki e_ij^⊥) / 2A, averaged (5.79); rows of P^x, P^y, P^z (5.82).
+      const Vec3 gij = w * fr.s[r] * fr.perp[ki];
+      const Vec3 gki = -w * fr.s[ki] * fr.perp[r];
+      for (int d = 0; d < 3; ++d) {
+        trip.emplace_back(d * n + i, fr.e[r], gij[d]);
+        trip.emplace_back(d * n + i, fr.e[ki], gki[d]);
+      }
+    }
+  }
+  SparseMatrix P(3 * n, m);
+  P.setFromTriplets(trip.begin(), trip.end());
+  return P;
+}
+
+MatrixX3d one_form_to_vertices(const Mesh& mesh, const Eigen::VectorXd& c) {
+  check_coefficients(mesh, c);
+  const SparseMatrix P = one_form_reconstruction_matrix(mesh);
+  const Eigen::VectorXd t = P * c;
+  const Eigen::Index n = mesh.n_vertices();
+  MatrixX3d T(n, 3);
+  for (int d = 0; d < 3; ++d) T.col(d) = t.segment(d * n, n);
+  return T;
+}
+
+struct OneFormFitter::Impl {
+  const Mesh* mesh = nullptr;
+  OneFormFitOptions opt;
+  SparseMatrix P;       // 3n × m
+  SparseMatrix A;       // P, or the tangent-projected P
+  SparseMatrix normal;  // AᵀA + ε I
+  SparseMatrix proj;    // 3n × 3n tangent projector (tangential mode)
+  double eps = 0;
+  Eigen::VectorXd edge_len;
+  SpdSolver solver;
+};
+
+OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options, const MatrixX3d& normals)
+    : impl_(std::make_unique<Impl>()) {
+  require_valid(mesh, "1-form fit: mesh");
+  Impl& s = *impl_;
+  s.mesh = &mesh;
+  s.opt = options;
+  s.P = one_form_reconstruction_matrix(mesh);
+  s.edge_len = edge_lengths(mesh);
+  const Eigen::Index n = mesh.n_vertices(), m = mesh.n_edges();
+  if (options.tangential) {
+    const MatrixX3d N = normals.rows() ? normals : vertex_normals(mesh);
+    if (N.rows() != n) throw InvalidInput("1-form fit: expected one normal per vertex");
+    std::vector<Triplet> trip;
+    trip.reserve(9 * n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) trip.emplace_back(a * n + i, b * n + i, (a == b ? 1.0 : 0.0) - N(i, a) * N(i, b));
+    s.proj.resize(3 * n, 3 * n);
+    s.proj.setFromTriplets(trip.begin(), trip.end());
+    s.A = s.proj * s.P;
+  } else {
+    s.A = s.P;
+  }
+  s.normal = SparseMatrix(s.A.transpose()) * s.A;
+  s.eps = options.regularization * s.normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
+  SparseMatrix I(m, m);
+  I.setIdentity();
+  s.normal += s.eps * I;
+  s.normal.makeCompressed();
+  s.solver.compute(s.normal);
+}
+
+OneFormFitter::~OneFormFitter() = default;
+OneFormFitter::OneFormFitter(OneFormFitter&&) noexcept = default;
+OneFormFitter& OneFormFitter::operator=(OneFormFitter&&) noexcept = default;
+const SparseMatrix& OneFormFitter::matrix() const { return impl_->P; }
+
+Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T) {
+  Impl& s = *impl_;
+  const Eigen::Index n = s.mesh->n_vertices(), m = s.mesh->n_edges();
+  if (T.rows() != n) throw InvalidInput("1-form fit: expected one vector per vertex");
+  Eigen::VectorXd t(3 * n);
+  for (int d = 0; d < 3; ++d) t.segment(d * n, n) = T.col(d);
+  if (s.opt.tangential) t = s.proj * t;
+  // Normal equations of ‖A c − t‖² + ε ‖c − c_avg‖² (Eq. 5.81 and the estimate 5.80).
+  const Eigen::VectorXd c_avg = one_form_average(*s.mesh, T);
+  Eigen::VectorXd rhs = s.A.transpose() * t + s.eps * c_avg;
+  Eigen::VectorXd c = s.solver.solve(rhs);
+  if (!s.opt.bound_by_edge_length) return c;
+
+  // |c_ij| ≤ ‖e_ij‖ (Sec. 8.5): pin violators to ±‖e_ij‖ with a stiff penalty on the diagonal (same
+  // sparsity, so the symbolic analysis is reused), re-solve, repeat while new violators appear.
+  std::vector<double> target(m, 0.0);
+  std::vector<char> pinned(m, 0);
+  const double stiff = 1e8 * s.normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
+  bool refactored = false;
+  for (int round = 0; round < s.opt.bound_rounds; ++round) {
+    int added = 0;
+    for (Eigen::Index e = 0; e < m; ++e)
+      if (!pinned[e] && std::abs(c[e]) > s.edge_len[e]) {
+        pinned[e] = 1;
+        target[e] = std::copysign(s.edge_len[e], c[e]);
+        ++added;
+      }
+    if (added == 0) break;
+    SparseMatrix M = s.normal;
+    Eigen::VectorXd r = rhs;
+    for (Eigen::Index e = 0; e < m; ++e)
+      if (pinned[e]) {
+        M.coeffRef(e, e) += stiff;
+        r[e] += stiff * target[e];
+      }
+    s.solver.factorize(M);
+    refactored = true;
+    c = s.solver.solve(r);
+  }
+  if (refactored) s.solver.factorize(s.normal);  // leave the fitter as it was for the next field
+  for (Eigen::Index e = 0; e < m; ++e) c[e] = std::clamp(c[e], -s.edge_len[e], s.edge_len[e]);
+  return c;
+}
+
+Eigen::VectorXd fit_one_form(const Mesh& mesh, const MatrixX3d& T, const OneFormFitOptions& options) {
+  return OneFormFitter(mesh, options).fit(T);
+}
+
+}  // namespace geotex
