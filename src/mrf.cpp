@@ -187,7 +187,7 @@ uint64_t site_seed(uint64_t seed, uint64_t sweep, uint64_t site) {
 // Face normals and the vertex-process energy U_V, Eq. (6.4), (6.13)
 
 void compute_normals(const Topology& T, const double* x, double* n, double* inv_len) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (T.nF >= min_parallel)
   for (int f = 0; f < T.nF; ++f) {
     const double* a = x + 3 * T.F[3 * f];
     const double* b = x + 3 * T.F[3 * f + 1];
@@ -230,14 +230,14 @@ double VertexProblem::value(const double* x) const {
 
 double VertexProblem::value_from_normals(const double* x) const {
   double U = 0;
-#pragma omp parallel for schedule(static) reduction(+ : U)
+#pragma omp parallel for schedule(static) reduction(+ : U) if (T.nE >= min_parallel)
   for (int e = 0; e < T.nE; ++e) {
     const int f0 = T.ef[2 * e], f1 = T.ef[2 * e + 1];
     if (f0 < 0 || f1 < 0 || w[e] == 0) continue;
     U += w[e] * rho_value(rho, vec(&n[3 * f0]) - vec(&n[3 * f1]), nullptr);
   }
   double L = 0;
-#pragma omp parallel for schedule(static) reduction(+ : L)
+#pragma omp parallel for schedule(static) reduction(+ : L) if (3 * T.nV >= min_parallel)
   for (int i = 0; i < 3 * T.nV; ++i) L += (x[i] - x0[i]) * (x[i] - x0[i]);
   return U + alpha * L;
 }
@@ -245,7 +245,7 @@ double VertexProblem::value_from_normals(const double* x) const {
 double VertexProblem::value_grad(const double* x, double* g) const {
   compute_normals(T, x, n.data(), inv.data());
   double U = 0;
-#pragma omp parallel for schedule(static) reduction(+ : U)
+#pragma omp parallel for schedule(static) reduction(+ : U) if (T.nE >= min_parallel)
   for (int e = 0; e < T.nE; ++e) {
     const int f0 = T.ef[2 * e], f1 = T.ef[2 * e + 1];
     Vec3 d = Vec3::Zero();
@@ -257,7 +257,7 @@ double VertexProblem::value_grad(const double* x, double* g) const {
     for (int k = 0; k < 3; ++k) dn[3 * e + k] = d[k];
   }
   // Per face: c = ∂U/∂n, projected and divided by |N| (∂n/∂N), then ∂U/∂p_m = (p_{m+1} − p_{m+2}) × c'.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (T.nF >= min_parallel)
   for (int f = 0; f < T.nF; ++f) {
     Vec3 c = Vec3::Zero();
     for (int m = 0; m < 3; ++m) {
@@ -274,7 +274,7 @@ double VertexProblem::value_grad(const double* x, double* g) const {
     }
   }
   double L = 0;
-#pragma omp parallel for schedule(static) reduction(+ : L)
+#pragma omp parallel for schedule(static) reduction(+ : L) if (T.nV >= min_parallel)
   for (int v = 0; v < T.nV; ++v) {
     Vec3 gv = Vec3::Zero();
     for (int k = T.vf_off[v]; k < T.vf_off[v + 1]; ++k) gv += vec(&cg[3 * T.vf[k]]);
@@ -386,7 +386,7 @@ double vertex_metropolis(const VertexProblem& P, Vec& x, double T, double step, 
   compute_normals(top, x.data(), nrm.data(), nullptr);
   long accepted = 0;
   for (const auto& cls : top.vertex_colours()) {
-#pragma omp parallel for schedule(static) reduction(+ : accepted)
+#pragma omp parallel for schedule(static) reduction(+ : accepted) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int a = cls[k];
       if (top.vf_off[a + 1] == top.vf_off[a]) continue;
@@ -416,7 +416,7 @@ double vertex_icm(const VertexProblem& P, Vec& x, int local_steps) {
   compute_normals(top, x.data(), nrm.data(), nullptr);
   const double U0 = P.value_from_normals(x.data());
   Vec y = x;
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (top.nV >= min_parallel / 10)
   for (int a = 0; a < top.nV; ++a) {
     if (top.vf_off[a + 1] == top.vf_off[a]) continue;
     const Vec3 p = P.local_minimize(a, x.data(), nrm.data(), local_steps);
@@ -432,7 +432,7 @@ double vertex_icm(const VertexProblem& P, Vec& x, int local_steps) {
     }
   }
   for (const auto& cls : top.vertex_colours()) {
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int a = cls[k];
       if (top.vf_off[a + 1] == top.vf_off[a]) continue;
@@ -548,7 +548,7 @@ EdgeField::EdgeField(const Topology& topology, const EdgeProcessOptions& o) : T(
 }
 
 void EdgeField::update(const double* x, const double* n) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (T.nE >= min_parallel)
   for (int e = 0; e < T.nE; ++e) {
     const Vec3 a = vec(x + 3 * T.E[2 * e]), b = vec(x + 3 * T.E[2 * e + 1]);
     const Vec3 t = b - a;
@@ -595,7 +595,7 @@ double EdgeField::field(int e, const double* eps) const {
 double EdgeField::energy(const double* eps) const {
   const double phi0 = opt.phi0_deg * M_PI / 180.0;
   double U = 0;
-#pragma omp parallel for schedule(static) reduction(+ : U)
+#pragma omp parallel for schedule(static) reduction(+ : U) if (T.nE >= min_parallel)
   for (int e = 0; e < T.nE; ++e) {
     if (eps[e] == 0) continue;
     // ε_e (φ0 − φ_e) + ½ ε_e × (pair terms of e): each pair is seen from both of its edges.
@@ -613,7 +613,7 @@ void EdgeField::initial_labels(double* eps) const {
 
 double EdgeField::metropolis(double* eps, double temperature, uint64_t seed, int sweep) const {
   for (const auto& cls : T.edge_colours()) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int e = cls[k];
       if (fixed(e)) continue;
@@ -629,7 +629,7 @@ double EdgeField::metropolis(double* eps, double temperature, uint64_t seed, int
 double EdgeField::icm(double* eps) const {
   const double U0 = energy(eps);
   std::vector<double> next(eps, eps + T.nE);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (T.nE >= min_parallel)
   for (int e = 0; e < T.nE; ++e) {
     if (fixed(e)) continue;
     const double h = field(e, eps);
@@ -641,7 +641,7 @@ double EdgeField::icm(double* eps) const {
     return U;
   }
   for (const auto& cls : T.edge_colours()) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int e = cls[k];
       if (fixed(e)) continue;
@@ -661,12 +661,21 @@ double EdgeField::sweep(double* eps, MrfOptimizer optimizer, double temperature,
 void check_edge_options(const EdgeProcessOptions& o) {
   if (!std::isfinite(o.phi0_deg) || o.phi0_deg < 0 || o.phi0_deg > 180)
     throw InvalidInput("phi0 must be an angle in [0, 180] degrees");
+  if (!std::isfinite(o.phi0_start_deg) || o.phi0_start_deg < 0 || o.phi0_start_deg > 180)
+    throw InvalidInput("phi0 start must be an angle in [0, 180] degrees (0 = off)");
   if (!std::isfinite(o.support_weight) || o.support_weight < 0) throw InvalidInput("support weight must be >= 0");
   if (!(o.temperature >= 0) || !std::isfinite(o.temperature)) throw InvalidInput("edge temperature must be >= 0");
   if (!(o.cooling > 0 && o.cooling <= 1)) throw InvalidInput("edge cooling factor must be in (0, 1]");
   if (o.sweeps < 1) throw InvalidInput("edge sweeps must be >= 1");
   if (o.optimizer != MrfOptimizer::Metropolis && o.optimizer != MrfOptimizer::Icm)
     throw InvalidInput("the edge process is optimized by metropolis or icm");
+}
+
+double annealed_phi0(const EdgeProcessOptions& o, int it, int iterations) {
+  if (!(o.phi0_start_deg > o.phi0_deg)) return o.phi0_deg;
+  const double ramp = std::max(1.0, 0.5 * iterations);
+  const double t = std::min(1.0, it / ramp);
+  return o.phi0_start_deg + t * (o.phi0_deg - o.phi0_start_deg);
 }
 
 std::vector<double> flat(const MatrixX3d& X, double scale) {
@@ -809,6 +818,7 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
   EdgeField field(T, o.edges);
   compute_normals(T, x.data(), n.data(), nullptr);
   field.update(x.data(), n.data());
+  field.opt.phi0_deg = annealed_phi0(o.edges, 0, o.iterations);
   if (o.initial_labels_from_angles) field.initial_labels(eps.data());
   const VertexProblem P(T, x0.data(), w.data(), o.alpha, o.potential);
 
@@ -825,7 +835,8 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
     field.update(x.data(), n.data());
     prev = eps;
     double Ue = 0;
-    const bool last = it + 1 == o.iterations || quench_now;
+    field.opt.phi0_deg = annealed_phi0(o.edges, it, o.iterations);
+      const bool last = it + 1 == o.iterations || quench_now;
     const MrfOptimizer eopt = last && o.edges.quench ? MrfOptimizer::Icm : o.edges.optimizer;
       quenched = quenched || eopt == MrfOptimizer::Icm;
     for (int s = 0; s < o.edges.sweeps; ++s) Ue = field.sweep(eps.data(), eopt, Te, o.seed, sweep_counter++);

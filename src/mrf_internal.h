@@ -9,6 +9,11 @@
 
 namespace geotex::detail {
 
+//! Loops shorter than this run on one thread (loops over colour classes or heavy sites: a tenth of it):
+//! below it, OpenMP's fork/join costs more than the work, and far more when the cores are shared
+//! with other processes. Tests lower it to check that results do not depend on the thread count.
+inline int min_parallel = 50000;
+
 //! Mesh connectivity as flat arrays.
 struct Topology {
   explicit Topology(const Mesh& mesh);
@@ -33,6 +38,8 @@ void compute_normals(const Topology& T, const double* x, double* n, double* inv_
 std::vector<double> flat(const MatrixX3d& X, double scale);
 MatrixX3d unflat(const double* x, int n, double scale);
 void check_edge_options(const EdgeProcessOptions& o);
+//! φ0 of outer iteration `it` under EdgeProcessOptions::phi0_start_deg.
+double annealed_phi0(const EdgeProcessOptions& o, int it, int iterations);
 
 //! U_V of Eq. (6.4) + (6.13) on flat positions (3 per vertex).
 struct VertexProblem {

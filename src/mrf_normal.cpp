@@ -36,13 +36,13 @@ struct NormalProblem {
   }
   double value(const double* n) const {
     double U = 0;
-#pragma omp parallel for schedule(static) reduction(+ : U)
+#pragma omp parallel for schedule(static) reduction(+ : U) if (T.nE >= min_parallel)
     for (int e = 0; e < T.nE; ++e) {
       const int f0 = T.ef[2 * e], f1 = T.ef[2 * e + 1];
       if (f0 >= 0 && f1 >= 0 && w[e] != 0) U += w[e] * pair(vec(n + 3 * f0), vec(n + 3 * f1));
     }
     double L = 0;
-#pragma omp parallel for schedule(static) reduction(+ : L)
+#pragma omp parallel for schedule(static) reduction(+ : L) if (T.nF >= min_parallel)
     for (int f = 0; f < T.nF; ++f) L += (vec(n + 3 * f) - vec(n0 + 3 * f)).squaredNorm();
     return U + alpha * L;
   }
@@ -80,7 +80,7 @@ struct NormalProblem {
 double normal_icm(const NormalProblem& P, std::vector<double>& n) {
   const double U0 = P.value(n.data());
   std::vector<double> next(n.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (P.T.nF >= min_parallel)
   for (int f = 0; f < P.T.nF; ++f) put(&next[3 * f], P.mode(f, n.data()));
   const double U = P.value(next.data());
   if (U <= U0) {
@@ -88,7 +88,7 @@ double normal_icm(const NormalProblem& P, std::vector<double>& n) {
     return U;
   }
   for (const auto& cls : P.T.face_colours()) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int f = cls[k];
       const Vec3 m = P.mode(f, n.data());
@@ -102,7 +102,7 @@ double normal_metropolis(const NormalProblem& P, std::vector<double>& n, double 
                          int sweep, double* acceptance) {
   long accepted = 0;
   for (const auto& cls : P.T.face_colours()) {
-#pragma omp parallel for schedule(static) reduction(+ : accepted)
+#pragma omp parallel for schedule(static) reduction(+ : accepted) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int f = cls[k];
       Rng rng(site_seed(seed, sweep, static_cast<uint64_t>(f) + (2ull << 40)));
@@ -125,10 +125,10 @@ double normal_metropolis(const NormalProblem& P, std::vector<double>& n, double 
 void fit_vertices(const Topology& T, std::vector<double>& x, const std::vector<double>& n, int iterations) {
   std::vector<double> c(3 * T.nF), y(x.size());
   for (int it = 0; it < iterations; ++it) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (T.nF >= min_parallel)
     for (int f = 0; f < T.nF; ++f)
       put(&c[3 * f], (vec(&x[3 * T.F[3 * f]]) + vec(&x[3 * T.F[3 * f + 1]]) + vec(&x[3 * T.F[3 * f + 2]])) / 3.0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (T.nV >= min_parallel)
     for (int v = 0; v < T.nV; ++v) {
       const Vec3 xv = vec(&x[3 * v]);
       Vec3 d = Vec3::Zero();
@@ -172,6 +172,7 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
     n = n0;
     if (round == 0 && o.initial_labels_from_angles) {
       field.update(x.data(), n.data());
+      field.opt.phi0_deg = annealed_phi0(o.edges, 0, o.iterations);
       field.initial_labels(eps.data());
     }
     const NormalProblem P{T, n0.data(), w.data(), o.alpha, o.potential};
@@ -182,6 +183,7 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
       field.update(x.data(), n.data());
       prev = eps;
       double Ue = 0;
+      field.opt.phi0_deg = annealed_phi0(o.edges, it, o.iterations);
       const bool last = it + 1 == o.iterations || quench_now;
       const MrfOptimizer eopt = last && o.edges.quench ? MrfOptimizer::Icm : o.edges.optimizer;
       quenched = quenched || eopt == MrfOptimizer::Icm;

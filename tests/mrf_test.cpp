@@ -15,6 +15,7 @@
 #include "geotex/noise.h"
 #include "geotex/random.h"
 #include "geotex/shapes.h"
+#include "../src/mrf_internal.h"
 #include "test_util.h"
 
 using namespace geotex;
@@ -227,7 +228,10 @@ TEST(MrfOptimizers, SeededRunIsReproducibleOnAnyThreadCount) {
   o.temperature = 0.01;
   o.iterations = 4;
   o.seed = 7;
+  const int min_parallel = detail::min_parallel;
+  detail::min_parallel = 1;  // every loop in parallel
   const MrfResult a = mrf_denoise(m, o);
+  detail::min_parallel = min_parallel;
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   const MrfResult b = mrf_denoise(m, o);

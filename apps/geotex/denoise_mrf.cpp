@@ -16,7 +16,7 @@ namespace {
 struct MrfArgs {
   std::optional<std::string> optimizer;
   std::string edge_optimizer = "metropolis", potential = "quadratic", ridges = "all";
-  double phi0 = 40.0, support = 0.5, te = 0.05, te_cooling = 0.9, tv = 0.0, tv_cooling = 0.5, step = 0.1;
+  double phi0 = 40.0, phi0_start = 0.0, support = 0.5, te = 0.05, te_cooling = 0.9, tv = 0.0, tv_cooling = 0.5, step = 0.1;
   double tolerance = 1e-6;
   int sweeps = 0, edge_sweeps = 1, normal_sweeps = 10, vertex_iterations = 20, rounds = 1;
   bool no_initial_labels = false;
@@ -31,6 +31,10 @@ void add_options(CLI::App& app) {
   MrfArgs& a = args();
   const std::string g = "MRF (mrf, mrf-normal)";
   app.add_option("--phi0", a.phi0, "ridge sharpness threshold phi0, degrees (Eq. 6.9)")
+      ->check(CLI::Range(0.0, 180.0))->capture_default_str()->group(g);
+  app.add_option("--phi0-start", a.phi0_start,
+                 "anneal the threshold from this angle (degrees) down to phi0 over the first half of the iterations; "
+                 "0 = off (thesis)")
       ->check(CLI::Range(0.0, 180.0))->capture_default_str()->group(g);
   app.add_option("--support", a.support, "weight of the edge neighbourhood support (Eq. 6.11)")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
@@ -76,6 +80,7 @@ void add_options(CLI::App& app) {
 EdgeProcessOptions edge_options(const MrfArgs& a) {
   EdgeProcessOptions e;
   e.phi0_deg = a.phi0;
+  e.phi0_start_deg = a.phi0_start;
   e.support_weight = a.support;
   e.ridges = parse_ridges(a.ridges);
   e.optimizer = parse_optimizer(a.edge_optimizer);
@@ -107,7 +112,7 @@ DenoiseResult to_result(const Mesh& input, const MrfResult& r, nlohmann::json pa
 }
 
 nlohmann::json edge_params(const EdgeProcessOptions& e) {
-  return {{"phi0_deg", e.phi0_deg}, {"support_weight", e.support_weight}, {"ridges", to_string(e.ridges)},
+  return {{"phi0_deg", e.phi0_deg}, {"phi0_start_deg", e.phi0_start_deg}, {"support_weight", e.support_weight}, {"ridges", to_string(e.ridges)},
           {"edge_optimizer", to_string(e.optimizer)}, {"te", e.temperature}, {"te_cooling", e.cooling},
           {"edge_sweeps", e.sweeps}};
 }

@@ -69,6 +69,10 @@ struct EdgeProcessOptions {
   //! End the annealing at T = 0: in the last outer iteration the edge sweep takes each site's
   //! conditional mode (ICM), so that the final labels are exactly 0 or 1.
   bool quench = true;
+  //! Threshold annealing (not in the thesis; 0 = off): when above φ0, the threshold starts here and
+  //! falls linearly to φ0 over the first half of the outer iterations, so that noise-sharp edges of
+  //! the input are not frozen as ridges before the geometry has been smoothed.
+  double phi0_start_deg = 0.0;
 };
 
 //! The vertex process and the alternation (Sec. 6.3.1–6.3.5).
