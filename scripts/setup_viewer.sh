@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Install what the web viewer needs to build and test: Node.js + npm (to bundle three.js at build time),
+# Debian's chromium (headless, for the viewer test), and the npm packages pinned in viewer/package-lock.json.
+# Usage: scripts/setup_viewer.sh     (needs root or sudo for apt; safe to run again)
+# Without node/npm the build still works: `geotex view` then says the viewer bundle is unavailable.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+packages=(chromium)
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  echo "setup_viewer: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "setup_viewer: chromium, node and npm present"
+fi
+
+# npm packages exactly as locked (three, esbuild, playwright-core). Playwright never downloads a browser:
+# the test drives /usr/bin/chromium.
+cd "$here/viewer"
+PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund
+# The bundle for source-tree use (the CMake build embeds its own copy: viewer/CMakeLists.txt).
+npm run build --silent
+echo "setup_viewer: node $(node --version), npm packages in viewer/node_modules, $(/usr/bin/chromium --version 2>/dev/null || echo 'chromium missing')"

@@ -1,0 +1,332 @@
+// Software rendering and PNG writing: analytic silhouettes, occlusion, colour maps, PNG structure
+// checked byte by byte and decoded by an independent inflater (Python's zlib), CLI end to end.
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "geotex/error.h"
+#include "geotex/io.h"
+#include "geotex/render.h"
+#include "geotex/shapes.h"
+#include "test_util.h"
+
+using namespace geotex;
+using geotex::test::run_cli;
+using geotex::test::TempDir;
+
+namespace {
+
+uint32_t be32(const std::string& s, size_t at) {
+  return (uint32_t(uint8_t(s[at])) << 24) | (uint32_t(uint8_t(s[at + 1])) << 16) |
+         (uint32_t(uint8_t(s[at + 2])) << 8) | uint32_t(uint8_t(s[at + 3]));
+}
+
+// Bitwise CRC-32, written independently of the table-driven one under test.
+uint32_t crc_bitwise(const std::string& s) {
+  uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char ch : s) {
+    c ^= ch;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+
+struct Chunk {
+  std::string type, data;
+};
+
+// Split a PNG into chunks, checking the signature, each length and each CRC.
+std::vector<Chunk> parse_png(const std::string& png) {
+  std::vector<Chunk> out;
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  size_t at = 8;
+  while (at + 12 <= png.size()) {
+    const uint32_t len = be32(png, at);
+    EXPECT_LE(at + 12 + len, png.size());
+    Chunk c{png.substr(at + 4, 4), png.substr(at + 8, len)};
+    EXPECT_EQ(be32(png, at + 8 + len), crc_bitwise(png.substr(at + 4, 4 + len))) << "CRC of " << c.type;
+    out.push_back(c);
+    at += 12 + len;
+  }
+  EXPECT_EQ(at, png.size()) << "trailing bytes after the last chunk";
+  return out;
+}
+
+size_t differing_pixels(const Image& a, const Image& b) {
+  size_t n = 0;
+  for (size_t i = 0; i < a.rgb.size(); i += 3)
+    if (a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2]) ++n;
+  return n;
+}
+
+size_t non_background(const Image& img) {
+  size_t n = 0;
+  for (size_t i = 0; i < img.rgb.size(); i += 3)
+    if (img.rgb[i] != 255 || img.rgb[i + 1] != 255 || img.rgb[i + 2] != 255) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(Render, SphereSilhouetteCoversPiRSquared) {
+  const Mesh sphere = icosphere(5, 1.0);
+  for (auto view : {ViewDirection::Iso, ViewDirection::Front, ViewDirection::Top}) {
+    RenderOptions o;
+    o.width = 480;
+    o.height = 360;
+    o.view = view;
+    o.supersampling = 1;
+    const Rendering r = render_mesh(sphere, o);
+    // Orthographic: the silhouette is a disk of radius scale · 1 (the inscribed polygon loses < 0.1%).
+    const double expected = M_PI * r.camera.scale * r.camera.scale;
+    EXPECT_NEAR(r.covered_pixels / expected, 1.0, 0.01);
+    EXPECT_NEAR(static_cast<double>(non_background(r.image)) / expected, 1.0, 0.01);
+    // The fitted disk fills the height minus the margins.
+    EXPECT_NEAR(2.0 * r.camera.scale, o.height * (1 - 2 * o.margin), 0.02 * o.height);
+    // and it is centred.
+    double sx = 0, sy = 0;
+    size_t n = 0;
+    for (int y = 0; y < o.height; ++y)
+      for (int x = 0; x < o.width; ++x)
+        if (r.image.pixel(x, y)[0] != 255 || r.image.pixel(x, y)[2] != 255) sx += x + 0.5, sy += y + 0.5, ++n;
+    EXPECT_NEAR(sx / n, o.width / 2.0, 1.0);
+    EXPECT_NEAR(sy / n, o.height / 2.0, 1.0);
+  }
+}
+
+TEST(Render, SupersamplingKeepsTheCoverage) {
+  const Mesh sphere = icosphere(4, 1.0);
+  RenderOptions o;
+  o.width = 300;
+  o.height = 300;
+  o.supersampling = 3;
+  const Rendering r = render_mesh(sphere, o);
+  EXPECT_NEAR(r.covered_pixels / (M_PI * r.camera.scale * r.camera.scale), 1.0, 0.01);
+}
+
+TEST(Render, FlatAndSmoothShadeTheSameSilhouetteDifferently) {
+  const Mesh sphere = icosphere(2, 1.0);
+  RenderOptions o;
+  o.width = 200;
+  o.height = 200;
+  o.supersampling = 1;
+  const Rendering smooth = render_mesh(sphere, o);
+  o.smooth = false;
+  const Rendering flat = render_mesh(sphere, o);
+  EXPECT_EQ(smooth.covered_pixels, flat.covered_pixels);
+  EXPECT_EQ(non_background(smooth.image), non_background(flat.image));
+  EXPECT_GT(differing_pixels(smooth.image, flat.image), smooth.covered_pixels / 2);
+}
+
+TEST(Render, FieldColoursFollowTheColourMap) {
+  const Mesh sphere = icosphere(4, 1.0);
+  const MatrixX3d V = positions(sphere);
+  RenderLayers layers;
+  layers.field = V.col(2);  // height
+  RenderOptions o;
+  o.width = 300;
+  o.height = 300;
+  o.view = ViewDirection::Front;
+  o.supersampling = 1;
+  o.legend = false;
+  o.specular = 0;
+  o.ambient = 1.0;  // unlit: the pixel is exactly the mapped colour
+  const Rendering r = render_mesh(sphere, o, layers);
+  EXPECT_NEAR(r.field_lo, -1.0, 1e-9);
+  EXPECT_NEAR(r.field_hi, 1.0, 1e-9);
+  // Screen y = cy − scale·z: sample at z = ±0.7 and 0 on the vertical centre line.
+  for (double z : {-0.7, 0.0, 0.7}) {
+    const int y = static_cast<int>(std::floor(150 - r.camera.scale * z));
+    const Vec3 want = colour_map((z + 1) / 2);
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(r.image.pixel(150, y)[j], 255 * want[j], 6) << "z " << z << " channel " << j;
+  }
+  // A fixed range maps everything above it to the top colour.
+  layers.field_lo = -2;
+  layers.field_hi = -1;
+  const Rendering top = render_mesh(sphere, o, layers);
+  const Vec3 yellow = colour_map(1.0);
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(top.image.pixel(150, 150)[j], 255 * yellow[j], 1);
+}
+
+TEST(Render, LegendAddsABarBesideTheMesh) {
+  const Mesh sphere = icosphere(3, 1.0);
+  RenderLayers layers;
+  layers.field = positions(sphere).col(0);
+  RenderOptions o;
+  o.width = 400;
+  o.height = 300;
+  o.supersampling = 1;
+  const Rendering r = render_mesh(sphere, o, layers);
+  // The bar's top pixel is the top colour of the map.
+  const int bx = o.width - std::min(110, o.width / 4) + 8 + 2, by = o.height / 8;
+  const Vec3 yellow = colour_map(1.0);
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(r.image.pixel(bx, by)[j], 255 * yellow[j], 1);
+  // The mesh is fitted left of the legend.
+  EXPECT_LT(r.camera.scale * 2, o.width - std::min(110, o.width / 4) + 1);
+}
+
+TEST(Render, EdgeLinesAreDrawnAndHiddenBehindTheSurface) {
+  const Mesh sphere = icosphere(3, 1.0);
+  const MatrixX3d V = positions(sphere);
+  const MatrixX2i E = edges(sphere);
+  RenderOptions o;
+  o.width = 240;
+  o.height = 240;
+  o.view = ViewDirection::Front;  // camera on −y
+  o.supersampling = 1;
+  const Rendering plain = render_mesh(sphere, o);
+  auto select = [&](auto keep) {
+    std::vector<int> rows;
+    for (Eigen::Index e = 0; e < E.rows(); ++e)
+      if (keep(V.row(E(e, 0)), V.row(E(e, 1)))) rows.push_back(static_cast<int>(e));
+    RenderLayers l;
+    l.segments.resize(rows.size(), 2);
+    for (size_t i = 0; i < rows.size(); ++i) l.segments.row(i) = E.row(rows[i]);
+    return l;
+  };
+  // Edges on the far side (y > 0.3) are hidden: the picture does not change.
+  const RenderLayers back = select([](const auto& a, const auto& b) { return a[1] > 0.3 && b[1] > 0.3; });
+  ASSERT_GT(back.segments.rows(), 10);
+  EXPECT_EQ(differing_pixels(render_mesh(sphere, o, back).image, plain.image), 0u);
+  // Edges on the near side (y < −0.3) show, in the label colour.
+  RenderLayers front = select([](const auto& a, const auto& b) { return a[1] < -0.3 && b[1] < -0.3; });
+  front.segment_labels = Eigen::VectorXi::Constant(front.segments.rows(), 2);
+  const Rendering lined = render_mesh(sphere, o, front);
+  EXPECT_GT(differing_pixels(lined.image, plain.image), 500u);
+  const Vec3 blue = label_colour(2);
+  size_t blue_pixels = 0;
+  for (size_t i = 0; i < lined.image.rgb.size(); i += 3)
+    if (std::abs(lined.image.rgb[i] - 255 * blue[0]) < 2 && std::abs(lined.image.rgb[i + 2] - 255 * blue[2]) < 2) ++blue_pixels;
+  EXPECT_GT(blue_pixels, 300u);
+}
+
+TEST(Render, BadInputsThrow) {
+  const Mesh sphere = icosphere(1, 1.0);
+  RenderOptions o;
+  o.width = 0;
+  EXPECT_THROW(render_mesh(sphere, o), InvalidInput);
+  RenderLayers l;
+  l.field = Eigen::VectorXd::Zero(3);
+  EXPECT_THROW(render_mesh(sphere, {}, l), InvalidInput);
+  RenderLayers s;
+  s.segments.resize(1, 2);
+  s.segments << 0, 100000;
+  EXPECT_THROW(render_mesh(sphere, {}, s), InvalidInput);
+  EXPECT_THROW(view_direction_from_name("side"), InvalidInput);
+  EXPECT_THROW(render_mesh(Mesh{}), InvalidInput);
+}
+
+TEST(Png, StructureAndChecksums) {
+  const Rendering r = render_mesh(icosphere(3, 1.0), RenderOptions{.width = 123, .height = 77});
+  const std::string png = encode_png(r.image);
+  const auto chunks = parse_png(png);
+  ASSERT_EQ(chunks.size(), 3u);
+  EXPECT_EQ(chunks[0].type, "IHDR");
+  EXPECT_EQ(be32(chunks[0].data, 0), 123u);
+  EXPECT_EQ(be32(chunks[0].data, 4), 77u);
+  EXPECT_EQ(chunks[0].data.substr(8), std::string("\x08\x02\x00\x00\x00", 5));
+  EXPECT_EQ(chunks[1].type, "IDAT");
+  EXPECT_EQ(chunks[2].type, "IEND");
+  EXPECT_EQ(png_crc32(reinterpret_cast<const uint8_t*>("123456789"), 9), 0xCBF43926u);  // the standard check value
+}
+
+TEST(Png, CompressesUniformAreas) {
+  Image img;
+  img.width = 800;
+  img.height = 600;
+  img.rgb.assign(800 * 600 * 3, 200);
+  const std::string png = encode_png(img);
+  EXPECT_LT(png.size(), img.rgb.size() / 100);
+}
+
+TEST(Png, DecodesToTheSamePixelsWithAnIndependentInflater) {
+  if (!std::filesystem::exists("/usr/bin/python3")) GTEST_SKIP() << "/usr/bin/python3 not found";
+  TempDir dir;
+  RenderLayers layers;
+  const Mesh sphere = icosphere(3, 1.0);
+  layers.field = positions(sphere).col(2);
+  const Rendering r = render_mesh(sphere, RenderOptions{.width = 211, .height = 150}, layers);
+  write_png(r.image, dir / "a.png");
+  // Python's zlib inflates; the script undoes all five PNG filters and writes raw RGB.
+  const std::string script = R"(
+import sys, zlib, struct
+d = open(sys.argv[1], 'rb').read()
+at, idat = 8, b''
+while at < len(d):
+    n, t = struct.unpack('>I4s', d[at:at+8]); body = d[at+8:at+8+n]; at += 12 + n
+    if t == b'IHDR': w, h = struct.unpack('>II', body[:8])
+    if t == b'IDAT': idat += body
+raw = zlib.decompress(idat); s = 3 * w; out = bytearray(); prev = bytearray(s)
+for y in range(h):
+    f = raw[y*(s+1)]; row = bytearray(raw[y*(s+1)+1:(y+1)*(s+1)])
+    for i in range(s):
+        a = row[i-3] if i >= 3 else 0; b = prev[i]; c = prev[i-3] if i >= 3 else 0
+        if f == 1: row[i] = (row[i] + a) & 255
+        elif f == 2: row[i] = (row[i] + b) & 255
+        elif f == 3: row[i] = (row[i] + (a + b) // 2) & 255
+        elif f == 4:
+            p = a + b - c; pa, pb, pc = abs(p-a), abs(p-b), abs(p-c)
+            row[i] = (row[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+    out += row; prev = row
+open(sys.argv[2], 'wb').write(out)
+)";
+  geotex::test::write_file(dir / "decode.py", script);
+  const std::string cmd = "/usr/bin/python3 " + (dir / "decode.py") + " " + (dir / "a.png") + " " + (dir / "a.rgb");
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const std::string rgb = geotex::test::read_file(dir / "a.rgb");
+  ASSERT_EQ(rgb.size(), r.image.rgb.size());
+  EXPECT_TRUE(std::equal(rgb.begin(), rgb.end(), reinterpret_cast<const char*>(r.image.rgb.data())));
+}
+
+TEST(Render, DistanceToSurface) {
+  const Mesh inner = icosphere(3, 1.0), outer = icosphere(5, 2.0);
+  const Eigen::VectorXd d = distance_to_surface(inner, outer);
+  ASSERT_EQ(d.size(), static_cast<Eigen::Index>(inner.n_vertices()));
+  EXPECT_NEAR(d.minCoeff(), 1.0, 0.01);
+  EXPECT_NEAR(d.maxCoeff(), 1.0, 0.01);
+  EXPECT_NEAR(distance_to_surface(inner, inner).maxCoeff(), 0.0, 1e-12);
+}
+
+TEST(RenderCli, WritesAPngOfTheRequestedSize) {
+  TempDir dir;
+  Mesh sphere = icosphere(3, 1.0);
+  PlyExtras x;
+  const MatrixX3d V = positions(sphere);
+  x.vertex_scalars["height"] = std::vector<double>(V.col(2).data(), V.col(2).data() + V.rows());
+  write_ply(sphere, dir / "s.ply", x);
+  write_edge_values(sphere, Eigen::VectorXd::Ones(sphere.n_edges()), "label", dir / "e.ply");
+  const auto r = run_cli("render " + (dir / "s.ply") + " -o " + (dir / "s.png") +
+                         " --size 320x240 --view top --field height --edges " + (dir / "e.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto chunks = parse_png(geotex::test::read_file(dir / "s.png"));
+  ASSERT_FALSE(chunks.empty());
+  EXPECT_EQ(be32(chunks[0].data, 0), 320u);
+  EXPECT_EQ(be32(chunks[0].data, 4), 240u);
+  // Error against a reference as the field, flat shading.
+  write_mesh(icosphere(4, 1.1), dir / "ref.ply");
+  const auto e = run_cli("render " + (dir / "s.ply") + " -o " + (dir / "e.png") + " --reference " + (dir / "ref.ply") + " --flat");
+  EXPECT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "e.png"));
+}
+
+TEST(RenderCli, BadArgumentsFailWithOneLine) {
+  TempDir dir;
+  write_mesh(icosphere(1, 1.0), dir / "s.ply");
+  for (const std::string& args : std::vector<std::string>{"--size 0x10", "--size big", "--view side", "--field nosuch",
+                                                          "--edges " + (dir / "none.ply")}) {
+    const auto r = run_cli("render " + (dir / "s.ply") + " -o " + (dir / "o.png") + " " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_FALSE(r.err.empty()) << args;
+    EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << args << ": " << r.err;
+  }
+  EXPECT_NE(run_cli("render " + (dir / "missing.ply") + " -o " + (dir / "o.png")).exit_code, 0);
+  EXPECT_NE(run_cli("render " + (dir / "s.ply") + " -o " + (dir / "o.jpg")).exit_code, 0);
+  const auto h = run_cli("render --help");
+  EXPECT_EQ(h.exit_code, 0);
+  EXPECT_NE(h.out.find("--size"), std::string::npos);
+}

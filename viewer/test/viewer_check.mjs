@@ -1,0 +1,132 @@
+// Load a geotex viewer page in Debian's headless Chromium and check it:
+//   node test/viewer_check.mjs PAGE.html SCREENSHOT.png [EXPECTED_VIEWS]
+// Fails (exit 1) on a console error or page error, a missing canvas, a blank picture, a view without
+// its mesh, or toggles that do not change the picture. Exit 77 (skip) when Chromium or
+// playwright-core is absent.
+import { existsSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, resolve } from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const SKIP = 77;
+const [page_path, shot_path, expected_views = '1'] = process.argv.slice(2);
+if (!page_path || !shot_path) {
+  console.error('usage: node test/viewer_check.mjs PAGE.html SCREENSHOT.png [EXPECTED_VIEWS]');
+  process.exit(2);
+}
+const chromium_path = process.env.GEOTEX_CHROMIUM || '/usr/bin/chromium';
+if (!existsSync(chromium_path)) {
+  console.log(`SKIP: ${chromium_path} not found (install Debian's chromium: scripts/setup_viewer.sh)`);
+  process.exit(SKIP);
+}
+let chromium;
+try {
+  ({ chromium } = await import('playwright-core'));
+} catch {
+  console.log('SKIP: playwright-core not installed (run npm ci in viewer/: scripts/setup_viewer.sh)');
+  process.exit(SKIP);
+}
+
+const profile = mkdtempSync(join(tmpdir(), 'geotex-chromium-'));
+const failures = [];
+const fail = (msg) => { failures.push(msg); console.error(`FAIL: ${msg}`); };
+let browser;
+try {
+  // A fresh profile folder per run (Playwright's way of passing --user-data-dir).
+  browser = await chromium.launchPersistentContext(profile, {
+    executablePath: chromium_path,
+    viewport: { width: 1200, height: 700 },
+    headless: true,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync',
+           '--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+  const page = browser.pages()[0] || (await browser.newPage());
+  const messages = [];
+  page.on('console', (m) => { if (m.type() === 'error') messages.push(`console: ${m.text()}`); });
+  page.on('pageerror', (e) => messages.push(`page error: ${e.message}`));
+  page.on('requestfailed', (r) => messages.push(`request failed: ${r.url()}`));
+  // The page must be self-contained: any request other than the page itself is an error.
+  const url = pathToFileURL(resolve(page_path)).href;
+  await page.route('**/*', (route) => (route.request().url() === url ? route.continue() : route.abort()));
+  await page.goto(url, { waitUntil: 'load' });
+  await page.waitForFunction(() => window.geotexViewer && window.geotexViewer.ready, null, { timeout: 30000 })
+    .catch(() => fail('viewer did not report ready within 30 s'));
+
+  const info = await page.evaluate(() => ({
+    canvas: !!document.querySelector('canvas#gl'),
+    views: document.querySelectorAll('.view').length,
+    fields: window.geotexViewer ? window.geotexViewer.fields : [],
+    error: document.getElementById('error').textContent,
+  }));
+  if (!info.canvas) fail('no canvas');
+  if (info.views !== Number(expected_views)) fail(`${info.views} views, expected ${expected_views}`);
+  if (info.error) fail(`page shows an error: ${info.error}`);
+
+  // Statistics of the canvas, per view: fraction of non-background pixels and grey-level variance.
+  const stats = () => page.evaluate(() => {
+    const gl = document.getElementById('gl');
+    const c = document.createElement('canvas');
+    c.width = gl.width; c.height = gl.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(gl, 0, 0);
+    const px = ctx.getImageData(0, 0, c.width, c.height).data;
+    const views = [...document.querySelectorAll('.view')].map((v) => v.getBoundingClientRect());
+    const top = gl.getBoundingClientRect(), s = c.width / top.width;
+    let sum = 0, sum2 = 0, n = 0, hash = 0;
+    const covered = views.map(() => 0), total = views.map(() => 0);
+    for (let y = 0; y < c.height; ++y) for (let x = 0; x < c.width; ++x) {
+      const i = 4 * (y * c.width + x);
+      const g = (px[i] + px[i + 1] + px[i + 2]) / 3;
+      sum += g; sum2 += g * g; ++n;
+      hash = (hash * 31 + px[i] * 7 + px[i + 1] * 3 + px[i + 2]) >>> 0;
+      const vx = x / s + top.left;
+      const k = views.findIndex((r) => vx >= r.left && vx < r.right);
+      if (k >= 0) { ++total[k]; if (px[i] < 250 || px[i + 1] < 250 || px[i + 2] < 250) ++covered[k]; }
+    }
+    const mean = sum / n;
+    return { variance: sum2 / n - mean * mean, covered: covered.map((c, k) => c / Math.max(1, total[k])), hash };
+  });
+  const plain = await stats();
+  console.log(`canvas: grey variance ${plain.variance.toFixed(1)}, covered per view ${plain.covered.map((c) => c.toFixed(3)).join(', ')}`);
+  if (!(plain.variance > 50)) fail(`canvas looks blank (grey variance ${plain.variance.toFixed(2)})`);
+  plain.covered.forEach((c, k) => { if (!(c > 0.02)) fail(`view ${k + 1} shows no mesh (${(100 * c).toFixed(2)}% covered)`); });
+
+  // Toggles change the picture.
+  await page.check('#wire');
+  const wired = await stats();
+  if (wired.hash === plain.hash) fail('wireframe toggle did not change the picture');
+  await page.uncheck('#wire');
+  await page.check('#flat');
+  const flat = await stats();
+  if (flat.hash === plain.hash) fail('flat-shading toggle did not change the picture');
+  await page.uncheck('#flat');
+  if (info.fields.length > 0) {
+    // Switch between no field and a field (whichever the page did not start with).
+    const start = await page.inputValue('#field');
+    await page.selectOption('#field', start ? '' : info.fields[0]);
+    const switched = await stats();
+    if (switched.hash === plain.hash) fail('choosing another field did not change the picture');
+    await page.selectOption('#field', info.fields[0]);
+    if (!(await page.isVisible('#legend'))) fail('no legend with a field shown');
+  }
+  // Orbit by dragging: every view moves together (one shared camera).
+  const before = await stats();
+  await page.mouse.move(300, 400);
+  await page.mouse.down();
+  await page.mouse.move(420, 360, { steps: 5 });
+  await page.mouse.up();
+  const after = await stats();
+  if (after.hash === before.hash) fail('dragging did not orbit the view');
+
+  await page.screenshot({ path: shot_path });
+  console.log(`screenshot: ${shot_path}`);
+  for (const m of messages) fail(m);
+} catch (e) {
+  fail(`exception: ${e.message}`);
+} finally {
+  if (browser) await browser.close();
+  rmSync(profile, { recursive: true, force: true });
+}
+if (failures.length) process.exit(1);
+console.log('viewer check passed');
