@@ -163,7 +163,7 @@ std::string viewer_script() {
 
 std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptions& options, const std::string& script) {
   if (meshes.empty()) throw InvalidInput("viewer page: no meshes");
-  if (script.empty()) throw InvalidInput("viewer page: empty script");
+  if (script.empty() && options.script_src.empty()) throw InvalidInput("viewer page: empty script");
   nlohmann::json data;
   data["title"] = options.title;
   data["initialField"] = options.initial_field;
@@ -254,6 +254,10 @@ std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptio
 <script type="application/json" id="geotex-data">)",
                                  fmt::arg("title", html_escape(options.title)));
   page += json;
+  if (!options.script_src.empty()) {
+    page += "</script>\n<script src=\"" + html_escape(options.script_src) + "\"></script>\n</body>\n</html>\n";
+    return page;
+  }
   page += "</script>\n<script>\n";
   page += script;
   page += "\n</script>\n</body>\n</html>\n";

@@ -47,6 +47,9 @@ struct ViewerOptions {
   std::string initial_field;            //!< field shown when the page opens ("" = plain colour)
   bool flat = false;                    //!< start in flat shading
   bool wireframe = false;               //!< start with the wireframe shown
+  //! when set, the page loads the bundle from this (relative) URL instead of inlining it, so that
+  //! many pages in one folder share one copy (the demo report); the page is then not self-contained
+  std::string script_src;
 };
 
 //! The viewer's JavaScript bundle (three.js + viewer/src/viewer.js). Looked up in order: the file
@@ -57,7 +60,8 @@ std::string viewer_script();
 
 //! A self-contained HTML page (no network needed, works from file://) showing the meshes side by
 //! side with linked orbit controls. Positions go in as base64 float32, triangles as uint32.
-//! \param script the bundle (viewer_script()). \throw InvalidInput for no meshes or bad layers.
+//! \param script the bundle (viewer_script()); unused when options.script_src is set.
+//! \throw InvalidInput for no meshes or bad layers.
 std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptions& options,
                         const std::string& script);
 
