@@ -373,3 +373,89 @@ TEST(Surfel, RejectsBadInput) {
   bad(0, 0) = std::nan("");
   EXPECT_THROW(optimize_surfels(bad, N, S), InvalidInput);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Command line.
+
+namespace {
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+}  // namespace
+
+TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
+  test::TempDir tmp;
+  const Mesh clean = subdivided_cube(8);
+  Mesh noisy = clean;
+  set_positions(noisy, add_noise(clean, {}));
+  write_mesh(noisy, tmp / "noisy.ply");
+  auto r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --report {} --polygons {}", tmp / "noisy.ply",
+                                     tmp / "dual.ply", tmp / "r.json", tmp / "poly.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Mesh dual = read_mesh(tmp / "dual.ply");
+  EXPECT_EQ(dual.n_vertices(), noisy.n_faces());  // one dual vertex per input face (closed input)
+  EXPECT_NE(test::read_file(tmp / "r.json").find("\"energy\""), std::string::npos);
+  EXPECT_NE(test::read_file(tmp / "poly.obj").find("\nf "), std::string::npos);
+  // Primal retrieval keeps the connectivity and labels edges.
+  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval primal --iterations 3 --edges {}",
+                                tmp / "noisy.ply", tmp / "primal.ply", tmp / "edges.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Mesh primal = read_mesh(tmp / "primal.ply");
+  EXPECT_EQ(primal.n_faces(), noisy.n_faces());
+  // Point-cloud mode on the mesh's vertices.
+  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval primal --surfel-neighborhood knn",
+                                tmp / "noisy.ply", tmp / "knn.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(SurfelCli, BadFlagsFailWithOneLine) {
+  test::TempDir tmp;
+  write_mesh(subdivided_cube(4), tmp / "c.ply");
+  for (const std::string args : {"--retrieval sideways", "--t-start -3", "--beta -1", "--surfel-neighborhood knn --neighbors 5000"}) {
+    const auto r = test::run_cli(fmt::format("denoise {} -o {} --method surfel {}", tmp / "c.ply", tmp / "o.ply", args));
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_LE(count_lines(r.err), 2) << args << ": " << r.err;
+  }
+}
+
+TEST(SurfelCli, SurfelsWritesOrientedPoints) {
+  test::TempDir tmp;
+  const Mesh sphere = icosphere(3, 1.0);
+  const MatrixX3d P = positions(sphere);
+  std::string xyz = "# points\n";
+  for (Eigen::Index i = 0; i < P.rows(); ++i) xyz += fmt::format("{} {} {}\n", P(i, 0), P(i, 1), P(i, 2));
+  test::write_file(tmp / "s.xyz", xyz);
+  auto r = test::run_cli(fmt::format("-q surfels {} -o {}", tmp / "s.xyz", tmp / "s.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const PlyData d = read_ply_data(tmp / "s.ply");
+  const PlyElement* v = d.find("vertex");
+  ASSERT_NE(v, nullptr);
+  ASSERT_EQ(v->count, static_cast<size_t>(P.rows()));
+  for (size_t i = 0; i < v->count; ++i) {
+    const Vec3 n(v->scalars.at("nx")[i], v->scalars.at("ny")[i], v->scalars.at("nz")[i]);
+    const Vec3 x(v->scalars.at("x")[i], v->scalars.at("y")[i], v->scalars.at("z")[i]);
+    EXPECT_GT(n.dot(x.normalized()), 0.95);  // outward, consistently oriented
+    EXPECT_NEAR(x.norm(), 1.0, 0.05);  // planar surfels on a coarse sphere (642 points) sit slightly outside
+  }
+  // A mesh file works too (faces ignored).
+  write_mesh(sphere, tmp / "s.obj");
+  r = test::run_cli(fmt::format("-q surfels {} -o {} --points input", tmp / "s.obj", tmp / "s2.ply"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(SurfelCli, SurfelsRejectsBadInput) {
+  test::TempDir tmp;
+  test::write_file(tmp / "empty.xyz", "# nothing\n");
+  test::write_file(tmp / "bad.xyz", "1 2\n");
+  test::write_file(tmp / "few.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+  for (const std::string args : {tmp / "missing.xyz" + " -o " + tmp / "o.ply", tmp / "empty.xyz" + " -o " + tmp / "o.ply",
+                                 tmp / "bad.xyz" + " -o " + tmp / "o.ply", tmp / "few.xyz" + " -o " + tmp / "o.ply",
+                                 tmp / "few.xyz" + " -o " + tmp / "o.obj"}) {
+    const auto r = test::run_cli("surfels " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_LE(count_lines(r.err), 2) << args << ": " << r.err;
+  }
+  EXPECT_EQ(test::run_cli("surfels --help").exit_code, 0);
+}
