@@ -217,25 +217,50 @@ OneFormFitter::OneFormFitter(OneFormFitter&&) noexcept = default;
 OneFormFitter& OneFormFitter::operator=(OneFormFitter&&) noexcept = default;
 const SparseMatrix& OneFormFitter::matrix() const { return impl_->P; }
 
-Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T) {
+Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T) { return fit(T, Eigen::VectorXd()); }
+
+Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& weights) {
   Impl& s = *impl_;
   const Eigen::Index n = s.mesh->n_vertices(), m = s.mesh->n_edges();
   if (T.rows() != n) throw InvalidInput("1-form fit: expected one vector per vertex");
+  const bool weighted = weights.size() > 0;
+  if (weighted && (weights.size() != n || !(weights.minCoeff() > 0) || !weights.allFinite()))
+    throw InvalidInput("1-form fit: expected one positive weight per vertex");
   Eigen::VectorXd t(3 * n);
   for (int d = 0; d < 3; ++d) t.segment(d * n, n) = T.col(d);
   if (s.opt.tangential) t = s.proj * t;
-  // Normal equations of ‖A c − t‖² + ε ‖c − c_avg‖² (Eq. 5.81 and the estimate 5.80).
+  // Normal equations of ‖W (A c − t)‖² + ε ‖c − c_avg‖² (Eq. 5.81 and the estimate 5.80).
   const Eigen::VectorXd c_avg = one_form_average(*s.mesh, T);
-  Eigen::VectorXd rhs = s.A.transpose() * t + s.eps * c_avg;
+  SparseMatrix normal;
+  Eigen::VectorXd rhs;
+  if (weighted) {
+    Eigen::VectorXd w3(3 * n);
+    for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = weights;
+    const SparseMatrix WA = w3.asDiagonal() * s.A;  // rows scaled by w_i (squared in the normal matrix)
+    normal = SparseMatrix(s.A.transpose()) * WA;
+    const double eps = s.opt.regularization * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
+    SparseMatrix I(m, m);
+    I.setIdentity();
+    normal += eps * I;
+    normal.makeCompressed();
+    rhs = s.A.transpose() * w3.cwiseProduct(t) + eps * c_avg;
+    s.solver.factorize(normal);
+  } else {
+    normal = s.normal;
+    rhs = s.A.transpose() * t + s.eps * c_avg;
+  }
   Eigen::VectorXd c = s.solver.solve(rhs);
-  if (!s.opt.bound_by_edge_length) return c;
+  if (!s.opt.bound_by_edge_length) {
+    if (weighted) s.solver.factorize(s.normal);
+    return c;
+  }
 
   // |c_ij| ≤ ‖e_ij‖ (Sec. 8.5): pin violators to ±‖e_ij‖ with a stiff penalty on the diagonal (same
   // sparsity, so the symbolic analysis is reused), re-solve, repeat while new violators appear.
   std::vector<double> target(m, 0.0);
   std::vector<char> pinned(m, 0);
-  const double stiff = 1e8 * s.normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
-  bool refactored = false;
+  const double stiff = s.opt.bound_stiffness * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
+  bool refactored = weighted;
   for (int round = 0; round < s.opt.bound_rounds; ++round) {
     int added = 0;
     for (Eigen::Index e = 0; e < m; ++e)
@@ -245,7 +270,7 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T) {
         ++added;
       }
     if (added == 0) break;
-    SparseMatrix M = s.normal;
+    SparseMatrix M = normal;
     Eigen::VectorXd r = rhs;
     for (Eigen::Index e = 0; e < m; ++e)
       if (pinned[e]) {

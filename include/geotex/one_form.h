@@ -48,6 +48,7 @@ struct OneFormFitOptions {
   //! PᵀP: it makes the normal equations definite where Eq. (5.81) leaves coefficients undetermined.
   double regularization = 1e-9;
   int bound_rounds = 6;  //!< active-set rounds that pin violating coefficients to ±‖e_ij‖
+  double bound_stiffness = 1e3;  //!< penalty pinning a violator, relative to the mean diagonal
 };
 
 //! Least-squares 1-form fit (Eq. 5.81–5.82): argmin_c ‖P c − t‖² (+ a small pull towards Eq. 5.80),
@@ -63,6 +64,9 @@ class OneFormFitter {
 
   //! \param T #V by 3 field at vertices. \return #E coefficients. \throw InvalidInput on a size mismatch.
   Eigen::VectorXd fit(const MatrixX3d& T);
+  //! Weighted fit: argmin Σ_i w_i ‖(P c)_i − t_i‖² (+ the pull to Eq. 5.80). Refactors the normal
+  //! equations numerically (the symbolic analysis is reused). \param weights #V positive weights.
+  Eigen::VectorXd fit(const MatrixX3d& T, const Eigen::VectorXd& weights);
 
   //! The reconstruction matrix P (3#V by #E).
   const SparseMatrix& matrix() const;

@@ -1,0 +1,224 @@
+// Height-and-tilt geometric texture (thesis ch. 8).
+
+#include <cmath>
+#include <iostream>
+
+#include <gtest/gtest.h>
+
+#include "geotex/error.h"
+#include "geotex/geometry.h"
+#include "geotex/io.h"
+#include "geotex/one_form.h"
+#include "geotex/shapes.h"
+#include "geotex/texture.h"
+#include "test_util.h"
+
+using namespace geotex;
+using geotex::test::run_cli;
+using geotex::test::TempDir;
+
+namespace {
+
+double max_error(const MatrixX3d& A, const MatrixX3d& B) { return (A - B).rowwise().norm().maxCoeff(); }
+
+// Spiky plane with vertical spikes: the plane's own texture with every displacement set along +z.
+struct Spikes {
+  TexturedShape shape;
+  double h;  // mean edge length of the base
+};
+Spikes spiky_plane(bool random_lean = true) {
+  SpikeOptions o;
+  o.count = 8;
+  o.random_lean = random_lean;
+  Spikes s{spiky(plane(30, 1.0), o), 0};
+  s.h = mean_edge_length(s.shape.base);
+  return s;
+}
+
+Vec3 tip_displacement(const MatrixX3d& Y, const Mesh& base, int v) {
+  return Y.row(v).transpose() - to_eigen(base.point(base.vertex_handle(v)));
+}
+
+}  // namespace
+
+TEST(Texture, RoundTripOnLeaningSpikesAndHeightFieldDoesWorse) {
+  const TexturedShape s = make_shape("spiky-sphere", 1);
+  const double h = mean_edge_length(s.base);
+  TextureCodec codec(s.base);
+  const MatrixX3d X = positions(s.textured);
+  const Texture tex = codec.extract(X);
+  const double err = max_error(codec.apply(tex), X) / h;
+  const double err_height = max_error(codec.apply(height_field_only(tex)), X) / h;
+  std::cout << "[ spiky-sphere round trip, max vertex error / mean edge ] height-and-tilt: " << err
+            << ", height field alone: " << err_height << "\n";
+  RecordProperty("error_height_and_tilt", std::to_string(err));
+  RecordProperty("error_height_only", std::to_string(err_height));
+  EXPECT_LT(err, 1e-3);
+  EXPECT_GT(err_height, 1.0);  // leaning spikes: the tip misses by more than an edge
+}
+
+TEST(Texture, TiltFieldIsTangentToTheBase) {
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  TextureCodec codec(s.base);
+  const Texture tex = codec.extract(positions(s.textured));
+  // The raw reconstruction (Eq. 5.79), before any projection, lies in the tangent planes.
+  const MatrixX3d T = one_form_to_vertices(s.base, tex.tilt);
+  const MatrixX3d& N = codec.normals();
+  // (where the texture has height: the fit is weighted by height, so flat vertices fit loosely).
+  const double hmax = tex.height.cwiseAbs().maxCoeff();
+  double worst = 0, largest = 0;
+  for (Eigen::Index i = 0; i < T.rows(); ++i) {
+    if (std::abs(tex.height[i]) < 0.1 * hmax) continue;
+    worst = std::max(worst, std::abs(T.row(i).dot(N.row(i))));
+    largest = std::max(largest, T.row(i).norm());
+  }
+  EXPECT_GT(largest, 0.3);
+  EXPECT_LT(worst, 1e-4);
+  // The decoded tilt used for reconstruction is tangent everywhere.
+  const MatrixX3d D = codec.tilt_vectors(tex.tilt);
+  for (Eigen::Index i = 0; i < D.rows(); ++i) EXPECT_LT(std::abs(D.row(i).dot(N.row(i))), 1e-12);
+}
+
+TEST(Texture, RigidMotionChangesNoStoredValue) {
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  const Texture a = extract_texture(s.base, positions(s.textured));
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(1.1, Vec3(0.3, -1, 2).normalized()).toRotationMatrix();
+  const Eigen::RowVector3d shift(5, -2, 7);
+  auto move = [&](const Mesh& m) {
+    Mesh out = m;
+    set_positions(out, (positions(m) * R.transpose()).rowwise() + shift);
+    return out;
+  };
+  const Mesh base2 = move(s.base), tex2 = move(s.textured);
+  const Texture b = extract_texture(base2, positions(tex2));
+  EXPECT_LT((a.height - b.height).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((a.tilt - b.tilt).cwiseAbs().maxCoeff(), 1e-6 * a.tilt.cwiseAbs().maxCoeff());
+}
+
+TEST(Texture, SetTiltLeansEverySpikeTheGivenWayAndAngle) {
+  const Spikes s = spiky_plane();
+  TextureCodec codec(s.shape.base);
+  const Texture tex = codec.extract(positions(s.shape.textured));
+  const Texture edited = set_tilt(codec, tex, Vec3(1, 0, 0), 30.0);
+  const MatrixX3d Y = codec.apply(edited);
+  for (int v : s.shape.spike_centres) {
+    const Vec3 d = tip_displacement(Y, s.shape.base, v).normalized();
+    EXPECT_GT(d.x(), 0.45) << "tip " << v;
+    EXPECT_NEAR(std::acos(d.z()) * 180 / M_PI, 30.0, 1.0) << "tip " << v;
+    EXPECT_NEAR(d.y(), 0.0, 0.02);
+  }
+}
+
+TEST(Texture, WrapBendsSpikesTowardsTheDirectionMoreAtTheTip) {
+  const Spikes s = spiky_plane();
+  TextureCodec codec(s.shape.base);
+  const Texture straight = set_tilt(codec, codec.extract(positions(s.shape.textured)), Vec3(1, 0, 0), 0.0);
+  const Texture bent = wrap(codec, straight, Vec3(0, 1, 0), 60.0);
+  const MatrixX3d D = codec.directions(bent);
+  const double hmax = bent.height.cwiseAbs().maxCoeff();
+  for (int v : s.shape.spike_centres) {
+    const Vec3 tip = D.row(v);
+    EXPECT_GT(tip.y(), 0.8) << "tip " << v;  // sin 60° ≈ 0.87 at the highest tip
+    EXPECT_NEAR(tip.x(), 0.0, 0.02);
+  }
+  // Lower parts of a spike lean less than its tip: the lean grows with height.
+  for (Eigen::Index i = 0; i < D.rows(); ++i)
+    if (std::abs(bent.height[i]) > 0.05 * hmax)
+      EXPECT_NEAR(std::asin(std::clamp(D(i, 1), -1.0, 1.0)), 60.0 * M_PI / 180 * std::abs(bent.height[i]) / hmax, 0.03);
+}
+
+TEST(Texture, WiggleLeansSpikesWithTheTravellingWave) {
+  const Spikes s = spiky_plane();
+  TextureCodec codec(s.shape.base);
+  const Texture straight = set_tilt(codec, codec.extract(positions(s.shape.textured)), Vec3(1, 0, 0), 0.0);
+  const double wavelength = 0.5;
+  for (double phase : {0.0, 0.25}) {
+    const MatrixX3d D = codec.directions(wiggle(codec, straight, Vec3(1, 0, 0), 40.0, wavelength, phase));
+    for (int v : s.shape.spike_centres) {
+      const double x = s.shape.base.point(s.shape.base.vertex_handle(v))[0];
+      const double wave = std::sin(2 * M_PI * (x / wavelength - phase));
+      if (std::abs(wave) < 0.2) continue;
+      EXPECT_GT(D(v, 0) * wave, 0.0) << "tip " << v << " phase " << phase;
+    }
+  }
+}
+
+TEST(Texture, ScaleHeightAndReapplyToScaledBaseKeepElementSize) {
+  const Spikes s = spiky_plane(false);
+  TextureCodec codec(s.shape.base);
+  const Texture tex = codec.extract(positions(s.shape.textured));
+  // Grow the base 1.5 times: the re-applied spikes keep their heights (Sec. 8.4.2, Fig. 8.9).
+  Mesh big = s.shape.base;
+  set_positions(big, 1.5 * positions(s.shape.base));
+  const MatrixX3d Y = apply_texture(big, tex);
+  for (int v : s.shape.spike_centres)
+    EXPECT_NEAR(tip_displacement(Y, big, v).norm(), std::abs(tex.height[v]), 1e-9);
+  const Texture half = scale_height(tex, 0.5);
+  EXPECT_NEAR(half.height[s.shape.spike_centres[0]], 0.5 * tex.height[s.shape.spike_centres[0]], 1e-15);
+}
+
+TEST(Texture, FileRoundTrip) {
+  TempDir dir;
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  const Texture tex = extract_texture(s.base, positions(s.textured));
+  write_texture(dir / "t.ply", s.base, tex);
+  const TextureFile f = read_texture(dir / "t.ply");
+  EXPECT_EQ(f.base.n_vertices(), s.base.n_vertices());
+  EXPECT_LT(max_error(positions(f.base), positions(s.base)), 1e-15);
+  EXPECT_LT((f.texture.height - tex.height).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((f.texture.tilt - tex.tilt).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_THROW(read_texture(dir / "missing.ply"), IoError);
+  write_mesh(s.base, dir / "plain.ply");
+  EXPECT_THROW(read_texture(dir / "plain.ply"), IoError);
+}
+
+TEST(Texture, BaseShapeBySmoothingAndByProjection) {
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  BaseShapeOptions o;
+  const MatrixX3d B = extract_base_shape(s.textured, o);
+  Mesh base = s.textured;
+  set_positions(base, B);
+  // Smoothing removes the spikes: the base is closer to the true base than the textured surface is.
+  EXPECT_LT(max_error(B, positions(s.base)), 0.5 * max_error(positions(s.textured), positions(s.base)));
+  // Round trip through a smoothed base is exact too.
+  TextureCodec codec(base);
+  const Texture tex = codec.extract(positions(s.textured));
+  EXPECT_LT(max_error(codec.apply(tex), positions(s.textured)), 1e-3 * mean_edge_length(base));
+  // Projection onto a base of other connectivity lands on that base.
+  size_t missed = 0;
+  const Mesh other = icosphere(3, 1.0);
+  const Mesh proj = project_onto_base(s.textured, other, &missed);
+  EXPECT_EQ(proj.n_vertices(), s.textured.n_vertices());
+  EXPECT_LT(missed, s.textured.n_vertices() / 20);
+  const MatrixX3d P = positions(proj);
+  for (Eigen::Index i = 0; i < P.rows(); ++i) EXPECT_NEAR(P.row(i).norm(), 1.0, 0.01);
+}
+
+TEST(Texture, DiskPatchAndTransferOntoItselfReproducesTheTexture) {
+  const Spikes s = spiky_plane(false);
+  TextureCodec codec(s.shape.base);
+  const Texture tex = codec.extract(positions(s.shape.textured));
+  int centre = 0;
+  double best = 1e9;
+  for (auto v : s.shape.base.vertices())
+    if (s.shape.base.point(v).norm() < best) { best = s.shape.base.point(v).norm(); centre = v.idx(); }
+  const DiskPatch p = extract_disk_patch(s.shape.base, centre, 0.3);
+  EXPECT_GT(p.mesh.n_faces(), 100u);
+  EXPECT_THROW(extract_disk_patch(s.shape.base, -1, 0.3), InvalidInput);
+  TransferOptions o;
+  o.source_center = o.target_center = centre;
+  o.source_radius = o.target_radius = 0.3;
+  const TransferResult r = transfer_texture(s.shape.base, tex, s.shape.base, o);
+  double herr = 0, terr = 0, tmax = 0;
+  for (int v : r.target_patch.vertices) herr = std::max(herr, std::abs(r.texture.height[v] - tex.height[v]));
+  for (auto e : r.target_patch.mesh.edges()) {
+    const int a = r.target_patch.vertices[r.target_patch.mesh.from_vertex_handle(r.target_patch.mesh.halfedge_handle(e, 0)).idx()];
+    const int b = r.target_patch.vertices[r.target_patch.mesh.to_vertex_handle(r.target_patch.mesh.halfedge_handle(e, 0)).idx()];
+    const auto ge = s.shape.base.edge_handle(s.shape.base.find_halfedge(s.shape.base.vertex_handle(a), s.shape.base.vertex_handle(b)));
+    terr = std::max(terr, std::abs(r.texture.tilt[ge.idx()] - tex.tilt[ge.idx()]));
+    tmax = std::max(tmax, std::abs(tex.tilt[ge.idx()]));
+  }
+  std::cout << "[ transfer onto itself ] max height error " << herr << ", max tilt error " << terr << " (max tilt " << tmax << ")\n";
+  EXPECT_LT(herr, 1e-9);
+  EXPECT_LT(terr, 0.1 * tmax);
+}
