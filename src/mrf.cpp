@@ -824,7 +824,7 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
 
   int sweeps = o.vertex_sweeps;
   if (sweeps == 0)
-    sweeps = o.optimizer == MrfOptimizer::Metropolis ? 5 : o.optimizer == MrfOptimizer::Icm ? 2 : 30;
+    sweeps = o.optimizer == MrfOptimizer::Icm ? 2 : 5;
   MrfResult r;
   double Tv = o.temperature, Te = o.edges.temperature, step = o.step, U_prev = P.value(x.data());
   int sweep_counter = 0;

@@ -16,9 +16,9 @@ namespace {
 struct MrfArgs {
   std::optional<std::string> optimizer;
   std::string edge_optimizer = "metropolis", potential = "quadratic", ridges = "all";
-  double phi0 = 40.0, phi0_start = 0.0, support = 0.5, te = 0.05, te_cooling = 0.9, tv = 0.0, tv_cooling = 0.5, step = 0.1;
+  double phi0 = 40.0, phi0_start = 0.0, support = 0.5, te = 0.2, te_cooling = 0.95, tv = 0.0, tv_cooling = 0.5, step = 0.1;
   double tolerance = 1e-6;
-  int sweeps = 0, edge_sweeps = 1, normal_sweeps = 10, vertex_iterations = 20, rounds = 1;
+  int sweeps = 0, edge_sweeps = 1, normal_sweeps = 2, vertex_iterations = 20, rounds = 1;
   bool no_initial_labels = false;
 };
 
@@ -60,7 +60,7 @@ void add_options(CLI::App& app) {
       ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
   app.add_option("--sweeps", a.sweeps,
                  "mrf: vertex sweeps (metropolis, icm) or line searches (cg, lbfgs) per outer iteration; "
-                 "0 = 5, 2, 30, 30")
+                 "0 = 5, 2, 5, 5")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--edge-sweeps", a.edge_sweeps, "edge-process sweeps per outer iteration")
       ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
@@ -169,7 +169,7 @@ DenoiseResult run_mrf_normal(const Mesh& mesh, const DenoiseCommon& c) {
 }
 
 DenoiseRegistrar mrf{"mrf",
-                     "MRF vertex process + edge labelling (thesis ch. 6; alpha 0.1, phi0 40, T_v 0, T_E 0.05)",
+                     "MRF vertex process + edge labelling (thesis ch. 6); thesis run: --te 0.05 --te-cooling 0.9 --iterations 20",
                      add_options, run_mrf};
 DenoiseRegistrar mrf_normal{"mrf-normal",
                             "MRF on face normals + edge labelling, then vertices fitted to the normals (Sec. 6.5)",
