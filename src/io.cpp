@@ -265,6 +265,10 @@ Soup parse_off(const fs::path& path, std::string_view data, ReadReport& rep) {
   if (!parse_int64(next_token(counts), nv) || !parse_int64(next_token(counts), nf) || nv < 0 || nf < 0)
     malformed(path, lr.line_no, "expected the vertex and face counts");
   if (nv > (1ll << 31) || nf > (1ll << 31)) malformed(path, lr.line_no, "counts too large");
+  // Every vertex takes at least 6 bytes ("0 0 0\n") and every face 8: a larger count cannot fit.
+  if (static_cast<uint64_t>(nv) * 6 + static_cast<uint64_t>(nf) * 8 > data.size() + 16)
+    throw IoError(fmt::format("{}: truncated: the header declares {} vertices and {} faces, more than the file can hold",
+                              path.string(), nv, nf));
   rep.file_vertices = nv;
   soup.xyz.reserve(3 * nv);
   for (int64_t i = 0; i < nv; ++i) {
@@ -506,8 +510,12 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
     PlyElement el;
     el.name = d.name;
     el.count = d.count;
+    if (d.props.empty()) {  // rows without properties take no bytes; don't loop over them
+      out.elements.push_back(std::move(el));
+      continue;
+    }
     // Guard against absurd counts before allocating: every row takes at least one byte.
-    if (d.count > data.size() - std::min(pos, data.size()) + 1 && !d.props.empty())
+    if (d.count > data.size() - std::min(pos, data.size()) + 1)
       throw IoError(fmt::format("{}: truncated: element '{}' declares {} rows, the file is too short",
                                 path.string(), d.name, d.count));
     for (const auto& p : d.props) {
@@ -569,7 +577,8 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
             if (pos + cs > data.size()) truncated(r);
             const double nd = load_as_double(data.data() + pos, p.count_type, swap);
             pos += cs;
-            if (nd < 0) malformed(path, 0, fmt::format("negative list length in element '{}'", d.name));
+            if (!(nd >= 0) || nd > static_cast<double>(data.size()))
+              malformed(path, 0, fmt::format("bad list length {} in element '{}' row {}", nd, d.name, r));
             const size_t n = static_cast<size_t>(nd);
             const size_t is = type_size(p.type);
             if (pos + n * is > data.size()) truncated(r);
@@ -869,13 +878,13 @@ PlyData read_ply_data(const fs::path& path) {
   return parse_ply(path, data);
 }
 
-Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* report) {
-  const MeshFormat fmt_ = format_from_path(path);
-  const std::string data = read_file_bytes(path);
-  if (data.empty()) throw IoError(fmt::format("{}: the file is empty", path.string()));
+Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOptions& options,
+                          ReadReport* report, const std::string& name) {
+  const fs::path path(name);
+  if (data.empty()) throw IoError(fmt::format("{}: the file is empty", name));
   ReadReport rep;
   Soup soup;
-  switch (fmt_) {
+  switch (format) {
     case MeshFormat::Obj: soup = parse_obj(path, data, rep); break;
     case MeshFormat::Off: soup = parse_off(path, data, rep); break;
     case MeshFormat::Stl: soup = parse_stl(path, data, rep); break;
@@ -887,6 +896,14 @@ Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* rep
   if (report) *report = std::move(rep);
   return mesh;
 }
+
+Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* report) {
+  const MeshFormat format = format_from_path(path);
+  const std::string data = read_file_bytes(path);
+  return read_mesh_from_bytes(data, format, options, report, path.string());
+}
+
+PlyData parse_ply_bytes(std::string_view data, const std::string& name) { return parse_ply(fs::path(name), data); }
 
 void write_mesh(const Mesh& mesh, const fs::path& path, const WriteOptions& options) {
   const MeshFormat f = format_from_path(path);

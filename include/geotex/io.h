@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "geotex/mesh.h"
@@ -46,6 +47,10 @@ struct ReadReport {
 //!        any dropped face.
 Mesh read_mesh(const std::filesystem::path& path, const ReadOptions& options = {},
                ReadReport* report = nullptr);
+
+//! Read a mesh from bytes in memory (same checks as read_mesh); \p name is used in messages.
+Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOptions& options = {},
+                          ReadReport* report = nullptr, const std::string& name = "<memory>");
 
 struct WriteOptions {
   bool binary = true;  //!< PLY and STL: binary (default) or ascii. OBJ/OFF are always ascii.
@@ -82,6 +87,8 @@ struct PlyData {
 
 //! Parse any PLY file (every element, every property). \throw IoError on malformed/truncated content.
 PlyData read_ply_data(const std::filesystem::path& path);
+//! Parse PLY bytes in memory.
+PlyData parse_ply_bytes(std::string_view data, const std::string& name = "<memory>");
 
 //! Extra data written beside a mesh in a PLY file.
 struct PlyExtras {
