@@ -204,6 +204,7 @@ function main() {
       renderer.setViewport(x, y, r.width, r.height);
       renderer.setScissor(x, y, r.width, r.height);
       camera.aspect = r.width / Math.max(1, r.height);
+      camera.zoom = Math.min(1, camera.aspect);  // narrow views zoom out so the mesh fits their width
       camera.updateProjectionMatrix();
       v.light.position.copy(camera.position).add(camera.up.clone().multiplyScalar(radius));
       renderer.render(v.scene, camera);

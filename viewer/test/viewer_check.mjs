@@ -46,9 +46,9 @@ try {
   page.on('console', (m) => { if (m.type() === 'error') messages.push(`console: ${m.text()}`); });
   page.on('pageerror', (e) => messages.push(`page error: ${e.message}`));
   page.on('requestfailed', (r) => messages.push(`request failed: ${r.url()}`));
-  // The page must be self-contained: any request other than the page itself is an error.
+  // No network: any request for something other than a local file is refused (and so an error).
   const url = pathToFileURL(resolve(page_path)).href;
-  await page.route('**/*', (route) => (route.request().url() === url ? route.continue() : route.abort()));
+  await page.route('**/*', (route) => (route.request().url().startsWith('file:') ? route.continue() : route.abort()));
   await page.goto(url, { waitUntil: 'load' });
   await page.waitForFunction(() => window.geotexViewer && window.geotexViewer.ready, null, { timeout: 30000 })
     .catch(() => fail('viewer did not report ready within 30 s'));
