@@ -88,7 +88,7 @@ MatrixX3d extract_base_shape(const Mesh& textured, const BaseShapeOptions& o) {
     const double moved = (Y - X).rowwise().norm().maxCoeff();
     X = Y;
     set_positions(m, X);
-    if (o.progress) o.progress(double(step + 1) / o.max_steps, "base shape");
+    if (o.progress) o.progress(double(step + 1) / o.max_steps, "smoothing");
     if (moved < o.stop_tolerance * h) break;
   }
   return X;
