@@ -178,6 +178,7 @@ struct OneFormFitter::Impl {
   double eps = 0;
   Eigen::VectorXd edge_len;
   SpdSolver solver;
+  bool holds_normal = false;  // the solver's factor is of `normal` (not of a weighted/pinned matrix)
 };
 
 OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options, const MatrixX3d& normals)
@@ -209,7 +210,7 @@ OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options,
   I.setIdentity();
   s.normal += s.eps * I;
   s.normal.makeCompressed();
-  s.solver.compute(s.normal);
+  s.solver.analyze(s.normal);  // factorized lazily: a weighted fit needs its own numbers anyway
 }
 
 OneFormFitter::~OneFormFitter() = default;
@@ -245,22 +246,22 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
     normal.makeCompressed();
     rhs = s.A.transpose() * w3.cwiseProduct(t) + eps * c_avg;
     s.solver.factorize(normal);
+    s.holds_normal = false;
   } else {
     normal = s.normal;
     rhs = s.A.transpose() * t + s.eps * c_avg;
+    if (!s.holds_normal) s.solver.factorize(s.normal);
+    s.holds_normal = true;
   }
   Eigen::VectorXd c = s.solver.solve(rhs);
-  if (!s.opt.bound_by_edge_length) {
-    if (weighted) s.solver.factorize(s.normal);
-    return c;
-  }
+  if (!s.opt.bound_by_edge_length) return c;
 
   // |c_ij| ≤ ‖e_ij‖ (Sec. 8.5): pin violators to ±‖e_ij‖ with a stiff penalty on the diagonal (same
   // sparsity, so the symbolic analysis is reused), re-solve, repeat while new violators appear.
   std::vector<double> target(m, 0.0);
   std::vector<char> pinned(m, 0);
   const double stiff = s.opt.bound_stiffness * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
-  bool refactored = weighted;
+
   for (int round = 0; round < s.opt.bound_rounds; ++round) {
     int added = 0;
     for (Eigen::Index e = 0; e < m; ++e)
@@ -278,10 +279,9 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
         r[e] += stiff * target[e];
       }
     s.solver.factorize(M);
-    refactored = true;
+    s.holds_normal = false;
     c = s.solver.solve(r);
   }
-  if (refactored) s.solver.factorize(s.normal);  // leave the fitter as it was for the next field
   for (Eigen::Index e = 0; e < m; ++e) c[e] = std::clamp(c[e], -s.edge_len[e], s.edge_len[e]);
   return c;
 }
