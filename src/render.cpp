@@ -21,7 +21,7 @@ namespace {
 // ------------------------------------------------------------------------------------------------
 // Camera
 
-void view_axes(ViewDirection view, Vec3& right, Vec3& up, Vec3& forward) {
+void view_axes(ViewDirection view, const Vec3& model_up, Vec3& right, Vec3& up, Vec3& forward) {
   Vec3 world_up = Vec3::UnitZ();
   switch (view) {
     case ViewDirection::Iso: forward = -Vec3(1, -1, 1).normalized(); break;
@@ -31,6 +31,11 @@ void view_axes(ViewDirection view, Vec3& right, Vec3& up, Vec3& forward) {
       world_up = Vec3::UnitY();
       break;
   }
+  // Directions are defined for z-up models; rotate them onto the model's up axis.
+  if (model_up.norm() < 1e-12) throw InvalidInput("the up axis must not be zero");
+  const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), model_up.normalized()).toRotationMatrix();
+  forward = R * forward;
+  world_up = R * world_up;
   right = forward.cross(world_up).normalized();
   up = right.cross(forward);
 }
@@ -231,11 +236,11 @@ ViewDirection view_direction_from_name(const std::string& name) {
   throw InvalidInput(fmt::format("unknown view '{}' (expected iso, front or top)", name));
 }
 
-Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin) {
+Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin, const Vec3& up) {
   if (V.rows() == 0) throw InvalidInput("fit_camera: no vertices");
   if (width <= 0 || height <= 0) throw InvalidInput(fmt::format("bad picture size {}x{}", width, height));
   Camera c;
-  view_axes(view, c.right, c.up, c.forward);
+  view_axes(view, up, c.right, c.up, c.forward);
   const Vec3 c0 = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff()).transpose();
   double r0 = std::numeric_limits<double>::max(), r1 = -r0, u0 = r0, u1 = -r0;
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
@@ -293,7 +298,7 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
   Rendering out;
   const bool show_legend = has_field && o.legend;
   const int legend_w = show_legend ? std::min(110, o.width / 4) : 0;
-  out.camera = o.camera ? *o.camera : fit_camera(V, o.view, o.width - legend_w, o.height, o.margin);
+  out.camera = o.camera ? *o.camera : fit_camera(V, o.view, o.width - legend_w, o.height, o.margin, o.up);
   const Camera& cam = out.camera;
 
   // Colour-map range.

@@ -169,6 +169,7 @@ std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptio
   data["initialField"] = options.initial_field;
   data["flat"] = options.flat;
   data["wireframe"] = options.wireframe;
+  data["up"] = {options.up.x(), options.up.y(), options.up.z()};
   data["meshes"] = nlohmann::json::array();
   for (const ViewerMesh& m : meshes) {
     require_valid(m.mesh, m.name.c_str());

@@ -330,3 +330,42 @@ TEST(RenderCli, BadArgumentsFailWithOneLine) {
   EXPECT_EQ(h.exit_code, 0);
   EXPECT_NE(h.out.find("--size"), std::string::npos);
 }
+
+TEST(Render, UpAxisRotatesTheCamera) {
+  // A y-up copy of a z-up shape, rendered with up = y, gives the z-up picture.
+  const Mesh m = make_shape("spiky-sphere", 0).textured;
+  Mesh rotated = m;
+  const MatrixX3d V = positions(m);
+  MatrixX3d W(V.rows(), 3);
+  W << V.col(0), V.col(2), -V.col(1);  // rotation about x taking z to y
+  set_positions(rotated, W);
+  for (auto view : {ViewDirection::Iso, ViewDirection::Front, ViewDirection::Top}) {
+    RenderOptions o;
+    o.width = 200;
+    o.height = 160;
+    o.view = view;
+    const Rendering a = render_mesh(m, o);
+    o.up = Vec3::UnitY();
+    const Rendering b = render_mesh(rotated, o);
+    EXPECT_LT(differing_pixels(a.image, b.image), 200u * 160u / 200u);  // float rounding at a few edge pixels
+    EXPECT_NEAR(a.camera.scale, b.camera.scale, 1e-9 * a.camera.scale);
+  }
+}
+
+TEST(DemoReport, IndexShowsEveryMeshWithItsPicture) {
+  TempDir dir;
+  const auto r = run_cli("-q demo --only shapes --only report -o " + (dir / "demo"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string index = geotex::test::read_file(dir / "demo/index.html");
+  for (const auto& name : shape_names()) {
+    EXPECT_NE(index.find("pictures/" + name + ".png"), std::string::npos) << name;
+    const std::string png = geotex::test::read_file(dir / ("demo/pictures/" + name + ".png"));
+    ASSERT_GT(png.size(), 8u) << name;
+    EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << name;
+  }
+  // 3D pages when the viewer bundle is available, sharing one copy of the script.
+  if (std::filesystem::exists(dir / "demo/views/geotex-viewer.js")) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "demo/views/sphere.html"));
+    EXPECT_NE(index.find("views/sphere.html"), std::string::npos);
+  }
+}

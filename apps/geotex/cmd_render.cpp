@@ -10,7 +10,7 @@ namespace geotex::cli {
 namespace {
 
 struct Args {
-  std::string input, output, size = "800x600", view = "iso";
+  std::string input, output, size = "800x600", view = "iso", up = "z";
   bool flat = false;
   int supersampling = 2;
   double lo = 0, hi = 0;
@@ -34,6 +34,7 @@ void run(const Args& a) {
   RenderOptions o;
   parse_size(a.size, o.width, o.height);
   o.view = view_direction_from_name(a.view);
+  o.up = up_axis(a.up);
   o.smooth = !a.flat;
   o.supersampling = a.supersampling;
   if (std::filesystem::path(a.output).extension() != ".png")
@@ -61,9 +62,10 @@ Registrar reg{910, "render", "Render a mesh to a PNG picture (fixed camera, shad
   app.add_option("MESH", a->input, "mesh to render")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", a->output, "output picture (.png)")->required();
   app.add_option("--size", a->size, "picture size WIDTHxHEIGHT in pixels")->capture_default_str();
-  app.add_option("--view", a->view, "camera direction: iso, front (from -y) or top (from +z)")
+  app.add_option("--view", a->view, "camera direction: iso, front (from -y for up z) or top (from above)")
       ->check(CLI::IsMember({"iso", "front", "top"}))
       ->capture_default_str();
+  add_up_option(app, a->up);
   app.add_flag("--flat", a->flat, "flat shading (one normal per face) instead of smooth");
   app.add_option("--supersampling", a->supersampling, "anti-aliasing: k x k samples per pixel")
       ->check(CLI::Range(1, 8))

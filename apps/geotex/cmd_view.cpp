@@ -13,7 +13,7 @@ namespace {
 
 struct Args {
   std::vector<std::string> inputs;
-  std::string output, title;
+  std::string output, title, up = "z";
   bool flat = false, wireframe = false;
   LayerArgs layers;
 };
@@ -30,6 +30,7 @@ void run(const Args& a) {
                                   (a.inputs.size() > 1 ? fmt::format(" and {} more", a.inputs.size() - 1) : "")
                             : a.title;
   o.flat = a.flat;
+  o.up = up_axis(a.up);
   o.wireframe = a.wireframe;
   for (size_t i = 0; i < a.inputs.size(); ++i) {
     ViewerMesh m;
@@ -50,6 +51,7 @@ Registrar reg{920, "view", "Write a self-contained HTML page showing meshes side
   app.add_option("MESH", a->inputs, "meshes to show side by side")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", a->output, "output page (.html)")->required();
   app.add_option("--title", a->title, "page title (default: the file names)");
+  add_up_option(app, a->up);
   app.add_flag("--flat", a->flat, "start in flat shading");
   app.add_flag("--wireframe", a->wireframe, "start with the wireframe shown");
   add_layer_options(app, a->layers, true);

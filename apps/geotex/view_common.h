@@ -35,6 +35,23 @@ inline void add_layer_options(CLI::App& app, LayerArgs& a, bool several_meshes) 
       ->expected(1, several_meshes ? -1 : 1);
 }
 
+// --up: the model's up axis.
+inline Vec3 up_axis(const std::string& name) {
+  if (name == "x") return Vec3::UnitX();
+  if (name == "y") return Vec3::UnitY();
+  if (name == "z") return Vec3::UnitZ();
+  if (name == "-x") return -Vec3::UnitX();
+  if (name == "-y") return -Vec3::UnitY();
+  if (name == "-z") return -Vec3::UnitZ();
+  throw InvalidInput(fmt::format("--up {}: expected x, y, z, -x, -y or -z", name));
+}
+
+inline void add_up_option(CLI::App& app, std::string& up) {
+  app.add_option("--up", up, "the model's up axis: z (geotex shapes) or y (most scans); x, -x, -y, -z also work")
+      ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z"}))
+      ->capture_default_str();
+}
+
 // The layers of one mesh: the file's own fields and edge labels, the --edges file, and the field
 // chosen by --field-file or --reference (named after the file or "error"). Returns the name of the
 // field to show ("" for none).

@@ -27,7 +27,8 @@ struct Image {
   const uint8_t* pixel(int x, int y) const { return rgb.data() + 3 * (static_cast<size_t>(y) * width + x); }
 };
 
-//! Where the camera looks from: iso (from +x, −y, +z), front (from −y), top (from +z).
+//! Where the camera looks from, for up = z: iso (from +x, −y, +z), front (from −y), top (from +z).
+//! For another up axis the same directions are rotated with it (up = y: front is from +z).
 enum class ViewDirection { Iso, Front, Top };
 //! \throw InvalidInput for a name other than iso, front, top.
 ViewDirection view_direction_from_name(const std::string& name);
@@ -42,13 +43,16 @@ struct Camera {
 };
 
 //! The camera that fits the vertices of \p V (#V by 3) into a width × height frame, leaving \p margin
-//! (a fraction of the smaller side) free on each side.
-Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin = 0.06);
+//! (a fraction of the smaller side) free on each side. \p up is the model's up axis (z for geotex
+//! shapes, y for most scans); view directions are named relative to it.
+Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin = 0.06,
+                  const Vec3& up = Vec3::UnitZ());
 
 struct RenderOptions {
   int width = 800;                        //!< picture width in pixels
   int height = 600;                       //!< picture height in pixels
   ViewDirection view = ViewDirection::Iso;  //!< camera direction (ignored when camera is set)
+  Vec3 up = Vec3::UnitZ();                //!< the model's up axis (y for most scans)
   std::optional<Camera> camera;           //!< reuse a camera (same framing across results)
   bool smooth = true;                     //!< interpolate vertex normals (false: flat, per face)
   int supersampling = 2;                  //!< k × k samples per pixel (anti-aliasing); 1 = none

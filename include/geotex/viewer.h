@@ -47,6 +47,7 @@ struct ViewerOptions {
   std::string initial_field;            //!< field shown when the page opens ("" = plain colour)
   bool flat = false;                    //!< start in flat shading
   bool wireframe = false;               //!< start with the wireframe shown
+  Vec3 up = Vec3::UnitZ();              //!< the models' up axis (y for most scans)
   //! when set, the page loads the bundle from this (relative) URL instead of inlining it, so that
   //! many pages in one folder share one copy (the demo report); the page is then not self-contained
   std::string script_src;

@@ -137,8 +137,12 @@ function main() {
 
   // One camera for every view: orbiting one orbits all.
   const camera = new THREE.PerspectiveCamera(35, 1, radius / 100, radius * 100);
-  camera.up.set(0, 0, 1);  // geotex shapes are z-up
-  const direction = new THREE.Vector3(1, -1, 0.8).normalize();
+  // geotex shapes are z-up; scans are often y-up (the page's "up"). The initial direction is given
+  // for z-up and rotated with the up axis.
+  const up = new THREE.Vector3(...(data.up || [0, 0, 1])).normalize();
+  camera.up.copy(up);
+  const direction = new THREE.Vector3(1, -1, 0.8).normalize()
+    .applyQuaternion(new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(0, 0, 1), up));
   camera.position.copy(direction.multiplyScalar(radius / Math.sin((35 / 2) * Math.PI / 180) * 1.1));
   const controls = new OrbitControls(camera, canvas);
   controls.target.set(0, 0, 0);
