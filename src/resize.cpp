@@ -159,7 +159,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
 
   // Sliding. Unknowns stacked [x; y; z]. Energy:
   //   Σ_edges f_ij |(x'_i − x'_j) − T_r (x_i − x_j)|²  features stay rigid (rotated with their base, region r)
-  // + β Σ p_i |L_i X' − (L C)_i|²                 background stays as smooth as the deformed one
+  // + β Σ_edges p_ij |(x'_i − x'_j) − (c_i − c_j)|²  background: a weak membrane spreading the stretch
   // + w Σ p_i (n_iᵀ (x'_i − q_i))²                background held to the deformed surface along its normal
   // + w_F Σ_{frame} p_i |x'_i − c_i|²             the outer frame follows the space map
   // + ε Σ |x'_i − c_i|²
@@ -168,9 +168,11 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   const double beta = o.background_smoothness;
   if (!(beta > 0)) throw InvalidInput("background smoothness must be positive");
   const std::vector<char> frame = frame_vertices(mesh, X, o.frame_band);
+  const double h_mean = mean_edge_length(mesh);
   Mesh deformed = mesh;
   set_positions(deformed, C);
-  MatrixX3d Nrm = vertex_normals(deformed);
+  const MatrixX3d Nv = vertex_normals(deformed);
+  MatrixX3d Nrm = Nv;
   MatrixX3d Q = C;
 
   // Features: one rotation (similarity) per connected feature region, fitted on the region's foot
@@ -179,32 +181,35 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   // feature keeps its rotated original vector (a rigid region, unlike Laplacian coordinates, which a
   // stretched rim stretches along).
   const std::vector<Similarity> Tc = region_similarities(mesh, X, C, f, !o.keep_feature_size);
-  SparseMatrix G(n, n);  // Σ_ij f_ij (e_i − e_j)(e_i − e_j)ᵀ over feature edges
-  MatrixX3d edge_rhs = MatrixX3d::Zero(n, 3);
+  // Edge terms, one 1-ring stencil for both: feature edges keep their rotated original vectors
+  // (weight f_ij = min(f_i, f_j)); background edges follow the deformed edge vectors with the small
+  // weight β p_ij (a membrane that spreads the stretch; p_ij = max(p_i, p_j)).
+  SparseMatrix G(n, n);
+  MatrixX3d lap_rhs = MatrixX3d::Zero(n, 3);
   {
     std::vector<Triplet> t;
+    t.reserve(4 * mesh.n_edges());
     for (auto e : mesh.edges()) {
       const int a = e.v0().idx(), b = e.v1().idx();
       const double fe = std::min(f[a], f[b]);
-      if (fe <= 0) continue;
-      const Similarity& T = Tc[a];
-      const Eigen::RowVector3d r = (T.linear() * (X.row(a) - X.row(b)).transpose()).transpose();
-      t.emplace_back(a, a, fe);
-      t.emplace_back(b, b, fe);
-      t.emplace_back(a, b, -fe);
-      t.emplace_back(b, a, -fe);
-      edge_rhs.row(a) += fe * r;
-      edge_rhs.row(b) -= fe * r;
+      const double be = beta * std::max(p[a], p[b]);
+      const double we = fe + be;
+      if (we <= 0) continue;
+      const Eigen::RowVector3d r = fe * (Tc[a].linear() * (X.row(a) - X.row(b)).transpose()).transpose() +
+                                   be * (C.row(a) - C.row(b));
+      t.emplace_back(a, a, we);
+      t.emplace_back(b, b, we);
+      t.emplace_back(a, b, -we);
+      t.emplace_back(b, a, -we);
+      lap_rhs.row(a) += r;
+      lap_rhs.row(b) -= r;
     }
     G.setFromTriplets(t.begin(), t.end());
   }
-  const SparseMatrix LtWL = SparseMatrix(L.transpose() * (beta * p).asDiagonal() * L);
-  const MatrixX3d lap_rhs = edge_rhs + L.transpose() * ((beta * p).asDiagonal() * (L * C));
   Eigen::VectorXd diag_w(n);  // isotropic pull to c_i
   for (int i = 0; i < n; ++i) diag_w[i] = eps + (frame[i] ? o.frame_weight * p[i] : 0.0);
 
   std::vector<Triplet> base;
-  add_blocks(base, LtWL, n);
   add_blocks(base, G, n);
   for (int i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) base.emplace_back(d * n + i, d * n + i, diag_w[i]);
@@ -234,16 +239,26 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     report(o.progress, 0.1 + 0.8 * (round + 0.5) / rounds, "solve");
     out = unstack(solver.solve(b).col(0));
     if (round + 1 == rounds) break;
-    // Re-take q_i and n_i at the closest point of the deformed surface (curved bases).
+    // Re-take q_i and n_i at the closest point of the deformed surface (curved bases). Skip when the
+    // background already lies on it (flat bases): a tangent plane is then the surface.
     if (!tree) tree = std::make_unique<TriangleTree>(C, faces(mesh));
     const MatrixX3d Fn = face_normals(deformed);
+    std::vector<TriangleTree::Hit> hits(n);
+    double off = 0;
+#pragma omp parallel for schedule(static) reduction(max : off)
+    for (int i = 0; i < n; ++i) {
+      if (p[i] <= 0) continue;
+      hits[i] = tree->closest(out.row(i).transpose());
+      off = std::max(off, std::sqrt(hits[i].sq_distance));
+    }
+    if (off < 1e-6 * h_mean) break;
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n; ++i) {
       if (p[i] <= 0) continue;
-      const TriangleTree::Hit hit = tree->closest(out.row(i).transpose());
+      const TriangleTree::Hit& hit = hits[i];
       Q.row(i) = hit.point.transpose();
       const Eigen::Vector3i F = tree->triangles().row(hit.face);
-      Vec3 nv = hit.bary[0] * Vec3(Nrm.row(F[0])) + hit.bary[1] * Vec3(Nrm.row(F[1])) + hit.bary[2] * Vec3(Nrm.row(F[2]));
+      Vec3 nv = hit.bary[0] * Vec3(Nv.row(F[0])) + hit.bary[1] * Vec3(Nv.row(F[1])) + hit.bary[2] * Vec3(Nv.row(F[2]));
       if (nv.norm() < 1e-12) nv = Fn.row(hit.face).transpose();
       Nrm.row(i) = nv.normalized().transpose();
     }

@@ -21,7 +21,7 @@ struct Args {
   std::string input, output, deformed, features = "auto", method = "sliding";
   std::vector<double> scale;
   double bend = 0, twist = 0;
-  double weight = 1.0, smoothness = 0.02, height_threshold = 0.5, adf_t = 0.1, adf_threshold = 0.5;
+  double weight = 1.0, smoothness = 0.002, height_threshold = 0.5, adf_t = 0.1, adf_threshold = 0.5;
   int dilate = 2, refinements = 1;
   bool scale_features = false, ascii = false;
 };

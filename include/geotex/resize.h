@@ -51,7 +51,7 @@ struct ResizeOptions {
   bool keep_feature_size = true;
   //! Sliding: weight of the background's Laplacian term (keeps the background smooth and spreads
   //! the stretch); small, so that the background gives way before the features do.
-  double background_smoothness = 0.02;
+  double background_smoothness = 0.002;
   //! Sliding: weight of pinning the frame (boundary and bounding-box extremes) to the space map.
   double frame_weight = 10.0;
   //! Sliding: vertices within this many mean edge lengths of a bounding-box face belong to the frame,
