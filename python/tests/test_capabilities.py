@@ -1,0 +1,132 @@
+"""Every capability beyond the foundation through Python, each with a property that could fail."""
+
+import math
+
+import numpy as np
+import pytest
+
+import geotex
+
+
+@pytest.fixture(scope="module")
+def noisy_cube():
+    V, F = geotex.generate("cube", level=1)
+    return V, F, geotex.add_noise(V, F, sigma=0.2, seed=2)
+
+
+@pytest.mark.parametrize("method", ["mrf", "mrf-normal"])
+def test_mrf_denoising_beats_noise_and_labels_cube_edges(noisy_cube, method):
+    V, F, Vn = noisy_cube
+    r = geotex.denoise(Vn, F, method=method)
+    assert np.array_equal(r["F"], F)
+    before = geotex.compare(Vn, F, V, F)["mean_normal_error_deg"]
+    after = geotex.compare(r["V"], r["F"], V, F)["mean_normal_error_deg"]
+    assert after < before / 2
+    labels, E = r["edge_labels"], r["edges"]
+    assert len(labels) == len(E)
+    truth = E[np.abs(geotex.dihedral_angles(V, F)) > math.radians(30)]
+    got = E[labels > 0.5]
+    score = geotex.score_edge_labels(got, truth)
+    assert score["f1"] > 0.8
+
+
+def test_surfel_primal_denoising(noisy_cube):
+    V, F, Vn = noisy_cube
+    r = geotex.denoise(Vn, F, method="surfel", retrieval="primal")
+    assert np.array_equal(r["F"], F)
+    assert geotex.compare(r["V"], F, V, F)["mean_normal_error_deg"] < geotex.compare(Vn, F, V, F)["mean_normal_error_deg"]
+    assert np.allclose(np.linalg.norm(r["normals"], axis=1), 1)
+
+
+def test_denoise_rejects_unknown_options(noisy_cube):
+    V, F, Vn = noisy_cube
+    with pytest.raises(TypeError):
+        geotex.denoise(Vn, F, method="mrf", beta=3)
+    with pytest.raises(geotex.InvalidInput):
+        geotex.denoise(Vn, F, method="magic")
+
+
+def test_point_surfels_orient_sphere_outward():
+    V, F = geotex.generate("sphere", level=1)
+    P = V + 0.01 * np.random.default_rng(0).standard_normal(V.shape)
+    C, N = geotex.point_surfels(P, neighbors=8, iterations=3)
+    radial = C / np.linalg.norm(C, axis=1, keepdims=True)
+    assert np.mean(np.sum(N * radial, axis=1)) > 0.98
+
+
+def test_conformal_map_of_a_flat_disk_is_a_similarity():
+    V, F = geotex.generate("plane", level=0)
+    uv = geotex.parametrize(V, F)
+    # Interior points: uv = s R xy + t. Fit the similarity and check the residual.
+    A = np.c_[V[:, 0], -V[:, 1], np.ones(len(V)), np.zeros(len(V))]
+    B = np.c_[V[:, 1], V[:, 0], np.zeros(len(V)), np.ones(len(V))]
+    M = np.r_[A, B]
+    rhs = np.r_[uv[:, 0], uv[:, 1]]
+    # The square's boundary is pinned to the circle, so only the interior near the centre is similar.
+    inner = np.linalg.norm(V[:, :2], axis=1) < 0.15
+    Mi = np.r_[A[inner], B[inner]]
+    x, *_ = np.linalg.lstsq(Mi, np.r_[uv[inner, 0], uv[inner, 1]], rcond=None)
+    assert np.abs(Mi @ x - np.r_[uv[inner, 0], uv[inner, 1]]).max() < 0.05 * np.abs(x[:2]).max()
+    with pytest.raises(geotex.InvalidInput):
+        geotex.parametrize(*geotex.generate("sphere", level=0))  # closed: not a disk
+
+
+def test_deform_moves_handles_and_keeps_translation_exact():
+    V, F = geotex.generate("plane", level=0)
+    handles = list(range(0, len(V), 7))
+    targets = V[handles] + np.array([0.3, -0.2, 0.5])
+    out = geotex.deform(V, F, handles, targets, method="plain")
+    assert np.allclose(out, V + np.array([0.3, -0.2, 0.5]), atol=1e-8)  # a pure translation is reproduced
+
+
+def test_auto_diffusion_function_is_finite_and_symmetric_on_a_sphere():
+    V, F = geotex.generate("sphere", level=1)
+    # Addition theorem: summing complete spherical-harmonic multiplets gives a constant. 16 eigenpairs
+    # are degrees 0-3 (1 + 3 + 5 + 7); 20 would cut degree 4 and break the symmetry.
+    f = geotex.auto_diffusion_function(V, F, eigenpairs=16)
+    assert f.shape == (len(V),) and np.all(np.isfinite(f))
+    assert np.std(f) < 0.02 * np.abs(np.mean(f))
+    g = geotex.auto_diffusion_function(V, F, eigenpairs=20)
+    assert np.std(g) > 2 * np.std(f)
+
+
+def test_resize_scales_the_bounding_box():
+    V, F = geotex.generate("sphere", level=1)
+    out = geotex.resize(V, F, scale=(2, 1, 1), features=np.zeros(len(V)))
+    ext = out.max(axis=0) - out.min(axis=0)
+    assert ext[0] == pytest.approx(2 * (V[:, 0].max() - V[:, 0].min()), rel=0.02)
+    assert ext[1] == pytest.approx(V[:, 1].max() - V[:, 1].min(), rel=0.02)
+
+
+def test_phong_projection_of_surface_points_is_themselves():
+    V, F = geotex.generate("sphere", level=1)
+    bary = np.array([0.2, 0.3, 0.5])
+    P = (bary[:, None, None] * V[F].transpose(1, 0, 2)).sum(axis=0)[:50]
+    hit = geotex.phong_project(V, F, P)
+    assert (hit["face"] >= 0).all()
+    assert np.abs(hit["distance"]).max() < 1e-9
+    assert np.abs(hit["point"] - P).max() < 1e-9
+
+
+def test_one_form_round_trip_of_a_constant_field_on_a_plane():
+    V, F = geotex.generate("plane", level=0)
+    T = np.tile([0.3, -0.7, 0.0], (len(V), 1))
+    c = geotex.one_form_fit(V, F, T)
+    assert np.abs(geotex.one_form_to_vertices(V, F, c) - T).max() < 1e-8
+
+
+def test_texture_round_trip_and_edits():
+    (Vt, F), (Vb, _) = geotex.generate("spiky-sphere", level=1, with_base=True)
+    tex = geotex.texture_extract(Vt, F, V_base=Vb)
+    rebuilt = geotex.texture_apply(Vb, F, tex["height"], tex["tilt"])
+    h = geotex.mean_edge_length(Vb, F)
+    assert np.abs(rebuilt - Vt).max() < 1e-3 * h
+    # a height field alone (tilt dropped) cannot hold leaning spikes
+    flat = geotex.texture_apply(Vb, F, tex["height"], np.zeros_like(tex["tilt"]))
+    assert np.abs(flat - Vt).max() > 1.0 * h
+    # rigid motion of the base moves the textured surface rigidly
+    R = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]])
+    moved = geotex.texture_apply(Vb @ R.T, F, tex["height"], tex["tilt"])
+    assert np.abs(moved - rebuilt @ R.T).max() < 1e-3 * h
+    h2, t2 = geotex.texture_edit(Vb, F, tex["height"], tex["tilt"], op="scale-height", factor=2.0)
+    assert np.allclose(h2, 2 * tex["height"]) and np.allclose(t2, tex["tilt"])
