@@ -175,17 +175,34 @@ void run_animate(const AnimateArgs& a) {
 
 // ------------------------------------------------------------------------------------------------
 struct TransferArgs {
-  std::string source, target, output, texture_out;
+  std::string source, target, output, texture_out, source_near, target_near;
+  double height_scale = 1.0;
   TransferOptions opt;
 };
+
+int nearest_vertex(const Mesh& m, const Vec3& p) {
+  int best = 0;
+  double d = 1e300;
+  for (auto v : m.vertices()) {
+    const double e = (to_eigen(m.point(v)) - p).squaredNorm();
+    if (e < d) { d = e; best = v.idx(); }
+  }
+  return best;
+}
 
 void run_transfer(const TransferArgs& a) {
   check_output(a.source, a.output);
   check_output(a.target, a.output);
   TextureFile src = load_texture(a.source);
   const Mesh target = load_mesh(a.target);
+  TransferOptions opt = a.opt;
+  if (!a.source_near.empty()) opt.source_center = nearest_vertex(src.base, parse_vec3(a.source_near, "--source-near"));
+  if (!a.target_near.empty()) opt.target_center = nearest_vertex(target, parse_vec3(a.target_near, "--target-near"));
+  if (opt.source_center < 0 || opt.target_center < 0)
+    throw InvalidInput("transfer: give --source-center or --source-near, and --target-center or --target-near");
   const auto t0 = std::chrono::steady_clock::now();
-  const TransferResult r = transfer_texture(src.base, src.texture, target, a.opt);
+  TransferResult r = transfer_texture(src.base, src.texture, target, opt);
+  r.texture.height *= a.height_scale;
   info(fmt::format("transferred a {}-vertex source patch onto a {}-vertex target patch in {:.2f} s",
                    r.source_patch.vertices.size(), r.target_patch.vertices.size(), seconds_since(t0)));
   Mesh out = target;
@@ -275,12 +292,17 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     s->add_option("TEXTURE", a->source, "source texture file")->required()->check(CLI::ExistingFile);
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "textured target mesh")->required();
-    s->add_option("--source-center", a->opt.source_center, "source base vertex at the patch centre")->required()
+    a->opt.source_center = a->opt.target_center = -1;
+    auto sc = s->add_option("--source-center", a->opt.source_center, "source base vertex at the patch centre")
         ->check(CLI::NonNegativeNumber);
+    s->add_option("--source-near", a->source_near, "or: the source vertex nearest to x,y,z")->excludes(sc);
     s->add_option("--source-radius", a->opt.source_radius, "geodesic radius of the source patch")->required()
         ->check(CLI::PositiveNumber);
-    s->add_option("--target-center", a->opt.target_center, "target vertex at the patch centre")->required()
+    auto tc = s->add_option("--target-center", a->opt.target_center, "target vertex at the patch centre")
         ->check(CLI::NonNegativeNumber);
+    s->add_option("--target-near", a->target_near, "or: the target vertex nearest to x,y,z")->excludes(tc);
+    s->add_option("--height-scale", a->height_scale, "multiply the transferred heights (e.g. the ratio of the radii)")
+        ->capture_default_str();
     s->add_option("--target-radius", a->opt.target_radius, "geodesic radius of the target patch")->required()
         ->check(CLI::PositiveNumber);
     s->add_option("--rotation", a->opt.rotation_deg, "rotate the source disk by this many degrees")->capture_default_str();
