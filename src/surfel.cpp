@@ -264,15 +264,16 @@ void update_centers(const std::vector<Vec3>& X, Config& s) {
 }
 
 // The site terms of surfel i in configuration s at threshold t (chord).
-// The weights are those of a surfel with normal \p m (Eq. 7.12–7.13).
+// The weights are those of a surfel with normal \p m (Eq. 7.12–7.13), or, with \p guide, those of
+// the guidance normals of i and j.
 void site_terms(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, Eigen::Index i, double t_chord,
-                const Vec3& m, std::vector<SiteTerm>& terms) {
+                const Vec3& m, std::vector<SiteTerm>& terms, const std::vector<Vec3>* guide = nullptr) {
   terms.clear();
   const Vec3& x = X[i];
   double W = 0;
   for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k) {
     const int j = N.indices[k];
-    const double w = surfel_weight(m, s.n[j], t_chord);
+    const double w = guide ? surfel_weight((*guide)[i], (*guide)[j], t_chord) : surfel_weight(m, s.n[j], t_chord);
     W += w;
     terms.push_back({s.n[j], s.c[j] - x, s.n[j].dot(x) - s.a[j], w});
   }
@@ -280,7 +281,7 @@ void site_terms(const std::vector<Vec3>& X, const Neighborhoods& N, const Config
 }
 
 double total_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, double alpha, double beta,
-                    double t_chord) {
+                    double t_chord, const std::vector<Vec3>* guide = nullptr) {
   const Eigen::Index P = static_cast<Eigen::Index>(X.size());
   double E = 0;
 #pragma omp parallel reduction(+ : E) if (P > 4096)
@@ -288,12 +289,40 @@ double total_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Co
     std::vector<SiteTerm> terms;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < P; ++i) {
-      site_terms(X, N, s, i, t_chord, s.n[i], terms);
+      site_terms(X, N, s, i, t_chord, s.n[i], terms, guide);
       const double rho = s.n[i].dot(X[i]) - s.a[i];
       E += term_energy(terms, alpha, beta, s.n[i], rho);
     }
   }
   return E;
+}
+
+// Guidance normals (after Zhang et al. 2015, guided mesh normal filtering): every surfel takes the mean
+// normal of the most consistent patch (a surfel and its neighbours) among the patches it belongs to,
+// so a surfel beside a sharp edge is guided by a patch on its own side.
+void guidance_normals(const Neighborhoods& N, const std::vector<Vec3>& n, std::vector<Vec3>& mean,
+                      std::vector<double>& spread, std::vector<Vec3>& g) {
+  const Eigen::Index P = static_cast<Eigen::Index>(n.size());
+  mean.resize(P);
+  spread.resize(P);
+  g.resize(P);
+#pragma omp parallel for schedule(static) if (P > 4096)
+  for (Eigen::Index p = 0; p < P; ++p) {
+    Vec3 m = n[p];
+    for (int k = N.offsets[p]; k < N.offsets[p + 1]; ++k) m += n[N.indices[k]];
+    m = m.norm() > 0 ? Vec3(m.normalized()) : n[p];
+    double s = (n[p] - m).squaredNorm();
+    for (int k = N.offsets[p]; k < N.offsets[p + 1]; ++k) s = std::max(s, (n[N.indices[k]] - m).squaredNorm());
+    mean[p] = m;
+    spread[p] = s;
+  }
+#pragma omp parallel for schedule(static) if (P > 4096)
+  for (Eigen::Index i = 0; i < P; ++i) {
+    Eigen::Index best = i;
+    for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k)
+      if (spread[N.indices[k]] < spread[best]) best = N.indices[k];
+    g[i] = mean[best];
+  }
 }
 
 void check_inputs(const MatrixX3d& X, const Neighborhoods& N, const Surfels& S) {
@@ -380,7 +409,11 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
   const Eigen::Index P = X.rows();
   Config next = w.s;
   update_centers(w.X, w.s);
-  result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg));
+  std::vector<Vec3> patch_mean, guide;
+  std::vector<double> patch_spread;
+  const std::vector<Vec3>* G = o.guided ? &guide : nullptr;
+  if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
+  result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), G);
 
   const int K = o.iterations;
   const int total = K * o.iterations_per_threshold;
@@ -392,6 +425,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
     for (int inner = 0; inner < o.iterations_per_threshold; ++inner) {
       // ICM with two configurations: every site reads the previous one (Sec. 7.4.3.5), so the
       // sweep is order-independent and parallel.
+      if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
 #pragma omp parallel if (P > 4096)
       {
         std::vector<SiteTerm> terms;
@@ -400,11 +434,11 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
         for (Eigen::Index i = 0; i < P; ++i) {
           const Vec3& x = w.X[i];
           // The lagged-weight minimiser from the current surfel (the thesis' scheme).
-          site_terms(w.X, N, w.s, i, chord, w.s.n[i], terms);
+          site_terms(w.X, N, w.s, i, chord, w.s.n[i], terms, G);
           Vec3 n = w.s.n[i];
           double rho = n.dot(x) - w.s.a[i];
           minimize_terms(terms, o.alpha, o.beta, n, rho, o.local_sweeps, 1e-14);
-          if (o.candidates) {
+          if (o.candidates && !o.guided) {
             // Compare the minimisers found with the weights of each distinct neighbouring orientation
             // (and the current surfel) on the site energy with the weights of the candidate itself,
             // Eq. (7.13): ICM keeps the label of least energy. This escapes the symmetric saddles
@@ -449,7 +483,8 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
       std::swap(w.s.a, next.a);
       update_centers(w.X, w.s);
       result.thresholds_deg.push_back(t);
-      result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord));
+      if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
+      result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord, G));
       report(o.progress, double(++done) / std::max(total, 1), "surfel ICM");
     }
   }

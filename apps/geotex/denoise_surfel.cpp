@@ -16,7 +16,7 @@ struct SurfelArgs {
   double beta = 100, t_start = 45, t_end = 10;
   std::string retrieval = "dual", neighborhood = "ring", polygons;
   int neighbors = 10, per_threshold = 1;
-  bool candidates = true;
+  bool candidates = false, guided = false;
   DualOptions dual;
 };
 
@@ -48,6 +48,9 @@ void add_options(CLI::App& app) {
                  "also try the weights of each neighbouring orientation and keep the surfel of least energy "
                  "(false = the thesis' single local minimisation)")
       ->capture_default_str()->group(g);
+  app.add_flag("--surfel-guided", a.guided,
+               "not in the thesis: weights from guidance normals (mean normal of the most consistent one-ring patch)")
+      ->group(g);
   app.add_option("--surfel-eigen-threshold", a.dual.eigen_threshold,
                  "dual retrieval: relative eigenvalue below which plane intersections are ill-determined")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str()->group(g);
@@ -66,6 +69,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   o.t_end_deg = a.t_end;
   o.iterations_per_threshold = a.per_threshold;
   o.candidates = a.candidates;
+  o.guided = a.guided;
   o.progress = common.progress;
   Neighborhoods N;
   Surfels S0;
@@ -102,7 +106,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   out.report["parameters"] = {{"alpha", o.alpha},         {"beta", o.beta},
                               {"t_start_deg", o.t_start_deg}, {"t_end_deg", o.t_end_deg},
                               {"iterations", o.iterations}, {"iterations_per_threshold", o.iterations_per_threshold},
-                              {"candidates", o.candidates}, {"retrieval", a.retrieval},
+                              {"candidates", o.candidates}, {"guided", o.guided}, {"retrieval", a.retrieval},
                               {"neighborhood", a.neighborhood}, {"neighbors", a.neighbors},
                               {"unit_length", r.unit_length}};
   out.report["initial_energy"] = r.initial_energy;

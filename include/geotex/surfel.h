@@ -128,9 +128,14 @@ struct SurfelOptions {
   int iterations_per_threshold = 1;  //!< ICM sweeps at each threshold value
   double unit_length = 0;         //!< unit length; 0 = mean edge length / mean neighbour spacing
   int local_sweeps = 30;          //!< max alternations of the exact block minimisations per site
-  //! Also try the weights of each distinct neighbouring orientation and keep the surfel of least
-  //! site energy with its own weights (Eq. 7.13); false = the current surfel's weights only.
-  bool candidates = true;
+  //! Not in the thesis: also try the weights of each distinct neighbouring orientation and keep the
+  //! surfel of least site energy with its own weights (Eq. 7.13); false = the current surfel's weights
+  //! only (the thesis' single local minimisation).
+  bool candidates = false;
+  //! Not in the thesis: compute the weights (Eq. 7.12) from guidance normals, the mean normal of the most
+  //! consistent one-ring patch each surfel belongs to (after guided mesh normal filtering), instead of
+  //! from the surfels' own normals. The site energy then has fixed weights and candidates are not needed.
+  bool guided = false;
   ProgressFn progress;            //!< optional progress callback
 };
 
