@@ -46,11 +46,12 @@ bool is_truth(const std::string& stem) {
   return stem.find("clean") != std::string::npos || stem.find("truth") != std::string::npos;
 }
 
-// The field a picture shows: the mesh's own "feature" or "height" property, else none.
+// The field a picture shows: the mesh's own "feature", "height" or "error" property, else its first
+// per-vertex property (e.g. "adf"), else none.
 std::string picture_field(const MeshLayers& l) {
   for (const char* name : {"feature", "height", "error"})
     if (l.fields.count(name)) return name;
-  return "";
+  return l.fields.empty() ? "" : l.fields.begin()->first;
 }
 
 DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
@@ -132,21 +133,23 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     RenderOptions o;
     o.width = 480;
     o.height = 360;
-    // Results share their clean input's camera, so that they line up with it.
-    const std::string key = e.vs_truth ? e.truth : is_truth(e.stem) ? e.stem : "";
-    if (auto it = truth_camera.find(key); !key.empty() && it != truth_camera.end()) o.camera = it->second;
-    else {
-      const Entry* framed = &e;
-      for (const Entry* t : truths)
-        if (t->stem == key) framed = t;
-      o.camera = fit_camera(positions(framed->mesh), ViewDirection::Iso, o.width - std::min(110, o.width / 4), o.height);
-      if (!key.empty()) truth_camera[key] = *o.camera;
-    }
     RenderLayers rl;
     e.field = e.vs_truth ? "error" : picture_field(e.layers);
     if (!e.field.empty()) rl.field = e.layers.fields.at(e.field);
     rl.segments = e.layers.segments;
     rl.segment_labels = e.layers.labels;
+    // Results share their clean input's camera, so that they line up with it; the legend's room is
+    // kept free whenever a picture of the set may show one.
+    const std::string key = e.vs_truth ? e.truth : is_truth(e.stem) ? e.stem : "";
+    const int legend_room = key.empty() && e.field.empty() ? 0 : std::min(110, o.width / 4);
+    if (auto it = truth_camera.find(key); !key.empty() && it != truth_camera.end()) o.camera = it->second;
+    else {
+      const Entry* framed = &e;
+      for (const Entry* t : truths)
+        if (t->stem == key) framed = t;
+      o.camera = fit_camera(positions(framed->mesh), ViewDirection::Iso, o.width - legend_room, o.height);
+      if (!key.empty()) truth_camera[key] = *o.camera;
+    }
     const Rendering pic = render_mesh(e.mesh, o, rl);
     e.picture = "pictures/" + e.stem + ".png";
     write_png(pic.image, ctx.dir / e.picture);
