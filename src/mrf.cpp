@@ -807,7 +807,7 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
   if (!(o.temperature >= 0) || !std::isfinite(o.temperature)) throw InvalidInput("vertex temperature must be >= 0");
   if (!(o.cooling > 0 && o.cooling <= 1)) throw InvalidInput("vertex cooling factor must be in (0, 1]");
   if (!(o.step > 0) || !std::isfinite(o.step)) throw InvalidInput("Metropolis step must be > 0");
-  if (o.iterations < 0 || o.vertex_sweeps < 0) throw InvalidInput("iterations and sweeps must be >= 0");
+  if (o.iterations < 0 || o.vertex_sweeps < 0 || o.final_sweeps < 0) throw InvalidInput("iterations and sweeps must be >= 0");
   const auto t0 = std::chrono::steady_clock::now();
   const Topology T(mesh);
   const double h = mean_edge_length(mesh);
@@ -880,6 +880,24 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
     } else if (stable) {
       r.converged = true;
       break;
+    }
+  }
+  if (o.final_sweeps > 0) {
+    double Uv = 0;
+    switch (o.optimizer) {
+      case MrfOptimizer::Metropolis:
+        for (int s = 0; s < o.final_sweeps; ++s) Uv = vertex_metropolis(P, x, 0.0, step, o.seed, sweep_counter++, nullptr);
+        break;
+      case MrfOptimizer::Icm:
+        for (int s = 0; s < o.final_sweeps; ++s) Uv = vertex_icm(P, x, 5);
+        break;
+      case MrfOptimizer::Cg: Uv = vertex_cg(P, x, o.final_sweeps, 0.1 * o.tolerance); break;
+      case MrfOptimizer::Lbfgs: Uv = vertex_lbfgs(P, x, o.final_sweeps, 0.1 * o.tolerance); break;
+    }
+    // Reported as part of the last outer iteration.
+    if (!r.vertex_energy.empty()) {
+      r.vertex_energy.back() = Uv;
+      r.seconds.back() = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
   }
   r.positions = unflat(x.data(), T.nV, h);
