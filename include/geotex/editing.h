@@ -62,6 +62,7 @@ class LaplacianEditor {
   //! empty for EditOptions::handle_weight. \throw InvalidInput for bad indices, weights ≤ 0 or no
   //! handles; SolverError when the handles do not pin the mesh (a component without a handle; for
   //! Linear, fewer than three non-collinear handle vertices in a component).
+  //! \pre \p mesh outlives the editor (it is referenced, not copied).
   LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std::vector<double> weights = {},
                   const EditOptions& options = {});
 
