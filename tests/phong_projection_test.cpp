@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "geotex/geometry.h"
+#include "geotex/io.h"
 #include "geotex/phong_projection.h"
 #include "geotex/random.h"
 #include "geotex/shapes.h"
@@ -169,4 +170,21 @@ TEST(PhongProjection, MeshProjectionBatchMatchesSingle) {
     if (hits[i].found) EXPECT_LT((P.row(i).transpose() - hits[i].point).cross(hits[i].normal).norm(), 1e-8);
   }
   EXPECT_GT(found, P.rows() * 9 / 10);
+}
+
+TEST(PhongProjectionCli, ProjectsOntoABaseAndRejectsBadInput) {
+  geotex::test::TempDir dir;
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  write_mesh(s.textured, dir / "t.ply");
+  write_mesh(s.base, dir / "b.ply");
+  auto r = geotex::test::run_cli("project " + (dir / "t.ply") + " " + (dir / "b.ply") + " -o " + (dir / "p.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Mesh p = read_mesh(dir / "p.ply");
+  EXPECT_EQ(p.n_vertices(), s.textured.n_vertices());
+  r = geotex::test::run_cli("project " + (dir / "t.ply") + " " + (dir / "missing.ply") + " -o " + (dir / "p.ply"));
+  EXPECT_NE(r.exit_code, 0);
+  r = geotex::test::run_cli("project " + (dir / "t.ply") + " " + (dir / "b.ply") + " -o " + (dir / "p.ply") +
+                            " --search-factor -1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(geotex::test::run_cli("project --help").exit_code, 0);
 }
