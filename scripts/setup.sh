@@ -33,3 +33,7 @@ fi
 # CHOLMOD's supernodal factorization calls BLAS; the reference BLAS is ~50x slower. Report which is active.
 blas=$(update-alternatives --query libblas.so.3-x86_64-linux-gnu 2>/dev/null | awk '/^Value:/{print $2}')
 echo "setup: BLAS in use: ${blas:-unknown}"
+
+# The web viewer (node, npm packages, chromium for its test). Not fatal: without it `geotex view`
+# says the bundle is missing and the browser test skips.
+bash "$(dirname "$0")/setup_viewer.sh" || echo "setup: WARNING: viewer setup failed; geotex view and its browser test are unavailable"

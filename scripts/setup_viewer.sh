@@ -29,7 +29,12 @@ fi
 # npm packages exactly as locked (three, esbuild, playwright-core). Playwright never downloads a browser:
 # the test drives /usr/bin/chromium.
 cd "$here/viewer"
-PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund
+# Skip `npm ci` when node_modules already matches the lock file (it would reinstall everything).
+lock_sum=$(sha256sum package-lock.json | cut -d' ' -f1)
+if [ "$(cat node_modules/.geotex-lock 2>/dev/null)" != "$lock_sum" ]; then
+  PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund
+  echo "$lock_sum" > node_modules/.geotex-lock
+fi
 # The bundle for source-tree use (the CMake build embeds its own copy: viewer/CMakeLists.txt).
 npm run build --silent
 echo "setup_viewer: node $(node --version), npm packages in viewer/node_modules, $(/usr/bin/chromium --version 2>/dev/null || echo 'chromium missing')"
