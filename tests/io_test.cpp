@@ -139,6 +139,8 @@ struct BadCase {
   bool invalid_input;  // InvalidInput (else IoError)
 };
 
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
 class BadInput : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BadInput, GivesClearError) {
