@@ -861,16 +861,8 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
     }
     Tv *= o.cooling;
     Te *= o.edges.cooling;
-    double changed = 0;
-    int labelled = 0;
-    for (int e = 0; e < T.nE; ++e) {
-      changed = std::max(changed, std::abs(eps[e] - prev[e]));
-      labelled += eps[e] > 0.5;
-    }
-    r.vertex_energy.push_back(Uv);
-    r.edge_energy.push_back(Ue);
-    r.labelled.push_back(labelled);
-    r.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    const double changed = record_iteration(
+        r, eps, prev, Uv, Ue, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     r.iterations = it + 1;
     report(o.progress, double(it + 1) / o.iterations, "mrf");
     const bool stable = changed < 1e-3 && std::abs(U_prev - Uv) <= o.tolerance * std::abs(U_prev);
@@ -906,3 +898,22 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
 }
 
 }  // namespace geotex
+
+namespace geotex::detail {
+
+double record_iteration(MrfResult& r, const std::vector<double>& eps, const std::vector<double>& prev,
+                        double vertex_energy, double edge_energy, double seconds) {
+  double changed = 0;
+  int labelled = 0;
+  for (size_t e = 0; e < eps.size(); ++e) {
+    changed = std::max(changed, std::abs(eps[e] - prev[e]));
+    labelled += eps[e] > 0.5;
+  }
+  r.vertex_energy.push_back(vertex_energy);
+  r.edge_energy.push_back(edge_energy);
+  r.labelled.push_back(labelled);
+  r.seconds.push_back(seconds);
+  return changed;
+}
+
+}  // namespace geotex::detail

@@ -80,4 +80,9 @@ struct EdgeField {
   std::vector<double> phi, u;
 };
 
+//! After an outer iteration: append the energies, the labelled-edge count and the elapsed time to
+//! \p r, and return the largest label change since \p prev.
+double record_iteration(MrfResult& r, const std::vector<double>& eps, const std::vector<double>& prev,
+                        double vertex_energy, double edge_energy, double seconds);
+
 }  // namespace geotex::detail

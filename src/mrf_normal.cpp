@@ -203,16 +203,8 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
       }
       Tn *= o.cooling;
       Te *= o.edges.cooling;
-      double changed = 0;
-      int labelled = 0;
-      for (int e = 0; e < T.nE; ++e) {
-        changed = std::max(changed, std::abs(eps[e] - prev[e]));
-        labelled += eps[e] > 0.5;
-      }
-      r.vertex_energy.push_back(Un);
-      r.edge_energy.push_back(Ue);
-      r.labelled.push_back(labelled);
-      r.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      const double changed = record_iteration(
+          r, eps, prev, Un, Ue, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       r.iterations = ++total;
       report(o.progress, double(round * o.iterations + it + 1) / (o.rounds * o.iterations), "mrf-normal");
       const bool stable = it > 0 && changed < 1e-3 && std::abs(U_prev - Un) <= o.tolerance * std::abs(U_prev);

@@ -70,6 +70,25 @@ void edge_options(Kwargs& kw, EdgeProcessOptions& e) {
   e.optimizer = parse_optimizer(opt);
 }
 
+// Options common to MrfOptions and MrfNormalOptions (same field names in both structs).
+template <class Options>
+void mrf_common_options(Kwargs& kw, Options& o) {
+  std::string optimizer = to_string(o.optimizer), potential = to_string(o.potential);
+  kw.get("alpha", o.alpha);
+  kw.get("iterations", o.iterations);
+  kw.get("seed", o.seed);
+  kw.get("optimizer", optimizer);
+  kw.get("potential", potential);
+  kw.get("tv", o.temperature);
+  kw.get("tv_cooling", o.cooling);
+  kw.get("step", o.step);
+  kw.get("tolerance", o.tolerance);
+  kw.get("initial_labels", o.initial_labels_from_angles);
+  edge_options(kw, o.edges);
+  o.optimizer = parse_optimizer(optimizer);
+  o.potential = parse_potential(potential);
+}
+
 py::dict mrf_result(const Mesh& input, const MrfResult& r) {
   Mesh out = input;
   set_positions(out, r.positions);
@@ -90,22 +109,9 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
   Kwargs kw(kwargs, "denoise(method='" + method + "')");
   if (method == "mrf") {
     MrfOptions o;
-    std::string optimizer = to_string(o.optimizer), potential = to_string(o.potential);
-    kw.get("alpha", o.alpha);
-    kw.get("iterations", o.iterations);
-    kw.get("seed", o.seed);
-    kw.get("optimizer", optimizer);
-    kw.get("potential", potential);
-    kw.get("tv", o.temperature);
-    kw.get("tv_cooling", o.cooling);
-    kw.get("step", o.step);
+    mrf_common_options(kw, o);
     kw.get("sweeps", o.vertex_sweeps);
-    kw.get("tolerance", o.tolerance);
-    kw.get("initial_labels", o.initial_labels_from_angles);
-    edge_options(kw, o.edges);
     kw.finish();
-    o.optimizer = parse_optimizer(optimizer);
-    o.potential = parse_potential(potential);
     MrfResult r;
     {
       py::gil_scoped_release release;
@@ -115,24 +121,11 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
   }
   if (method == "mrf-normal") {
     MrfNormalOptions o;
-    std::string optimizer = to_string(o.optimizer), potential = to_string(o.potential);
-    kw.get("alpha", o.alpha);
-    kw.get("iterations", o.iterations);
-    kw.get("seed", o.seed);
-    kw.get("optimizer", optimizer);
-    kw.get("potential", potential);
-    kw.get("tv", o.temperature);
-    kw.get("tv_cooling", o.cooling);
-    kw.get("step", o.step);
+    mrf_common_options(kw, o);
     kw.get("normal_sweeps", o.normal_sweeps);
     kw.get("vertex_iterations", o.vertex_iterations);
     kw.get("rounds", o.rounds);
-    kw.get("tolerance", o.tolerance);
-    kw.get("initial_labels", o.initial_labels_from_angles);
-    edge_options(kw, o.edges);
     kw.finish();
-    o.optimizer = parse_optimizer(optimizer);
-    o.potential = parse_potential(potential);
     MrfResult r;
     {
       py::gil_scoped_release release;
