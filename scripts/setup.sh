@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libopenblas0-pthread libopenblas-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-distributed
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -1,6 +1,6 @@
 // geotex deform IN --handles H.json -o OUT: Laplacian surface editing (thesis Sec. 5.1.4).
 //
-// Handles file (JSON):
+// Handles file (JSON; parsed by geotex::parse_handles() in user_files.h):
 //   {"handles": [ HANDLE, ... ]}
 // HANDLE selects vertices by exactly one of
 //   "vertices": [i, j, ...]                          vertex ids
@@ -15,18 +15,15 @@
 // Optional "weight": w_i of Eq. (5.19) for the handle's vertices (default --weight).
 
 #include <chrono>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "cli.h"
 #include "geotex/editing.h"
+#include "geotex/user_files.h"
 
 namespace geotex::cli {
 namespace {
-
-using json = nlohmann::json;
 
 struct Args {
   std::string input, output, handles;
@@ -35,105 +32,10 @@ struct Args {
   bool no_scale = false, literal = false, ascii = false;
 };
 
-Vec3 vec3(const json& j, const std::string& what) {
-  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
-    throw InvalidInput(fmt::format("handles file: {} must be an array of three numbers", what));
-  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
-}
-
-struct Parsed {
-  std::vector<int> ids;
-  std::vector<double> weights;
-  MatrixX3d targets;
-};
-
-Parsed parse_handles(const std::string& path, const Mesh& mesh, double default_weight) {
-  std::ifstream in(path);
-  if (!in) throw IoError(fmt::format("{}: cannot open", path));
-  json doc;
-  try {
-    in >> doc;
-  } catch (const json::exception& e) {
-    throw IoError(fmt::format("{}: not valid JSON ({})", path, e.what()));
-  }
-  if (!doc.is_object() || !doc.contains("handles") || !doc["handles"].is_array() || doc["handles"].empty())
-    throw InvalidInput(fmt::format("{}: expected {{\"handles\": [ ... ]}} with at least one handle", path));
-  const MatrixX3d X = positions(mesh);
-  const int n = static_cast<int>(X.rows());
-  Parsed out;
-  std::vector<Vec3> targets;
-  int index = 0;
-  for (const json& h : doc["handles"]) {
-    const std::string where = fmt::format("{}: handle {}", path, index++);
-    if (!h.is_object()) throw InvalidInput(where + " is not an object");
-    const int selectors = h.contains("vertices") + h.contains("sphere") + h.contains("box");
-    if (selectors != 1) throw InvalidInput(where + " needs exactly one of \"vertices\", \"sphere\", \"box\"");
-    std::vector<int> ids;
-    try {
-      if (h.contains("vertices")) {
-        for (const json& v : h["vertices"]) {
-          const int id = v.get<int>();
-          if (id < 0 || id >= n) throw InvalidInput(fmt::format("{}: vertex {} is out of range [0, {})", where, id, n));
-          ids.push_back(id);
-        }
-      } else if (h.contains("sphere")) {
-        const Vec3 c = vec3(h["sphere"].at("center"), where + " sphere.center");
-        const double r = h["sphere"].at("radius").get<double>();
-        for (int i = 0; i < n; ++i)
-          if ((X.row(i).transpose() - c).norm() <= r) ids.push_back(i);
-      } else {
-        const Vec3 lo = vec3(h["box"].at("min"), where + " box.min"), hi = vec3(h["box"].at("max"), where + " box.max");
-        for (int i = 0; i < n; ++i) {
-          const Vec3 p = X.row(i).transpose();
-          if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) ids.push_back(i);
-        }
-      }
-    } catch (const json::exception& e) {
-      throw InvalidInput(fmt::format("{}: {}", where, e.what()));
-    }
-    if (ids.empty()) throw InvalidInput(where + " selects no vertices");
-    const double w = h.contains("weight") ? h["weight"].get<double>() : default_weight;
-    if (h.contains("targets")) {
-      if (!h.contains("vertices")) throw InvalidInput(where + ": \"targets\" needs \"vertices\"");
-      if (!h["targets"].is_array() || h["targets"].size() != ids.size())
-        throw InvalidInput(fmt::format("{}: {} targets for {} vertices", where, h["targets"].size(), ids.size()));
-      for (const json& t : h["targets"]) targets.push_back(vec3(t, where + " target"));
-    } else {
-      Vec3 c = Vec3::Zero();
-      for (int i : ids) c += X.row(i).transpose();
-      c /= static_cast<double>(ids.size());
-      if (h.contains("center")) c = vec3(h["center"], where + " center");
-      const double s = h.contains("scale") ? h["scale"].get<double>() : 1.0;
-      if (!(s > 0)) throw InvalidInput(where + ": scale must be positive");
-      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-      Vec3 rc = c;
-      if (h.contains("rotate")) {
-        const json& r = h["rotate"];
-        const Vec3 axis = vec3(r.at("axis"), where + " rotate.axis");
-        if (axis.norm() == 0) throw InvalidInput(where + ": rotation axis is zero");
-        R = Eigen::AngleAxisd(r.at("angle_deg").get<double>() * M_PI / 180.0, axis.normalized()).toRotationMatrix();
-        if (r.contains("center")) rc = vec3(r["center"], where + " rotate.center");
-      }
-      const Vec3 t = h.contains("translate") ? vec3(h["translate"], where + " translate") : Vec3::Zero();
-      for (int i : ids) {
-        const Vec3 scaled = c + s * (X.row(i).transpose() - c);
-        targets.push_back(rc + R * (scaled - rc) + t);
-      }
-    }
-    for (int i : ids) {
-      out.ids.push_back(i);
-      out.weights.push_back(w);
-    }
-  }
-  out.targets.resize(targets.size(), 3);
-  for (size_t k = 0; k < targets.size(); ++k) out.targets.row(k) = targets[k].transpose();
-  return out;
-}
-
 void run(const Args& a) {
   check_output(a.input, a.output);
   Mesh mesh = load_mesh(a.input);
-  const Parsed h = parse_handles(a.handles, mesh, a.weight);
+  const HandleSet h = read_handles(a.handles, positions(mesh), a.weight);
   EditOptions o;
   o.method = a.method == "plain" ? EditMethod::Plain : a.method == "membrane-fit" ? EditMethod::MembraneFit : EditMethod::Linear;
   o.laplacian = a.laplacian == "cotan" ? LaplacianType::Cotangent : LaplacianType::Umbrella;

@@ -6,13 +6,13 @@
 // features where |height| > --height-threshold mean edge lengths).
 
 #include <chrono>
-#include <fstream>
 
 #include <fmt/format.h>
 
 #include "cli.h"
 #include "geotex/geometry.h"
 #include "geotex/resize.h"
+#include "geotex/user_files.h"
 
 namespace geotex::cli {
 namespace {
@@ -31,42 +31,9 @@ Eigen::VectorXd read_features(const Args& a, const Mesh& mesh) {
   if (a.features == "auto") return features_from_height(mesh, {.height_threshold = a.height_threshold, .dilate = a.dilate});
   if (a.features == "adf") return features_from_adf(mesh, a.adf_t, 100, a.adf_threshold, a.dilate);
   if (a.features == "none") return Eigen::VectorXd::Zero(n);
-  const std::filesystem::path path(a.features);
-  if (!std::filesystem::exists(path))
+  if (!std::filesystem::exists(a.features))
     throw IoError(fmt::format("{}: no such feature file (use auto, adf, none or a file)", a.features));
-  std::string ext = path.extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(c));
-  if (ext == ".ply") {
-    const PlyData ply = read_ply_data(path);
-    const PlyElement* v = ply.find("vertex");
-    if (!v || v->count != n)
-      throw InvalidInput(fmt::format("{}: needs {} vertices (the input's), has {}", a.features, n, v ? v->count : 0));
-    if (v->scalars.count("feature")) {
-      const auto& w = v->scalars.at("feature");
-      return Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
-    }
-    if (v->scalars.count("height")) {
-      const auto& h = v->scalars.at("height");
-      const Eigen::VectorXd hv = Eigen::Map<const Eigen::VectorXd>(h.data(), static_cast<Eigen::Index>(h.size()));
-      return features_from_values(mesh, hv / mean_edge_length(mesh), a.height_threshold, a.dilate);
-    }
-    throw InvalidInput(fmt::format("{}: no vertex property \"feature\" or \"height\"", a.features));
-  }
-  std::ifstream in(path);
-  if (!in) throw IoError(fmt::format("{}: cannot open", a.features));
-  std::vector<double> w;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    try {
-      w.push_back(std::stod(line));
-    } catch (const std::exception&) {
-      throw IoError(fmt::format("{}:{}: not a number: {}", a.features, w.size() + 1, line));
-    }
-  }
-  if (w.size() != n)
-    throw InvalidInput(fmt::format("{}: {} feature weights for {} vertices", a.features, w.size(), n));
-  return Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
+  return read_feature_file(a.features, mesh, {.height_threshold = a.height_threshold, .dilate = a.dilate});
 }
 
 void run(const Args& a) {

@@ -2,13 +2,12 @@
 // neighbourhoods); writes oriented points (x y z nx ny nz).
 
 #include <cctype>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "cli.h"
 #include "geotex/surfel.h"
+#include "geotex/user_files.h"
 
 namespace geotex::cli {
 namespace {
@@ -27,43 +26,11 @@ std::string lower_ext(const std::string& path) {
 }
 
 // Points of a PLY (vertex x y z), an OBJ (`v` lines; faces ignored), an XYZ/PTS/TXT (three numbers
-// per line, extra columns ignored), or any other mesh format geotex reads.
+// per line, extra columns ignored): geotex::read_point_file(); or any other mesh format geotex reads.
 MatrixX3d read_points(const std::string& path) {
-  const std::string ext = lower_ext(path);
-  std::vector<Vec3> pts;
-  if (ext == ".ply") {
-    const PlyData d = read_ply_data(path);
-    const PlyElement* v = d.find("vertex");
-    if (!v || !v->scalars.count("x") || !v->scalars.count("y") || !v->scalars.count("z"))
-      throw IoError(fmt::format("{}: no vertex element with x, y, z", path));
-    for (size_t i = 0; i < v->count; ++i)
-      pts.emplace_back(v->scalars.at("x")[i], v->scalars.at("y")[i], v->scalars.at("z")[i]);
-  } else if (ext == ".obj" || ext == ".xyz" || ext == ".pts" || ext == ".txt") {
-    std::ifstream in(path);
-    if (!in) throw IoError(fmt::format("{}: cannot open", path));
-    std::string line;
-    size_t line_no = 0;
-    while (std::getline(in, line)) {
-      ++line_no;
-      std::istringstream s(line);
-      if (ext == ".obj") {
-        std::string tag;
-        if (!(s >> tag) || tag != "v") continue;
-      } else {
-        const auto first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-      }
-      Vec3 p;
-      if (!(s >> p[0] >> p[1] >> p[2])) throw IoError(fmt::format("{}:{}: expected three coordinates", path, line_no));
-      pts.push_back(p);
-    }
-  } else {
-    const Mesh m = load_mesh(path);
-    return positions(m);
-  }
-  if (pts.empty()) throw InvalidInput(fmt::format("{}: no points", path));
-  MatrixX3d P(pts.size(), 3);
-  for (size_t i = 0; i < pts.size(); ++i) P.row(i) = pts[i].transpose();
+  if (is_point_file(path)) return read_point_file(path);
+  const MatrixX3d P = positions(load_mesh(path));
+  if (P.rows() == 0) throw InvalidInput(fmt::format("{}: no points", path));
   if (!P.allFinite()) throw InvalidInput(fmt::format("{}: non-finite coordinate", path));
   return P;
 }
