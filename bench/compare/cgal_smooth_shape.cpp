@@ -1,0 +1,79 @@
+// CGAL::Polygon_mesh_processing::smooth_shape (implicit mean-curvature flow) on a mesh file, for
+// bench/capabilities.sh (comparison with `geotex smooth`).
+// Usage: cgal_smooth_shape IN OUT LAMBDA ITERATIONS [bicgstab|cholmod]
+//
+// smooth_shape solves (M_c - t C) x = M_c x0 per iteration with C_ij = (cot a + cot b)/2 (computed once)
+// and M_c = area/6 per face corner (half the barycentric mass), then rescales to the input volume on
+// closed meshes. geotex's implicit cotan step with barycentric mass solves (M - lambda h^2 C) x = M x0
+// (h = mean edge length), so t = lambda h^2 / 2 is the same step: this program takes geotex's lambda and
+// converts. Compare with `geotex smooth --mass barycentric --lambda LAMBDA --rescale --freeze-weights`.
+// Solver: bicgstab = CGAL's default (Eigen BiCGSTAB + IncompleteLUT); cholmod = Eigen's CHOLMOD
+// supernodal LLT (the backend geotex uses).
+// Prints the read / smooth / write wall times (s) on stdout.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/IO/polygon_mesh_io.h>
+#include <CGAL/Polygon_mesh_processing/smooth_shape.h>
+#include <CGAL/Surface_mesh.h>
+#include <Eigen/CholmodSupport>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Mesh = CGAL::Surface_mesh<K::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+static double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+int main(int argc, char** argv) {
+  if (argc < 5 || argc > 6) {
+    std::fprintf(stderr, "usage: cgal_smooth_shape IN OUT LAMBDA ITERATIONS [bicgstab|cholmod]\n");
+    return 2;
+  }
+  const double lambda = std::atof(argv[3]);
+  const unsigned iterations = static_cast<unsigned>(std::atoi(argv[4]));
+  const std::string solver = argc == 6 ? argv[5] : "bicgstab";
+  if (solver != "bicgstab" && solver != "cholmod") {
+    std::fprintf(stderr, "cgal_smooth_shape: solver must be bicgstab or cholmod\n");
+    return 2;
+  }
+  Mesh mesh;
+  auto t0 = std::chrono::steady_clock::now();
+  if (!PMP::IO::read_polygon_mesh(argv[1], mesh) || !CGAL::is_triangle_mesh(mesh)) {
+    std::fprintf(stderr, "cgal_smooth_shape: cannot read a triangle mesh from %s\n", argv[1]);
+    return 1;
+  }
+  const double t_read = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  double sum = 0;
+  for (auto e : mesh.edges()) sum += std::sqrt(CGAL::squared_distance(mesh.point(mesh.vertex(e, 0)),
+                                                                      mesh.point(mesh.vertex(e, 1))));
+  const double h = sum / static_cast<double>(mesh.number_of_edges());
+  const double time = lambda * h * h / 2;
+  if (solver == "bicgstab") {
+    PMP::smooth_shape(mesh, time, CGAL::parameters::number_of_iterations(iterations));
+  } else {
+    using Cholmod = Eigen::CholmodSupernodalLLT<CGAL::Eigen_sparse_matrix<double>::EigenType>;
+    CGAL::Eigen_solver_traits<Cholmod> traits;
+    PMP::smooth_shape(mesh, time,
+                      CGAL::parameters::number_of_iterations(iterations).sparse_linear_solver(traits));
+  }
+  const double t_op = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  if (!CGAL::IO::write_polygon_mesh(argv[2], mesh, CGAL::parameters::use_binary_mode(true).stream_precision(17))) {
+    std::fprintf(stderr, "cgal_smooth_shape: cannot write %s\n", argv[2]);
+    return 1;
+  }
+  std::printf("read %.3f s, smooth_shape %.3f s (time %.4g = lambda %g * h^2 / 2, %u iterations, %s), "
+              "write %.3f s, %zu vertices, %zu faces\n",
+              t_read, t_op, time, lambda, iterations, solver.c_str(), seconds_since(t0),
+              static_cast<size_t>(mesh.number_of_vertices()), static_cast<size_t>(mesh.number_of_faces()));
+  return 0;
+}
