@@ -18,6 +18,7 @@ struct MrfArgs {
   std::string edge_optimizer = "metropolis", potential = "quadratic", ridges = "all";
   double phi0 = 40.0, phi0_start = 0.0, support = 0.5, te = 0.2, te_cooling = 0.95, tv = 0.0, tv_cooling = 0.5, step = 0.1;
   double tolerance = 1e-6;
+  double final_phi0 = 50;
   int sweeps = 0, final_sweeps = 100, edge_sweeps = 1, normal_sweeps = 2, vertex_iterations = 20, rounds = 1;
   bool no_initial_labels = false;
 };
@@ -65,6 +66,10 @@ void add_options(CLI::App& app) {
   app.add_option("--final-sweeps", a.final_sweeps,
                  "mrf: vertex sweeps or line searches after the last alternation, for the final labels")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--final-phi0", a.final_phi0,
+                 "mrf: relabel the ridges on the smoothed geometry with this threshold (degrees) before the final "
+                 "sweeps; 0 = off (thesis)")
+      ->check(CLI::Range(0.0, 180.0))->capture_default_str()->group(g);
   app.add_option("--edge-sweeps", a.edge_sweeps, "edge-process sweeps per outer iteration")
       ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
   app.add_option("--normal-sweeps", a.normal_sweeps, "mrf-normal: normal-process sweeps per outer iteration")
@@ -134,12 +139,13 @@ DenoiseResult run_mrf(const Mesh& mesh, const DenoiseCommon& c) {
   o.step = a.step;
   o.vertex_sweeps = a.sweeps;
   o.final_sweeps = a.final_sweeps;
+  o.final_phi0_deg = a.final_phi0;
   o.tolerance = a.tolerance;
   o.initial_labels_from_angles = !a.no_initial_labels;
   o.edges = edge_options(a);
   nlohmann::json p = edge_params(o.edges);
   p.update({{"alpha", o.alpha}, {"optimizer", to_string(o.optimizer)}, {"potential", to_string(o.potential)},
-            {"tv", o.temperature}, {"tv_cooling", o.cooling}, {"step", o.step}, {"sweeps", o.vertex_sweeps}, {"final_sweeps", o.final_sweeps},
+            {"tv", o.temperature}, {"tv_cooling", o.cooling}, {"step", o.step}, {"sweeps", o.vertex_sweeps}, {"final_sweeps", o.final_sweeps}, {"final_phi0", o.final_phi0_deg},
             {"iterations", o.iterations}, {"seed", o.seed}, {"tolerance", o.tolerance}});
   return to_result(mesh, mrf_denoise(mesh, o), p);
 }
