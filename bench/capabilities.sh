@@ -2,7 +2,8 @@
 # Time and peak memory of every geotex capability at ~10^4, 10^5 and 10^6 faces, and (with COMPARE=1)
 # the closest operation of other tools from Debian packages, run back to back with geotex on the same
 # input files. Prints markdown tables (wall s, user+sys CPU s, peak RSS MB) on stdout; raw figures go
-# to $WORK/runs.tsv. Figures and their reading: bench/capabilities.md.
+# to $WORK/runs.tsv. Figures and their reading: bench/capabilities.md. Each comparison runs geotex with
+# its default threads (OpenMP, all cores) and with --threads 1, since the other tools run on one core.
 #
 # Usage: bench/capabilities.sh                       (geotex capabilities only)
 #        COMPARE=1 bench/capabilities.sh             (+ OpenMesh, CGAL, MeshLab; run
@@ -15,6 +16,9 @@
 #            $WORK/compare-bin; meshlabserver under xvfb-run)
 #   TIMEOUT  seconds before a single command is stopped and recorded as "timeout" (default 1800)
 #   DATA     denoising pairs for the quality rows (default: ../shared/data/denoise next to the repo)
+#   QUALITY  0 = skip those quality rows (default 1)
+#   ONLY     bash regex: run only the commands whose label matches (re-measure a pair; the tables keep
+#            the last run of each label)
 # Inputs (all from `geotex generate` + `geotex noise --sigma 0.3 --seed 1`):
 #   1e4: cube level 3 (19,200 faces), spiky-plane level 2 (12,800), spiky-sphere level 2 (20,480)
 #   1e5: cube level 4 (76,800),       spiky-plane level 3 (51,200), spiky-sphere level 3 (81,920)
@@ -46,6 +50,7 @@ faces_of() { "$GEOTEX" info "$1" | awk '/^faces/{print $2}'; }
 # run SIZE GROUP LABEL FACES CMD...: time one command, append a row to runs.tsv, echo a progress line.
 run() {
   local size=$1 group=$2 label=$3 faces=$4; shift 4
+  if [ -n "${ONLY:-}" ] && ! [[ "$label" =~ $ONLY ]]; then return; fi
   local tf=$WORK/time.txt log=$WORK/last.log status=ok load
   load=$(load1)
   /usr/bin/time -f "%e %U %S %M" -o "$tf" timeout "$TIMEOUT" "$@" >"$log" 2>&1
@@ -69,6 +74,7 @@ run() {
 # quality SIZE GROUP LABEL RESULT TRUTH: `geotex compare` figures (not timed) as a row with status "quality".
 quality() {
   local size=$1 group=$2 label=$3 result=$4 truth=$5 q
+  if [ -n "${ONLY:-}" ] && ! [[ "$label" =~ $ONLY ]]; then return; fi
   if [ ! -s "$result" ]; then return; fi
   q=$("$GEOTEX" compare "$result" "$truth" 2>&1 | awk '/^mean normal error/{e=$4} /^Ev/{v=$2} END{printf "%s deg, Ev %s", e, v}')
   printf '%s\t%s\t%s\t\t\t\t\tquality\t%s\t%s\n' "$size" "$group" "$label" "$(load1)" "$q" >>"$tsv"
@@ -103,6 +109,8 @@ for size in $SIZES; do
   if [ "$COMPARE" = 1 ]; then
     run "$size" smooth-cgal "geotex smooth, barycentric mass, rescale" "$fc" "${G[@]}" smooth "$d/cube-noisy.ply" \
       -o "$o/smooth-bary.ply" --mass barycentric --rescale
+    run "$size" smooth-cgal "geotex smooth, barycentric mass, rescale (1 thread)" "$fc" "$GEOTEX" -q --threads 1 \
+      smooth "$d/cube-noisy.ply" -o "$o/smooth-bary1.ply" --mass barycentric --rescale
     run "$size" smooth-cgal "CGAL smooth_shape (BiCGSTAB+ILUT, default)" "$fc" \
       "$bin/cgal_smooth_shape" "$d/cube-noisy.ply" "$o/cgal-smooth.ply" 1 1 bicgstab
     run "$size" smooth-cgal "CGAL smooth_shape (CHOLMOD)" "$fc" \
@@ -111,6 +119,9 @@ for size in $SIZES; do
     quality "$size" smooth-cgal "CGAL (CHOLMOD) vs geotex result" "$o/cgal-smooth-cholmod.ply" "$o/smooth-bary.ply"
     run "$size" smooth-openmesh "geotex smooth, explicit umbrella, 0.5, 10 steps" "$fc" "${G[@]}" smooth \
       "$d/cube-noisy.ply" -o "$o/smooth-umbrella.ply" --laplacian umbrella --explicit --lambda 0.5 --steps 10
+    run "$size" smooth-openmesh "geotex smooth, explicit umbrella, 0.5, 10 steps (1 thread)" "$fc" "$GEOTEX" -q \
+      --threads 1 smooth "$d/cube-noisy.ply" -o "$o/smooth-umbrella1.ply" --laplacian umbrella --explicit \
+      --lambda 0.5 --steps 10
     run "$size" smooth-openmesh "OpenMesh JacobiLaplaceSmootherT, 10 iterations" "$fc" \
       "$bin/openmesh_smooth" "$d/cube-noisy.ply" "$o/openmesh-smooth.ply" 10
     quality "$size" smooth-openmesh "OpenMesh vs geotex result" "$o/openmesh-smooth.ply" "$o/smooth-umbrella.ply"
@@ -118,6 +129,8 @@ for size in $SIZES; do
 
   run "$size" cap "denoise mrf (defaults)" "$fc" "${G[@]}" denoise "$d/cube-noisy.ply" -o "$o/mrf.ply" --method mrf
   if [ "$COMPARE" = 1 ]; then
+    run "$size" denoise-meshlab "denoise mrf (defaults) (1 thread)" "$fc" "$GEOTEX" -q --threads 1 denoise \
+      "$d/cube-noisy.ply" -o "$o/mrf1.ply" --method mrf
     run "$size" denoise-meshlab "MeshLab TwoStep Smooth (defaults 3/60/20/20)" "$fc" \
       xvfb-run -a meshlabserver -i "$d/cube-noisy.ply" -o "$o/meshlab.ply" -s "$repo/bench/compare/meshlab_twostep.mlx"
     quality "$size" denoise-meshlab "geotex mrf vs clean cube" "$o/mrf.ply" "$d/cube.ply"
@@ -135,25 +148,34 @@ for size in $SIZES; do
 
   run "$size" cap "param (conformal, disk)" "$fp" "${G[@]}" param "$d/spiky-plane.ply" -o "$o/param.obj" --json
   if [ "$COMPARE" = 1 ]; then
+    run "$size" param-cgal "param (conformal, disk) (1 thread)" "$fp" "$GEOTEX" -q --threads 1 param \
+      "$d/spiky-plane.ply" -o "$o/param1.obj" --json
     run "$size" param-cgal "CGAL Discrete_conformal_map (BiCGSTAB+ILUT)" "$fp" \
       "$bin/cgal_param" "$d/spiky-plane.ply" "$o/cgal-dcm.obj" dcm
     run "$size" param-natural "geotex param --method natural" "$fp" "${G[@]}" param "$d/spiky-plane.ply" \
       -o "$o/param-natural.obj" --method natural --json
+    run "$size" param-natural "geotex param --method natural (1 thread)" "$fp" "$GEOTEX" -q --threads 1 param \
+      "$d/spiky-plane.ply" -o "$o/param-natural1.obj" --method natural --json
     run "$size" param-natural "CGAL LSCM (SimplicialLDLT)" "$fp" \
       "$bin/cgal_param" "$d/spiky-plane.ply" "$o/cgal-lscm.obj" lscm
   fi
 done
 
 # ---- quality of the denoisers on the real denoising pairs (not timed against size) -----------------
-if [ "$COMPARE" = 1 ] && [ -d "$DATA" ]; then
+if [ "$COMPARE" = 1 ] && [ -d "$DATA" ] && [ "${QUALITY:-1}" = 1 ]; then
   for name in Fandisk0.3 Block0.4 Twelve0.5Impulsive; do
     [ -f "$DATA/$name/Noisy.obj" ] || continue
     o=$WORK/data/$name
     mkdir -p "$o"
     f=$(faces_of "$DATA/$name/Noisy.obj")
-    run data "denoise-$name" "geotex denoise mrf" "$f" "$GEOTEX" -q denoise "$DATA/$name/Noisy.obj" -o "$o/mrf.ply"
+    # MeshLab 2020.09's OBJ importer aborts on these files (assertion in import_obj.h): both tools read
+    # the same binary PLY copy (0 smoothing steps = a plain conversion, vertex order kept).
+    "$GEOTEX" -q smooth "$DATA/$name/Noisy.obj" -o "$o/noisy.ply" --steps 0
+    run data "denoise-$name" "geotex denoise mrf" "$f" "$GEOTEX" -q denoise "$o/noisy.ply" -o "$o/mrf.ply"
+    run data "denoise-$name" "geotex denoise mrf (1 thread)" "$f" "$GEOTEX" -q --threads 1 denoise "$o/noisy.ply" \
+      -o "$o/mrf1.ply"
     run data "denoise-$name" "MeshLab TwoStep Smooth (defaults)" "$f" xvfb-run -a meshlabserver \
-      -i "$DATA/$name/Noisy.obj" -o "$o/meshlab.ply" -s "$repo/bench/compare/meshlab_twostep.mlx"
+      -i "$o/noisy.ply" -o "$o/meshlab.ply" -s "$repo/bench/compare/meshlab_twostep.mlx"
     quality data "denoise-$name" "geotex mrf" "$o/mrf.ply" "$DATA/$name/Original.obj"
     quality data "denoise-$name" "MeshLab TwoStep" "$o/meshlab.ply" "$DATA/$name/Original.obj"
     quality data "denoise-$name" "noisy input" "$DATA/$name/Noisy.obj" "$DATA/$name/Original.obj"

@@ -2,8 +2,9 @@
 """Markdown tables from bench/capabilities.sh's runs.tsv (usage: tables.py runs.tsv).
 
 Table 1: each geotex capability per size, "wall s / CPU s (user+sys) / peak RSS MB".
-Table 2: each comparison: geotex's run and the other tool's run on the same input, back to back, with
-the ratios other / geotex of CPU time and wall time (> 1: geotex is faster), and quality rows.
+Table 2: each comparison: geotex's runs (default threads, and --threads 1 when measured) and the other
+tool's run on the same input, back to back, with the ratios other / geotex of CPU time (against both
+geotex runs) and of wall time (against the default run); > 1: geotex is faster. Then quality rows.
 When a label was measured more than once, the last run counts.
 """
 import csv
@@ -83,27 +84,34 @@ def main():
         if not any(k[1] == group for k in order):
             continue
         print(f"### {TITLE[group]}\n")
-        print("| size | faces | tool | wall s | CPU s | peak MB | CPU ratio other/geotex | wall ratio | load | note |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        print("| size | faces | tool | wall s | CPU s | peak MB | CPU ratio other/geotex | CPU ratio other/geotex 1 thread "
+              "| wall ratio | load | note |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         for s in sizes:
             ref = runs.get((s, ref_group, ref_label, False))
             if ref is None:
                 continue
-            rows = [ref] + [runs[k] for k in order if k[0] == s and k[1] == group and not k[3] and k[2] != ref_label]
+            ref1 = runs.get((s, group, ref_label + " (1 thread)", False))
+            geotex = [ref] + ([ref1] if ref1 else [])
+            rows = geotex + [runs[k] for k in order if k[0] == s and k[1] == group and not k[3]
+                             and runs[k] is not ref and runs[k] is not ref1]
             for r in rows:
-                ratio_cpu = ratio_wall = ""
-                if r is not ref and r["status"] == "ok":
+                ratio_cpu = ratio_cpu1 = ratio_wall = ""
+                if r not in geotex and r["status"] == "ok":
                     a, b = num(r["cpu_s"]), num(ref["cpu_s"])
                     ratio_cpu = f"{a / b:.2f}" if a is not None and b else ""
+                    if ref1 and ref1["status"] == "ok":
+                        b = num(ref1["cpu_s"])
+                        ratio_cpu1 = f"{a / b:.2f}" if a is not None and b else ""
                     a, b = num(r["wall_s"]), num(ref["wall_s"])
                     ratio_wall = f"{a / b:.2f}" if a is not None and b else ""
-                name = r["label"] if r is not ref else f"geotex: {ref_label}"
+                name = f"geotex: {r['label']}" if r in geotex and not r["label"].startswith("geotex") else r["label"]
                 status = "" if r["status"] == "ok" else f" **{r['status']}**"
                 print(f"| {s} | {faces(r['faces'])} | {name}{status} | {r['wall_s']} | {r['cpu_s']} | {r['rss_mb']} | "
-                      f"{ratio_cpu} | {ratio_wall} | {r['load']} | {r['note'].strip()} |")
+                      f"{ratio_cpu} | {ratio_cpu1} | {ratio_wall} | {r['load']} | {r['note'].strip()} |")
             for k in order:
                 if k[0] == s and k[1] == group and k[3]:
-                    print(f"| {s} | | quality: {k[2]} | | | | | | | {runs[k]['note']} |")
+                    print(f"| {s} | | quality: {k[2]} | | | | | | | | {runs[k]['note']} |")
         print()
 
     data = [k for k in order if k[0] == "data"]
