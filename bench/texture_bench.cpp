@@ -1,7 +1,10 @@
-// Height-and-tilt texture: extraction + reconstruction at ~10^5 and ~10^6 vertices; 1-form least-squares
-// fit at 10^5 and 10^6 faces. Run: build-texture/bench/texture_bench --benchmark_min_time=1x
+// Height-and-tilt texture: extraction + reconstruction at ~10^5 and ~10^6 vertices with both tilt
+// solvers; 1-form least-squares fit at 10^5 and 10^6 faces.
+// Run: build-texture/bench/texture_bench --benchmark_filter=Texture   (one iteration each)
 
 #include <benchmark/benchmark.h>
+
+#include <map>
 
 #include "geotex/geometry.h"
 #include "geotex/one_form.h"
@@ -12,33 +15,66 @@ using namespace geotex;
 
 namespace {
 
-// Spiky sphere on icosphere(level): level 7 ≈ 164k vertices, level 8 ≈ 655k, level 9 ≈ 2.6M.
-const TexturedShape& shape(int level) {
+TexturedShape spikes_on(const Mesh& base) {
+  SpikeOptions o;
+  o.count = 200;
+  return spiky(base, o);
+}
+
+// Spiky sphere on icosphere(level): level 7 ≈ 164k vertices, level 8 ≈ 655k.
+const TexturedShape& ico_shape(int level) {
   static std::map<int, TexturedShape> cache;
   auto it = cache.find(level);
+  if (it == cache.end()) it = cache.emplace(level, spikes_on(icosphere(level))).first;
+  return it->second;
+}
+
+// Spiky sphere on a cube grid pushed onto the unit sphere: 6n² + 2 vertices (n = 129: 99 848,
+// n = 408: 998 786), to measure at the 10^5 and 10^6 vertices.
+const TexturedShape& cube_sphere_shape(int n) {
+  static std::map<int, TexturedShape> cache;
+  auto it = cache.find(n);
   if (it == cache.end()) {
-    SpikeOptions o;
-    o.count = 200;
-    it = cache.emplace(level, spiky(icosphere(level), o)).first;
+    Mesh m = subdivided_cube(n, 2.0);
+    MatrixX3d X = positions(m);
+    X.rowwise().normalize();
+    set_positions(m, X);
+    it = cache.emplace(n, spikes_on(m)).first;
   }
   return it->second;
 }
 
-void BM_TextureExtractReconstruct(benchmark::State& state) {
-  const TexturedShape& s = shape(static_cast<int>(state.range(0)));
+void run(benchmark::State& state, const TexturedShape& s) {
+  TextureOptions opt;
+  opt.solver = state.range(1) ? TiltSolver::Direct : TiltSolver::Iterative;
   const MatrixX3d X = positions(s.textured);
   double err = 0;
+  TiltFitReport fit;
   for (auto _ : state) {
-    TextureCodec codec(s.base);
+    TextureCodec codec(s.base, opt);
     const Texture tex = codec.extract(X);
     const MatrixX3d Y = codec.apply(tex);
     err = (Y - X).rowwise().norm().maxCoeff();
+    fit = codec.last_fit();
     benchmark::DoNotOptimize(Y.data());
   }
   state.counters["vertices"] = static_cast<double>(s.base.n_vertices());
   state.counters["max_err_per_edge"] = err / mean_edge_length(s.base);
+  state.counters["cgls_iterations"] = fit.iterations;
+  state.counters["iterative_used"] = fit.iterative;
+  state.SetLabel(state.range(1) ? "direct" : "iterative");
 }
-BENCHMARK(BM_TextureExtractReconstruct)->Arg(7)->Arg(8)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Argument 1: 0 = iterative (default), 1 = direct.
+void BM_TextureExtractReconstruct(benchmark::State& state) { run(state, ico_shape(static_cast<int>(state.range(0)))); }
+BENCHMARK(BM_TextureExtractReconstruct)
+    ->Args({7, 0})->Args({8, 0})->Args({7, 1})->Args({8, 1})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_TextureCubeSphere(benchmark::State& state) { run(state, cube_sphere_shape(static_cast<int>(state.range(0)))); }
+BENCHMARK(BM_TextureCubeSphere)
+    ->Args({129, 0})->Args({408, 0})->Args({129, 1})->Args({408, 1})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_OneFormFit(benchmark::State& state) {
   const Mesh m = icosphere(static_cast<int>(state.range(0)));

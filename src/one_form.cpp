@@ -13,6 +13,8 @@
 namespace geotex {
 namespace {
 
+using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
 // A face with its corners (faces(mesh) order), the mesh edge under each local edge l (corner l →
 // corner l+1) with the sign of that edge's orientation relative to the face, its area, and the local
 // edges rotated by π/2 in the face's plane.
@@ -179,6 +181,23 @@ struct OneFormFitter::Impl {
   Eigen::VectorXd edge_len;
   SpdSolver solver;
   bool holds_normal = false;  // the solver's factor is of `normal` (not of a weighted/pinned matrix)
+  bool has_normal = false;    // `normal`, `eps` and the symbolic analysis exist (built on first direct fit)
+  RowSparse A_rows, At_rows;  // A and Aᵀ for the iterative fit's products
+
+  // The direct route's normal matrix AᵀA + εI and its symbolic analysis, built on first use so that
+  // an iterative-only caller never pays for them.
+  void ensure_normal() {
+    if (has_normal) return;
+    const Eigen::Index m = A.cols();
+    normal = SparseMatrix(A.transpose()) * A;
+    eps = opt.regularization * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
+    SparseMatrix I(m, m);
+    I.setIdentity();
+    normal += eps * I;
+    normal.makeCompressed();
+    solver.analyze(normal);  // factorized lazily: a weighted fit needs its own numbers anyway
+    has_normal = true;
+  }
 };
 
 OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options, const MatrixX3d& normals)
@@ -204,13 +223,7 @@ OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options,
   } else {
     s.A = s.P;
   }
-  s.normal = SparseMatrix(s.A.transpose()) * s.A;
-  s.eps = options.regularization * s.normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
-  SparseMatrix I(m, m);
-  I.setIdentity();
-  s.normal += s.eps * I;
-  s.normal.makeCompressed();
-  s.solver.analyze(s.normal);  // factorized lazily: a weighted fit needs its own numbers anyway
+  (void)m;
 }
 
 OneFormFitter::~OneFormFitter() = default;
@@ -224,6 +237,7 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
   Impl& s = *impl_;
   const Eigen::Index n = s.mesh->n_vertices(), m = s.mesh->n_edges();
   if (T.rows() != n) throw InvalidInput("1-form fit: expected one vector per vertex");
+  s.ensure_normal();
   const bool weighted = weights.size() > 0;
   if (weighted && (weights.size() != n || !(weights.minCoeff() > 0) || !weights.allFinite()))
     throw InvalidInput("1-form fit: expected one positive weight per vertex");
@@ -284,6 +298,97 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
   }
   for (Eigen::Index e = 0; e < m; ++e) c[e] = std::clamp(c[e], -s.edge_len[e], s.edge_len[e]);
   return c;
+}
+
+IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen::VectorXd& weights,
+                                                const OneFormFitMonitor& converged, const IterativeFitOptions& o) {
+  Impl& s = *impl_;
+  const Eigen::Index n = s.mesh->n_vertices(), m = s.mesh->n_edges();
+  if (T.rows() != n) throw InvalidInput("1-form fit: expected one vector per vertex");
+  if (weights.size() > 0 && (weights.size() != n || !(weights.minCoeff() > 0) || !weights.allFinite()))
+    throw InvalidInput("1-form fit: expected one positive weight per vertex");
+  if (o.max_iterations < 0 || o.check_every < 1)
+    throw InvalidInput("1-form fit: max_iterations must be non-negative and check_every positive");
+  if (s.A_rows.rows() == 0) {  // row-major copies: Eigen runs row-major sparse × vector products with OpenMP
+    s.A_rows = s.A;
+    s.At_rows = s.A.transpose();
+  }
+  const auto& A = s.A_rows;
+  const auto& At = s.At_rows;
+
+  // Weighted objective ‖W^½ (A c − t)‖² (Eq. 5.81), solved for x = c ./ col in the column-scaled
+  // variables (Jacobi preconditioning: every column of W^½ A S has unit length).
+  Eigen::VectorXd sw = Eigen::VectorXd::Ones(3 * n), t(3 * n);
+  for (int d = 0; d < 3; ++d) {
+    if (weights.size()) sw.segment(d * n, n) = weights.cwiseSqrt();
+    t.segment(d * n, n) = T.col(d);
+  }
+  if (s.opt.tangential) t = s.proj * t;
+  const Eigen::VectorXd b = sw.cwiseProduct(t);
+  // Threads only for large meshes: on small ones the per-product barriers cost more than they save.
+  const bool par = A.nonZeros() > 500000;
+  Eigen::VectorXd col(m);
+#pragma omp parallel for schedule(static) if (par)
+  for (Eigen::Index j = 0; j < m; ++j) {
+    double sum = 0;
+    for (RowSparse::InnerIterator it(At, j); it; ++it) sum += sw[it.index()] * sw[it.index()] * it.value() * it.value();
+    col[j] = sum > 0 ? 1.0 / std::sqrt(sum) : 1.0;
+  }
+  // y = diag(out) · M · diag(in) · x, row-parallel.
+  auto scaled_product = [par](const RowSparse& M, const Eigen::VectorXd& out, const Eigen::VectorXd& in,
+                              const Eigen::VectorXd& x) {
+    Eigen::VectorXd y(M.rows());
+#pragma omp parallel for schedule(static) if (par)
+    for (Eigen::Index r = 0; r < M.rows(); ++r) {
+      double sum = 0;
+      for (RowSparse::InnerIterator it(M, r); it; ++it) sum += it.value() * in[it.index()] * x[it.index()];
+      y[r] = out[r] * sum;
+    }
+    return y;
+  };
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(std::max(3 * n, m));
+  auto apply_A = [&](const Eigen::VectorXd& x) { return scaled_product(A, sw, col, x); };
+  auto apply_At = [&](const Eigen::VectorXd& r) { return scaled_product(At, col, sw, r); };
+
+  IterativeFitResult res;
+  res.c = one_form_average(*s.mesh, T);  // start: Eq. (5.80)
+  auto check = [&]() {
+    const Eigen::VectorXd Pc =
+        s.opt.tangential ? Eigen::VectorXd(s.P * res.c) : scaled_product(A, ones.head(3 * n), ones.head(m), res.c);
+    return converged && converged(res.c, Pc);
+  };
+  if (check()) {
+    res.converged = true;
+    return res;
+  }
+  // CGLS (conjugate gradients on the normal equations without forming them).
+  Eigen::VectorXd x = res.c.cwiseQuotient(col);
+  Eigen::VectorXd r = b - apply_A(x);
+  Eigen::VectorXd g = apply_At(r), p = g;
+  double gamma = g.squaredNorm();
+  while (res.iterations < o.max_iterations && gamma > 0) {
+    const Eigen::VectorXd q = apply_A(p);
+    const double qq = q.squaredNorm();
+    if (!(qq > 0)) break;
+    const double alpha = gamma / qq;
+    x += alpha * p;
+    r -= alpha * q;
+    g = apply_At(r);
+    const double gamma_next = g.squaredNorm();
+    p = g + (gamma_next / gamma) * p;
+    gamma = gamma_next;
+    ++res.iterations;
+    if (res.iterations % o.check_every == 0 || res.iterations == o.max_iterations) {
+      res.c = col.cwiseProduct(x);
+      if (check()) {
+        res.converged = true;
+        return res;
+      }
+    }
+  }
+  res.c = col.cwiseProduct(x);
+  res.converged = check();
+  return res;
 }
 
 Eigen::VectorXd fit_one_form(const Mesh& mesh, const MatrixX3d& T, const OneFormFitOptions& options) {

@@ -56,6 +56,16 @@ Texture from_directions(TextureCodec& codec, const Texture& texture, const Matri
   return out;
 }
 
+// Unit displacement direction from a vertex tilt t (made tangent, clamped to length ≤ 1) and the
+// normal n: d̂ = cos α n + n × t with sin α = ‖t‖, cos α = sign √(1 − ‖t‖²) (Eq. 8.8, DESIGN.md).
+Vec3 direction_from_tilt(Vec3 t, const Vec3& n, double sign) {
+  t -= t.dot(n) * n;
+  const double l = t.norm();
+  if (l > 1) t /= l;
+  const double s = std::min(1.0, l);
+  return sign * std::sqrt(std::max(0.0, 1 - s * s)) * n + n.cross(t);
+}
+
 double max_abs_height(const Texture& t) { return t.height.size() ? t.height.cwiseAbs().maxCoeff() : 0.0; }
 
 Vec3 unit_or_throw(const Vec3& v, const char* what) {
@@ -115,7 +125,11 @@ TextureCodec::TextureCodec(const Mesh& base, const TextureOptions& options)
       X_(positions(base)),
       N_(vertex_normals(base, options.normals)),
       options_(options),
-      fitter_(base_, fit_options(options), N_) {}
+      fitter_(base_, fit_options(options), N_),
+      mean_edge_(mean_edge_length(base)) {
+  if (!(options.fit_tolerance > 0) || options.max_iterations < 0 || options.stall_iterations < 1)
+    throw InvalidInput("texture: fit tolerance and stall iterations must be positive, max iterations non-negative");
+}
 
 Texture TextureCodec::extract(const MatrixX3d& textured) {
   if (textured.rows() != X_.rows())
@@ -159,12 +173,55 @@ MatrixX3d TextureCodec::tilt_vectors(const Eigen::VectorXd& tilt) const {
 }
 
 Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::VectorXd& heights) {
-  if (!options_.height_weighted || heights.size() == 0) return fitter_.fit(T);
-  if (heights.size() != T.rows()) throw InvalidInput("texture: expected one height per vertex");
-  const double hmax = heights.cwiseAbs().maxCoeff();
-  if (!(hmax > 0)) return fitter_.fit(T);
-  const Eigen::VectorXd w = (heights / hmax).array().square() + 1e-4;
-  return fitter_.fit(T, w);
+  if (T.rows() != X_.rows()) throw InvalidInput("texture: expected one tilt vector per vertex");
+  if (heights.size() != 0 && heights.size() != T.rows()) throw InvalidInput("texture: expected one height per vertex");
+  const double hmax = heights.size() ? heights.cwiseAbs().maxCoeff() : 0.0;
+  Eigen::VectorXd w;  // empty: unweighted
+  if (options_.height_weighted && hmax > 0) w = (heights / hmax).array().square() + 1e-4;
+  last_fit_ = TiltFitReport();
+  if (options_.solver == TiltSolver::Direct || options_.bound_tilt) return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);
+
+  // Iterative: stop once the displacement directions the fitted tilt gives (Eq. 8.8) put every vertex
+  // within fit_tolerance mean edges of where the target tilt puts it (|h_i| × direction error; with
+  // no heights, the direction error itself). The normal part of P c, dropped when decoding, is not
+  // driven to zero as tightly as by the exact minimiser (texture_test: TiltFieldIsTangentToTheBase).
+  const Eigen::Index n = X_.rows();
+  MatrixX3d D(n, 3);
+  Eigen::VectorXd scale(n);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double sign = heights.size() ? nonzero_sign(heights[i]) : 1.0;
+    D.row(i) = direction_from_tilt(T.row(i).transpose(), N_.row(i).transpose(), sign).transpose();
+    scale[i] = heights.size() ? std::abs(heights[i]) / mean_edge_ : 1.0;
+  }
+  const int window = std::max(1, options_.stall_iterations / 10);  // in checks (one every 10 iterations)
+  std::vector<double> history;
+  bool met = false;
+  auto monitor = [&](const Eigen::VectorXd&, const Eigen::VectorXd& Pc) {
+    double err = 0;
+#pragma omp parallel for schedule(static) reduction(max : err) if (n > 30000)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double sign = heights.size() ? nonzero_sign(heights[i]) : 1.0;
+      const Vec3 d = direction_from_tilt(Vec3(Pc[i], Pc[n + i], Pc[2 * n + i]), N_.row(i).transpose(), sign);
+      err = std::max(err, scale[i] * (d - Vec3(D.row(i).transpose())).norm());
+    }
+    history.push_back(err);
+    met = err <= options_.fit_tolerance;
+    const size_t k = history.size();
+    const bool stalled = k > static_cast<size_t>(window) && err > 0.9 * history[k - 1 - window];
+    return met || stalled;
+  };
+  IterativeFitOptions io;
+  io.max_iterations = options_.max_iterations;
+  io.check_every = 10;
+  IterativeFitResult r = fitter_.fit_iterative(T, w, monitor, io);
+  last_fit_.iterations = r.iterations;
+  last_fit_.error = history.empty() ? 0.0 : history.back();
+  if (met) {
+    last_fit_.iterative = true;
+    return r.c;
+  }
+  return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);  // stalled or out of iterations: the exact minimiser
 }
 
 MatrixX3d TextureCodec::directions(const Texture& tex) const {

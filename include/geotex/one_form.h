@@ -51,8 +51,24 @@ struct OneFormFitOptions {
   double bound_stiffness = 1e3;  //!< penalty pinning a violator, relative to the mean diagonal
 };
 
-//! Least-squares 1-form fit (Eq. 5.81–5.82): argmin_c ‖P c − t‖² (+ a small pull towards Eq. 5.80),
-//! with the normal equations analysed and factored once (CHOLMOD) and reused for every field.
+struct IterativeFitOptions {
+  int max_iterations = 1000;  //!< CGLS iterations at most
+  int check_every = 10;       //!< ask the monitor every this many iterations
+};
+
+//! Called during an iterative fit with the current coefficients c (#E) and their vertex field P c
+//! (3#V: all x, then all y, then all z; Eq. 5.79). Return true to stop (converged).
+using OneFormFitMonitor = std::function<bool(const Eigen::VectorXd& c, const Eigen::VectorXd& Pc)>;
+
+struct IterativeFitResult {
+  Eigen::VectorXd c;       //!< #E coefficients after the last iteration
+  int iterations = 0;      //!< CGLS iterations done
+  bool converged = false;  //!< the monitor returned true
+};
+
+//! Least-squares 1-form fit (Eq. 5.81–5.82): argmin_c ‖P c − t‖² (+ a small pull towards Eq. 5.80).
+//! Direct: the normal equations are analysed and factored (CHOLMOD) on first use and reused for every
+//! field. Iterative: CGLS on the same objective, warm-started from Eq. (5.80), no factorization.
 class OneFormFitter {
  public:
   //! \param normals #V by 3 unit normals, used by OneFormFitOptions::tangential (default: area-weighted).
@@ -67,6 +83,13 @@ class OneFormFitter {
   //! Weighted fit: argmin Σ_i w_i ‖(P c)_i − t_i‖² (+ the pull to Eq. 5.80). Refactors the normal
   //! equations numerically (the symbolic analysis is reused). \param weights #V positive weights.
   Eigen::VectorXd fit(const MatrixX3d& T, const Eigen::VectorXd& weights);
+  //! The same (weighted) objective by CGLS with Jacobi column scaling, started from the averaging
+  //! estimate (Eq. 5.80), which also takes the place of the regularization: CGLS never changes the
+  //! start's component in the null space of P. Stops when \p converged returns true or after
+  //! options.max_iterations; ignores OneFormFitOptions::bound_by_edge_length and ::tangential (the
+  //! caller falls back to fit() for those). \param weights #V positive weights, or empty for all ones.
+  IterativeFitResult fit_iterative(const MatrixX3d& T, const Eigen::VectorXd& weights,
+                                   const OneFormFitMonitor& converged, const IterativeFitOptions& options = {});
 
   //! The reconstruction matrix P (3#V by #E).
   const SparseMatrix& matrix() const;
