@@ -163,7 +163,10 @@ Mesh build_from_soup(const fs::path& path, const Soup& soup, const ReadOptions& 
       ++t;
     }
   }
-  Mesh mesh = make_mesh(V, F, &rep.build);
+  BuildOptions build_options;
+  build_options.fix_orientation = opt.repair;
+  build_options.split_nonmanifold_vertices = opt.repair;
+  Mesh mesh = make_mesh(V, F, &rep.build, build_options);
   const BuildReport& b = rep.build;
   if (b.degenerate_faces)
     rep.warnings.push_back(fmt::format("dropped {} degenerate face(s) (a vertex used twice)", b.degenerate_faces));
@@ -173,11 +176,20 @@ Mesh build_from_soup(const fs::path& path, const Soup& soup, const ReadOptions& 
     rep.warnings.push_back(fmt::format(
         "dropped {} non-manifold face(s) (an edge with more than two faces, or a vertex joining separate fans)",
         b.nonmanifold_faces));
+  if (b.flipped_faces)
+    rep.warnings.push_back(fmt::format("turned {} face(s) round to agree with their neighbours' orientation",
+                                       b.flipped_faces));
+  if (b.split_vertices)
+    rep.warnings.push_back(fmt::format(
+        "split {} non-manifold vertex(es) (several fans meeting at a point) into {} extra vertex(es), "
+        "appended after the file's vertices", b.split_vertices, b.added_vertices));
+  if (b.nonmanifold_vertices)
+    rep.warnings.push_back(fmt::format("{} vertex(es) join several fans (non-manifold, kept)", b.nonmanifold_vertices));
   if (b.isolated_vertices)
     rep.warnings.push_back(fmt::format("{} vertex(es) belong to no face (kept)", b.isolated_vertices));
-  if (opt.strict && b.dropped() > 0)
-    throw InvalidInput(fmt::format("{}: {} face(s) would be dropped (strict mode): {}", path.string(),
-                                   b.dropped(), fmt::join(rep.warnings, "; ")));
+  if (opt.strict && b.dropped() + b.repaired() + b.nonmanifold_vertices > 0)
+    throw InvalidInput(fmt::format("{}: the mesh would be changed to read it (strict mode): {}", path.string(),
+                                   fmt::join(rep.warnings, "; ")));
   if (mesh.n_faces() == 0)
     throw InvalidInput(fmt::format("{}: no usable face is left after dropping {} face(s)",
                                    path.string(), b.dropped()));
@@ -365,9 +377,11 @@ Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
   LineReader lr{data};
   std::string_view line;
   size_t in_facet = 0;
+  bool ended = false;
   while (lr.next(line)) {
     std::string_view rest = line;
     const auto key = next_token(rest);
+    if (key == "endsolid") ended = true;
     if (key == "vertex") {
       for (int k = 0; k < 3; ++k) {
         double c;
@@ -383,6 +397,7 @@ Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
   }
   if (in_facet != 0 || corners.size() % 9 != 0)
     throw IoError(fmt::format("{}: truncated ascii STL (a facet is not closed)", path.string()));
+  if (!ended) rep.warnings.push_back("no 'endsolid' line: the file may be truncated");
   rep.format = "stl (ascii)";
   rep.file_polygons = corners.size() / 9;
   return stl_from_corners(corners, rep);
@@ -459,6 +474,9 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
   LineReader lr{data};
   std::string_view line;
   if (!lr.next(line) || line != "ply") throw IoError(fmt::format("{}: not a PLY file (no 'ply' magic)", path.string()));
+  // A header cut short would otherwise be reported by whichever line the cut made malformed.
+  if (data.find("end_header") == std::string_view::npos)
+    throw IoError(fmt::format("{}: PLY header has no end_header (truncated?)", path.string()));
   PlyData out;
   std::vector<PlyElemDecl> decls;
   bool header_done = false;
@@ -892,6 +910,17 @@ Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOp
   }
   rep.file_vertices = soup.n_vertices();
   if (rep.file_polygons == 0) rep.file_polygons = soup.n_polygons();
+  // Text formats without counts (OBJ) or with numbers that may lose digits at a cut (any text format)
+  // cannot always tell a truncated file from a complete one; a missing final newline is the one sign.
+  // (ASCII STL has its 'endsolid' for that.) A comment as the last line is no sign.
+  const bool text = format == MeshFormat::Obj || format == MeshFormat::Off || rep.format == "ply (ascii)";
+  if (text && data.back() != '\n') {
+    const size_t nl = data.rfind('\n');
+    std::string_view last = data.substr(nl == std::string_view::npos ? 0 : nl + 1);
+    const std::string_view key = next_token(last);
+    if (!key.empty() && key.front() != '#')
+      rep.warnings.push_back("the last line has no end-of-line: the file may be truncated");
+  }
   Mesh mesh = build_from_soup(path, soup, options, rep);
   if (report) *report = std::move(rep);
   return mesh;

@@ -8,11 +8,15 @@ namespace geotex {
 namespace {
 inline Vec3 P(const Mesh& m, Mesh::VertexHandle v) { return to_eigen(m.point(v)); }
 
-// cot of the angle between u and v, clamped (Fig. 5.4: dot over |cross|).
-inline double cot(const Vec3& u, const Vec3& v, double max_cot) {
-  const double c = u.cross(v).norm();
+// cot of the angle between u and v (Fig. 5.4: dot over |cross|), with |cross| (twice the triangle's
+// area) floored at min_cross. Each triangle passes the same floor for its three corners: its weights
+// are then those of a triangle with a positive area, whose Dirichlet form is positive semi-definite,
+// so zero-area triangles cannot make C indefinite (clamping each corner's cot separately can: a
+// collinear triangle would give +max, +max, −max). Unchanged for every triangle above the floor.
+inline double cot(const Vec3& u, const Vec3& v, double min_cross, double max_cot) {
+  const double c = std::max(u.cross(v).norm(), min_cross);
   const double d = u.dot(v);
-  if (c <= std::abs(d) / max_cot) return d >= 0 ? max_cot : -max_cot;
+  if (!(c > 0)) return 0;  // all three corners at one point: no gradient, no weight
   return std::clamp(d / c, -max_cot, max_cot);
 }
 }  // namespace
@@ -54,9 +58,12 @@ SparseMatrix cotan_matrix(const Mesh& mesh, const CotanOptions& options) {
     int id[3], k = 0;
     Vec3 p[3];
     for (auto v : f.vertices()) { id[k] = v.idx(); p[k++] = P(mesh, v); }
+    // |cot| <= |u||v| / min_cross <= max_cot: the bound of CotanOptions::max_cot.
+    const double l2 = std::max({(p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm()});
+    const double min_cross = l2 / options.max_cot;
     for (int c = 0; c < 3; ++c) {
       const int i = id[(c + 1) % 3], j = id[(c + 2) % 3];
-      const double w = 0.5 * cot(p[(c + 1) % 3] - p[c], p[(c + 2) % 3] - p[c], options.max_cot);
+      const double w = 0.5 * cot(p[(c + 1) % 3] - p[c], p[(c + 2) % 3] - p[c], min_cross, options.max_cot);
       t.emplace_back(i, j, w);
       t.emplace_back(j, i, w);
       t.emplace_back(i, i, -w);

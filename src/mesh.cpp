@@ -9,6 +9,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "geotex/error.h"
+#include "geotex/mesh_repair.h"
 
 namespace geotex {
 
@@ -63,7 +64,7 @@ struct TriKeyHash {
 };
 }  // namespace
 
-Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report) {
+Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report, const BuildOptions& options) {
   BuildReport rep;
   for (Eigen::Index i = 0; i < V.rows(); ++i)
     if (!V.row(i).allFinite())
@@ -75,27 +76,60 @@ Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report) {
         throw InvalidInput(fmt::format("face {} refers to vertex {}, but there are {} vertices", f,
                                        F(f, k), V.rows()));
 
-  Mesh mesh;
-  mesh.reserve(V.rows(), V.rows() + F.rows(), F.rows());
-  std::vector<Mesh::VertexHandle> vh(V.rows());
-  for (Eigen::Index i = 0; i < V.rows(); ++i) vh[i] = mesh.add_vertex(to_point(V.row(i).transpose()));
+  std::vector<std::array<int, 3>> tris;
+  tris.reserve(F.rows());
+  {
+    std::unordered_set<std::array<int, 3>, TriKeyHash> seen;
+    seen.reserve(F.rows() * 2);
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+      if (a == b || b == c || a == c) {
+        ++rep.degenerate_faces;
+        continue;
+      }
+      std::array<int, 3> key{a, b, c};
+      std::sort(key.begin(), key.end());
+      if (!seen.insert(key).second) {
+        ++rep.duplicate_faces;
+        continue;
+      }
+      tris.push_back({a, b, c});
+    }
+  }
 
-  SilenceOmerr silence;
-  std::unordered_set<std::array<int, 3>, TriKeyHash> seen;
-  seen.reserve(F.rows() * 2);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
-    if (a == b || b == c || a == c) {
-      ++rep.degenerate_faces;
-      continue;
-    }
-    std::array<int, 3> key{a, b, c};
-    std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) {
-      ++rep.duplicate_faces;
-      continue;
-    }
-    if (!mesh.add_face(vh[a], vh[b], vh[c]).is_valid()) ++rep.nonmanifold_faces;
+  // Vertices are V's rows, then copies of the rows named in copy_of; returns the refused faces.
+  auto build = [&V](Mesh& mesh, const std::vector<int>& copy_of, const std::vector<std::array<int, 3>>& T) {
+    const size_t nv = V.rows() + copy_of.size();
+    mesh.clear();
+    mesh.reserve(nv, nv + T.size(), T.size());
+    std::vector<Mesh::VertexHandle> vh(nv);
+    for (Eigen::Index i = 0; i < V.rows(); ++i) vh[i] = mesh.add_vertex(to_point(V.row(i).transpose()));
+    for (size_t j = 0; j < copy_of.size(); ++j)
+      vh[V.rows() + j] = mesh.add_vertex(to_point(V.row(copy_of[j]).transpose()));
+    SilenceOmerr silence;
+    size_t refused = 0;
+    for (const auto& t : T)
+      if (!mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) ++refused;
+    return refused;
+  };
+  auto nonmanifold_vertices = [](const Mesh& mesh) {
+    size_t n = 0;
+    for (auto v : mesh.vertices()) n += !mesh.is_isolated(v) && !mesh.is_manifold(v);
+    return n;
+  };
+
+  Mesh mesh;
+  rep.nonmanifold_faces = build(mesh, {}, tris);
+  rep.nonmanifold_vertices = nonmanifold_vertices(mesh);
+  // Only when OpenMesh refused a face or kept a pinched vertex: the repairs need an edge table.
+  if ((options.fix_orientation || options.split_nonmanifold_vertices) &&
+      (rep.nonmanifold_faces > 0 || rep.nonmanifold_vertices > 0)) {
+    const detail::SoupRepair fix = detail::repair_soup(static_cast<int>(V.rows()), std::move(tris), options);
+    rep.nonmanifold_faces = fix.dropped_faces + build(mesh, fix.copy_of, fix.faces);
+    rep.flipped_faces = fix.flipped_faces;
+    rep.split_vertices = fix.split_vertices;
+    rep.added_vertices = fix.copy_of.size();
+    rep.nonmanifold_vertices = nonmanifold_vertices(mesh);
   }
   for (auto v : mesh.vertices())
     if (mesh.is_isolated(v)) ++rep.isolated_vertices;

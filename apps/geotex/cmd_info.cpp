@@ -44,8 +44,15 @@ void run(const Args& a) {
                {"strip_triangles", rep.strip_triangles},
                {"dropped_degenerate_faces", rep.build.degenerate_faces},
                {"dropped_duplicate_faces", rep.build.duplicate_faces},
-               {"dropped_nonmanifold_faces", rep.build.nonmanifold_faces}};
-  j["manifold"] = rep.build.nonmanifold_faces == 0;
+               {"dropped_nonmanifold_faces", rep.build.nonmanifold_faces},
+               {"flipped_faces", rep.build.flipped_faces},
+               {"split_vertices", rep.build.split_vertices},
+               {"added_vertices", rep.build.added_vertices}};
+  // About the file: the mesh as read is manifold once faces are dropped or vertices split.
+  const bool manifold = rep.build.nonmanifold_faces == 0 && rep.build.split_vertices == 0 &&
+                        rep.build.nonmanifold_vertices == 0;
+  j["manifold"] = manifold;
+  j["consistently_oriented"] = rep.build.flipped_faces == 0;
   if (a.json) {
     fmt::print("{}\n", j.dump(2));
     return;
@@ -58,7 +65,12 @@ void run(const Args& a) {
   fmt::print("boundary loops {}{}\n", s.boundary_loops, s.closed ? " (closed)" : "");
   fmt::print("euler char.    {}\n", s.euler);
   fmt::print("genus          {}\n", s.genus >= 0 ? std::to_string(s.genus) : std::string("n/a (several components)"));
-  fmt::print("manifold       {}\n", rep.build.nonmanifold_faces == 0 ? "yes" : fmt::format("no: {} face(s) dropped to make it one", rep.build.nonmanifold_faces));
+  std::vector<std::string> fixes;
+  if (rep.build.nonmanifold_faces) fixes.push_back(fmt::format("{} face(s) dropped", rep.build.nonmanifold_faces));
+  if (rep.build.split_vertices) fixes.push_back(fmt::format("{} vertex(es) split", rep.build.split_vertices));
+  if (rep.build.nonmanifold_vertices) fixes.push_back(fmt::format("{} pinched vertex(es) kept", rep.build.nonmanifold_vertices));
+  fmt::print("manifold       {}\n", manifold ? "yes" : fmt::format("no: {}", fmt::join(fixes, ", ")));
+  if (rep.build.flipped_faces) fmt::print("orientation    {} face(s) turned round to agree with their neighbours\n", rep.build.flipped_faces);
   fmt::print("bbox           [{:.6g}, {:.6g}, {:.6g}] .. [{:.6g}, {:.6g}, {:.6g}] (diagonal {:.6g})\n",
              s.box.min[0], s.box.min[1], s.box.min[2], s.box.max[0], s.box.max[1], s.box.max[2], s.box.diagonal());
   fmt::print("mean edge      {:.6g}\n", s.mean_edge);

@@ -1,6 +1,7 @@
 // geotex: the command-line tool. Each subcommand lives in its own file and registers itself.
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
@@ -9,6 +10,7 @@
 
 #include "cli.h"
 #include "geotex/error.h"
+#include "geotex/resources.h"
 
 int main(int argc, char** argv) {
   using namespace geotex::cli;
@@ -20,6 +22,21 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "number of threads (default: all cores)")
       ->check(CLI::PositiveNumber)
       ->each([](const std::string& s) { omp_set_num_threads(std::stoi(s)); });
+  bool stats = false;
+  app.add_flag("--stats", stats, "print wall time, CPU time and peak memory (resident set) on stderr at the end");
+  // Printed on every exit path after parsing, errors included (e.g. to see how close a run came to
+  // the memory limit), even with --quiet: the user asked for it.
+  struct StatsAtExit {
+    const bool& on;
+    std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+    ~StatsAtExit() {
+      if (!on) return;
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::fprintf(stderr, "geotex: stats: %.2f s wall, %.2f s cpu, peak memory %s (%zu KiB)\n", wall,
+                   geotex::cpu_seconds(), geotex::format_bytes(geotex::peak_rss_bytes()).c_str(),
+                   geotex::peak_rss_bytes() / 1024);
+    }
+  } stats_at_exit{stats};
 
   auto& cmds = commands();
   std::sort(cmds.begin(), cmds.end(), [](const Command& a, const Command& b) { return a.order < b.order; });

@@ -26,7 +26,10 @@ enum class MeshFormat { Obj, Ply, Off, Stl };
 MeshFormat format_from_path(const std::filesystem::path& path);
 
 struct ReadOptions {
-  bool strict = false;  //!< throw instead of dropping degenerate/duplicate/non-manifold faces
+  bool strict = false;  //!< throw instead of dropping or repairing faces (degenerate, duplicate, non-manifold, flipped)
+  //! Turn faces that disagree with their neighbours' orientation round, and split non-manifold
+  //! vertices into one copy per fan (BuildOptions), instead of dropping those faces.
+  bool repair = true;
 };
 
 struct ReadReport {

@@ -26,7 +26,9 @@ SparseMatrix umbrella_laplacian(const Mesh& mesh);
 SparseMatrix adjacency_matrix(const Mesh& mesh);
 
 struct CotanOptions {
-  //! |cot| is clamped to this, so that zero-area or needle triangles give large but finite weights.
+  //! |cot| is bounded by this, so that zero-area or needle triangles give large but finite weights. The
+  //! bound floors each triangle's area (the same for its three corners), which keeps C negative
+  //! semi-definite on meshes with zero-area triangles; other triangles are unaffected.
   double max_cot = 1e4;
 };
 

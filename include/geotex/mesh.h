@@ -42,21 +42,40 @@ MatrixX2i edges(const Mesh& mesh);
 //! \throw InvalidInput on a size mismatch.
 void set_positions(Mesh& mesh, const MatrixX3d& V);
 
-//! What make_mesh() had to leave out so that the result is a manifold OpenMesh mesh.
+//! What make_mesh() had to leave out or repair so that the result is a manifold OpenMesh mesh.
 struct BuildReport {
   size_t degenerate_faces = 0;   //!< faces repeating a vertex index: dropped
   size_t duplicate_faces = 0;    //!< faces with the same vertex set as an earlier one: dropped
   size_t nonmanifold_faces = 0;  //!< faces OpenMesh refuses (complex edge/vertex): dropped
   size_t isolated_vertices = 0;  //!< vertices no kept face uses (kept, so indices stay valid)
+  size_t flipped_faces = 0;      //!< BuildOptions::fix_orientation: faces turned round to match neighbours
+  size_t split_vertices = 0;     //!< BuildOptions::split_nonmanifold_vertices: vertices split into one per fan
+  size_t added_vertices = 0;     //!< copies made by the split, appended after the input's vertices
+  size_t nonmanifold_vertices = 0;  //!< vertices left joining several fans (OpenMesh accepts some)
   size_t dropped() const { return degenerate_faces + duplicate_faces + nonmanifold_faces; }
+  size_t repaired() const { return flipped_faces + split_vertices; }
+};
+
+//! Repairs make_mesh() may make instead of dropping faces. Off by default (callers that build meshes
+//! from their own, already manifold, faces keep exact control); the file readers turn them on.
+struct BuildOptions {
+  //! Turn faces whose orientation disagrees with their neighbours' round (per connected component the
+  //! orientation most faces have wins) instead of dropping them as non-manifold.
+  bool fix_orientation = false;
+  //! Give every extra fan at a non-manifold vertex its own copy of the vertex (appended after the
+  //! input's vertices, so input indices stay valid) instead of dropping or keeping the pinch.
+  bool split_nonmanifold_vertices = false;
 };
 
 //! Build a mesh from a polygon soup.
 //! \param V #V by 3 positions (must be finite)
 //! \param F #F by 3 vertex indices (each in [0, #V))
-//! \param report if given, receives what had to be dropped
+//! \param report if given, receives what had to be dropped or repaired
+//! \param options repairs to make (see BuildOptions); faces on an edge beyond the second are always dropped
+//! \return a mesh whose first #V vertices are V's rows (plus any copies made by the vertex split)
 //! \throw InvalidInput on out-of-range indices or non-finite coordinates.
-Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report = nullptr);
+Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report = nullptr,
+               const BuildOptions& options = {});
 
 //! Throw InvalidInput if the mesh has no faces or a non-finite coordinate. \p what names the mesh.
 void require_valid(const Mesh& mesh, const char* what = "mesh");
