@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "geotex/error.h"
@@ -25,34 +27,6 @@ struct FaceFrame {
   double area;
   Vec3 perp[3];
 };
-
-FaceFrame face_frame(const Mesh& mesh, const MatrixX3d& V, const MatrixX3i& F, const MatrixX2i& E, int f) {
-  FaceFrame fr;
-  for (int l = 0; l < 3; ++l) fr.v[l] = F(f, l);
-  const Vec3 x0 = V.row(fr.v[0]), x1 = V.row(fr.v[1]), x2 = V.row(fr.v[2]);
-  const Vec3 cr = (x1 - x0).cross(x2 - x0);
-  fr.area = 0.5 * cr.norm();
-  const Vec3 n = fr.area > 0 ? Vec3(cr / (2 * fr.area)) : Vec3::Zero();
-  for (int l = 0; l < 3; ++l) {
-    const int a = fr.v[l], b = fr.v[(l + 1) % 3];
-    const auto h = mesh.find_halfedge(mesh.vertex_handle(a), mesh.vertex_handle(b));
-    const int e = mesh.edge_handle(h).idx();
-    fr.e[l] = e;
-    fr.s[l] = E(e, 0) == a ? 1.0 : -1.0;
-    fr.perp[l] = n.cross(Vec3(V.row(b) - V.row(a)));  // e^⊥, Eq. (5.72)
-  }
-  return fr;
-}
-
-std::vector<FaceFrame> face_frames(const Mesh& mesh) {
-  const MatrixX3d V = positions(mesh);
-  const MatrixX3i F = faces(mesh);
-  const MatrixX2i E = edges(mesh);
-  std::vector<FaceFrame> out(F.rows());
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index f = 0; f < F.rows(); ++f) out[f] = face_frame(mesh, V, F, E, static_cast<int>(f));
-  return out;
-}
 
 FaceFrame face_frame(const Mesh& mesh, int f) {
   if (f < 0 || f >= static_cast<int>(mesh.n_faces())) throw InvalidInput("1-form: face index out of range");
@@ -133,32 +107,76 @@ Vec3 whitney_interpolate(const Mesh& mesh, const Eigen::VectorXd& c, int face, c
          (2 * fr.area);
 }
 
-SparseMatrix one_form_reconstruction_matrix(const Mesh& mesh) {
-  const std::vector<FaceFrame> frames = face_frames(mesh);
+namespace {
+
+// P of Eq. (5.81)–(5.82) assembled row by row: row d·#V + i holds vertex i's spoke edges, whose
+// coefficients give component d of the averaged face contributions at x_i (Eq. 5.78, 5.79).
+RowSparse reconstruction_rows(const Mesh& mesh) {
   const Eigen::Index n = mesh.n_vertices(), m = mesh.n_edges();
-  std::vector<int> nfaces(n, 0);
-  for (const FaceFrame& fr : frames)
-    for (int l = 0; l < 3; ++l) ++nfaces[fr.v[l]];
-  std::vector<Triplet> trip;
-  trip.reserve(frames.size() * 18);
-  for (const FaceFrame& fr : frames) {
-    if (!(fr.area > 0)) continue;
-    for (int r = 0; r < 3; ++r) {
-      const int i = fr.v[r], ki = (r + 2) % 3;
-      const double w = 1.0 / (2 * fr.area * nfaces[i]);
-      // Eq. (5.78): t_ijk(x_i) = (c_ij e_ki^⊥ − c_ki e_ij^⊥) / 2A, averaged (5.79); rows of P^x, P^y, P^z (5.82).
-      const Vec3 gij = w * fr.s[r] * fr.perp[ki];
-      const Vec3 gki = -w * fr.s[ki] * fr.perp[r];
+  std::vector<Eigen::Index> start(n + 1, 0);  // spoke count prefix sums = one block's row offsets
+  for (Eigen::Index i = 0; i < n; ++i) start[i + 1] = start[i] + mesh.valence(mesh.vertex_handle(static_cast<int>(i)));
+  const Eigen::Index nb = start[n];
+  RowSparse A(3 * n, m);
+  A.resizeNonZeros(3 * nb);
+  int* outer = A.outerIndexPtr();
+  int* inner = A.innerIndexPtr();
+  double* val = A.valuePtr();
+  for (int d = 0; d < 3; ++d)
+    for (Eigen::Index i = 0; i < n; ++i) outer[d * n + i] = static_cast<int>(d * nb + start[i]);
+  outer[3 * n] = static_cast<int>(3 * nb);
+#pragma omp parallel
+  {
+    std::vector<std::pair<int, Vec3>> row;  // (edge, coefficient vector) of one vertex's spokes
+#pragma omp for schedule(dynamic, 1024)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto vh = mesh.vertex_handle(static_cast<int>(i));
+      row.clear();
+      int nfaces = 0;
+      for (auto h : mesh.voh_range(vh)) {
+        row.emplace_back(mesh.edge_handle(h).idx(), Vec3::Zero());
+        nfaces += mesh.face_handle(h).is_valid();
+      }
+      auto add = [&](int e, const Vec3& g) {
+        for (auto& [edge, sum] : row)
+          if (edge == e) {
+            sum += g;
+            return;
+          }
+      };
+      const Vec3 xi = to_eigen(mesh.point(vh));
+      for (auto h : mesh.voh_range(vh)) {  // corner of face(h) at i: h = i→j, prev(h) = k→i
+        if (!mesh.face_handle(h).is_valid()) continue;
+        const auto hp = mesh.prev_halfedge_handle(h);
+        const Vec3 xj = to_eigen(mesh.point(mesh.to_vertex_handle(h)));
+        const Vec3 xk = to_eigen(mesh.point(mesh.from_vertex_handle(hp)));
+        const Vec3 cr = (xj - xi).cross(xk - xi);
+        const double area = 0.5 * cr.norm();
+        if (!(area > 0)) continue;
+        const Vec3 nf = cr / (2 * area);
+        const auto eij = mesh.edge_handle(h), eki = mesh.edge_handle(hp);
+        const double sij = mesh.halfedge_handle(eij, 0) == h ? 1.0 : -1.0;
+        const double ski = mesh.halfedge_handle(eki, 0) == hp ? 1.0 : -1.0;
+        const double w = 1.0 / (2 * area * nfaces);
+        // Eq. (5.78): t_ijk(x_i) = (c_ij e_ki^⊥ − c_ki e_ij^⊥) / 2A, averaged over the faces (5.79).
+        add(eij.idx(), w * sij * nf.cross(xi - xk));
+        add(eki.idx(), -w * ski * nf.cross(xj - xi));
+      }
+      std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
       for (int d = 0; d < 3; ++d) {
-        trip.emplace_back(d * n + i, fr.e[r], gij[d]);
-        trip.emplace_back(d * n + i, fr.e[ki], gki[d]);
+        const Eigen::Index o = d * nb + start[i];
+        for (size_t k = 0; k < row.size(); ++k) {
+          inner[o + k] = row[k].first;
+          val[o + k] = row[k].second[d];
+        }
       }
     }
   }
-  SparseMatrix P(3 * n, m);
-  P.setFromTriplets(trip.begin(), trip.end());
-  return P;
+  return A;
 }
+
+}  // namespace
+
+SparseMatrix one_form_reconstruction_matrix(const Mesh& mesh) { return SparseMatrix(reconstruction_rows(mesh)); }
 
 MatrixX3d one_form_to_vertices(const Mesh& mesh, const Eigen::VectorXd& c) {
   check_coefficients(mesh, c);
@@ -182,7 +200,7 @@ struct OneFormFitter::Impl {
   SpdSolver solver;
   bool holds_normal = false;  // the solver's factor is of `normal` (not of a weighted/pinned matrix)
   bool has_normal = false;    // `normal`, `eps` and the symbolic analysis exist (built on first direct fit)
-  RowSparse A_rows, At_rows;  // A and Aᵀ for the iterative fit's products
+  RowSparse A_rows;     // A row-major, for the iterative fit's row-parallel products (A itself gives Aᵀ's rows)
 
   // The direct route's normal matrix AᵀA + εI and its symbolic analysis, built on first use so that
   // an iterative-only caller never pays for them.
@@ -206,7 +224,8 @@ OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options,
   Impl& s = *impl_;
   s.mesh = &mesh;
   s.opt = options;
-  s.P = one_form_reconstruction_matrix(mesh);
+  s.A_rows = reconstruction_rows(mesh);
+  s.P = SparseMatrix(s.A_rows);
   s.edge_len = edge_lengths(mesh);
   const Eigen::Index n = mesh.n_vertices(), m = mesh.n_edges();
   if (options.tangential) {
@@ -220,6 +239,7 @@ OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options,
     s.proj.resize(3 * n, 3 * n);
     s.proj.setFromTriplets(trip.begin(), trip.end());
     s.A = s.proj * s.P;
+    s.A_rows = s.A;
   } else {
     s.A = s.P;
   }
@@ -309,12 +329,8 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
     throw InvalidInput("1-form fit: expected one positive weight per vertex");
   if (o.max_iterations < 0 || o.check_every < 1)
     throw InvalidInput("1-form fit: max_iterations must be non-negative and check_every positive");
-  if (s.A_rows.rows() == 0) {  // row-major copies: Eigen runs row-major sparse × vector products with OpenMP
-    s.A_rows = s.A;
-    s.At_rows = s.A.transpose();
-  }
-  const auto& A = s.A_rows;
-  const auto& At = s.At_rows;
+  const RowSparse& A = s.A_rows;  // rows: vertex components
+  const SparseMatrix& At = s.A;   // column-major A: its outer index runs over the edges, i.e. Aᵀ's rows
 
   // Weighted objective ‖W^½ (A c − t)‖² (Eq. 5.81), solved for x = c ./ col in the column-scaled
   // variables (Jacobi preconditioning: every column of W^½ A S has unit length).
@@ -331,17 +347,18 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
 #pragma omp parallel for schedule(static) if (par)
   for (Eigen::Index j = 0; j < m; ++j) {
     double sum = 0;
-    for (RowSparse::InnerIterator it(At, j); it; ++it) sum += sw[it.index()] * sw[it.index()] * it.value() * it.value();
+    for (SparseMatrix::InnerIterator it(At, j); it; ++it) sum += sw[it.index()] * sw[it.index()] * it.value() * it.value();
     col[j] = sum > 0 ? 1.0 / std::sqrt(sum) : 1.0;
   }
   // y = diag(out) · M · diag(in) · x, row-parallel.
-  auto scaled_product = [par](const RowSparse& M, const Eigen::VectorXd& out, const Eigen::VectorXd& in,
+  auto scaled_product = [par](const auto& M, const Eigen::VectorXd& out, const Eigen::VectorXd& in,
                               const Eigen::VectorXd& x) {
-    Eigen::VectorXd y(M.rows());
+    using Iterator = typename std::decay_t<decltype(M)>::InnerIterator;
+    Eigen::VectorXd y(M.outerSize());
 #pragma omp parallel for schedule(static) if (par)
-    for (Eigen::Index r = 0; r < M.rows(); ++r) {
+    for (Eigen::Index r = 0; r < M.outerSize(); ++r) {
       double sum = 0;
-      for (RowSparse::InnerIterator it(M, r); it; ++it) sum += it.value() * in[it.index()] * x[it.index()];
+      for (Iterator it(M, r); it; ++it) sum += it.value() * in[it.index()] * x[it.index()];
       y[r] = out[r] * sum;
     }
     return y;

@@ -41,8 +41,9 @@ TextureFile load_texture(const std::string& path) {
 
 // ------------------------------------------------------------------------------------------------
 struct ExtractArgs {
-  std::string input, output, base, reconstructed, laplacian = "umbrella";
+  std::string input, output, base, reconstructed, laplacian = "umbrella", solver = "iterative";
   bool project = false, bound = false;
+  double fit_tolerance = TextureOptions().fit_tolerance;
   BaseShapeOptions base_opt;
 };
 
@@ -74,9 +75,19 @@ void run_extract(const ExtractArgs& a) {
   }
   TextureOptions to;
   to.bound_tilt = a.bound;
+  to.solver = a.solver == "direct" ? TiltSolver::Direct : TiltSolver::Iterative;
+  to.fit_tolerance = a.fit_tolerance;
   TextureCodec codec(base, to);
   const MatrixX3d X = positions(textured);
   const Texture tex = codec.extract(X);
+  const TiltFitReport& fit = codec.last_fit();
+  if (fit.iterative)
+    info(fmt::format("tilt fit: iterative, {} CGLS iterations", fit.iterations));
+  else
+    info(fmt::format("tilt fit: direct (sparse Cholesky){}",
+                     fit.iterations ? fmt::format("; the iterative fit stopped at {:.3g} mean edges after {} iterations",
+                                                  fit.error, fit.iterations)
+                                    : ""));
   const MatrixX3d Y = codec.apply(tex);
   const double h = mean_edge_length(base);
   info(fmt::format("extracted in {:.2f} s; reconstruction max error {:.3g} mean edges (height field alone: {:.3g})",
@@ -238,6 +249,13 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
                   "no --base, automatic: stop when a step moves no vertex more than this many mean edges")
         ->check(CLI::PositiveNumber)->capture_default_str();
     s->add_flag("--bound-tilt", a->bound, "keep |c_ij| <= |e_ij| in the tilt fit (Sec. 8.5; usually worse)");
+    s->add_option("--tilt-solver", a->solver,
+                  "tilt 1-form fit: iterative (CGLS to --fit-tolerance, falls back to direct) or direct (exact "
+                  "sparse Cholesky; slower)")
+        ->check(CLI::IsMember({"iterative", "direct"}))->capture_default_str();
+    s->add_option("--fit-tolerance", a->fit_tolerance,
+                  "iterative: stop when every reconstructed vertex is within this many mean edge lengths")
+        ->check(CLI::PositiveNumber)->capture_default_str();
     s->add_option("--reconstructed", a->reconstructed, "also write the surface rebuilt from the texture");
     s->callback([a] { run_extract(*a); });
   }
