@@ -1,6 +1,7 @@
 #include "geotex/linear_solver.h"
 
 #include <fmt/format.h>
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #ifdef GEOTEX_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
@@ -19,16 +20,65 @@ struct SpdSolver::Impl {
   bool analyzed = false;
   bool factorized = false;
   Eigen::Index n = 0;
+  //! Blocked analysis: the unknowns' permutation (old index → new index); empty otherwise.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+  bool permuted() const { return perm.size() > 0; }
+  SparseMatrix permute(const SparseMatrix& A) const {
+    SparseMatrix Ap;
+    Ap = A.selfadjointView<Eigen::Lower>().twistedBy(perm);
+    return Ap;
+  }
 };
+
+namespace {
+
+// Fill-reducing ordering of a coordinate-stacked system by its vertex graph: vertex i's unknowns
+// d·n + i (d < k) get the consecutive new indices k·pos(i) + d, pos from AMD on the n-vertex graph.
+Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(const SparseMatrix& A, int k) {
+  const int n = static_cast<int>(A.rows() / k);
+  std::vector<Triplet> t;
+  t.reserve(A.nonZeros() / (k * k) + n);
+  for (int c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+      if (it.row() % n != c % n) t.emplace_back(it.row() % n, c % n, 1.0);
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, 1.0);
+  SparseMatrix G(n, n);
+  G.setFromTriplets(t.begin(), t.end(), [](double a, double) { return a; });
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;  // new position → old vertex
+  Eigen::AMDOrdering<int>()(G, order);
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm(static_cast<int>(A.rows()));
+  for (int p = 0; p < n; ++p)
+    for (int d = 0; d < k; ++d) perm.indices()[d * n + order.indices()[p]] = k * p + d;
+  return perm;
+}
+
+}  // namespace
 
 SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {}
 SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
 
-void SpdSolver::analyze(const SparseMatrix& A) {
+void SpdSolver::analyze(const SparseMatrix& A, int block_size) {
   if (A.rows() != A.cols()) throw SolverError("SpdSolver: matrix is not square");
+  if (block_size < 1 || A.rows() % block_size != 0)
+    throw SolverError(fmt::format("SpdSolver: {} unknowns are not {} blocks", A.rows(), block_size));
+  impl_->perm.resize(0);
+#ifdef GEOTEX_HAVE_CHOLMOD
+  cholmod_common& c = impl_->chol.cholmod();
+  if (block_size > 1 && A.rows() > 0) {
+    impl_->perm = blocked_ordering(A, block_size);
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_NATURAL;  // the matrix comes ordered
+    impl_->chol.analyzePattern(impl_->permute(A));
+  } else {
+    c.nmethods = 0;  // CHOLMOD's default: AMD, and METIS where AMD fills badly
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    impl_->chol.analyzePattern(A);
+  }
+#else
   impl_->chol.analyzePattern(A);
+#endif
   impl_->analyzed = true;
   impl_->factorized = false;
   impl_->n = A.rows();
@@ -36,7 +86,10 @@ void SpdSolver::analyze(const SparseMatrix& A) {
 
 void SpdSolver::factorize(const SparseMatrix& A) {
   if (!impl_->analyzed || A.rows() != impl_->n) analyze(A);
-  impl_->chol.factorize(A);
+  if (impl_->permuted())
+    impl_->chol.factorize(impl_->permute(A));
+  else
+    impl_->chol.factorize(A);
   if (impl_->chol.info() != Eigen::Success)
     throw SolverError(fmt::format("sparse Cholesky failed on a {}x{} system (not positive definite?)",
                                   A.rows(), A.cols()));
@@ -46,7 +99,11 @@ void SpdSolver::factorize(const SparseMatrix& A) {
 Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
   if (!impl_->factorized) throw SolverError("SpdSolver: solve() before factorize()");
   if (B.rows() != impl_->n) throw SolverError("SpdSolver: right-hand side has the wrong size");
-  Eigen::MatrixXd X = impl_->chol.solve(B);
+  Eigen::MatrixXd X;
+  if (impl_->permuted())
+    X = impl_->perm.transpose() * Eigen::MatrixXd(impl_->chol.solve(impl_->perm * B));
+  else
+    X = impl_->chol.solve(B);
   if (impl_->chol.info() != Eigen::Success || !X.allFinite())
     throw SolverError("sparse solve failed (non-finite result)");
   return X;

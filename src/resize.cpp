@@ -234,7 +234,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     }
     SparseMatrix A(3 * n, 3 * n);
     A.setFromTriplets(t.begin(), t.end());
-    if (round == 0) solver.analyze(A);
+    if (round == 0) solver.analyze(A, 3);  // x, y, z of a vertex together (see SpdSolver::analyze)
     solver.factorize(A);
     report(o.progress, 0.1 + 0.8 * (round + 0.5) / rounds, "solve");
     out = unstack(solver.solve(b).col(0));
