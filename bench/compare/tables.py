@@ -115,6 +115,8 @@ def main():
         print()
 
     data = [k for k in order if k[0] == "data"]
+    pairs = list(dict.fromkeys(k[1] for k in data))
+    data.sort(key=lambda k: (pairs.index(k[1]), k[3]))  # per pair: timed runs, then quality rows
     if data:
         print("### Denoising quality and time on the real pairs (geotex compare RESULT Original.obj)\n")
         print("| pair | faces | run | wall s | CPU s | peak MB | mean normal error, Ev |")
