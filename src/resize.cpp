@@ -163,15 +163,37 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   // + w Σ p_i (n_iᵀ (x'_i − q_i))²                background held to the deformed surface along its normal
   // + w_F Σ_{frame} p_i |x'_i − c_i|²             the outer frame follows the space map
   // + ε Σ |x'_i − c_i|²
-  // with q_i = c_i and n_i the deformed vertex normal, then q_i, n_i re-taken at the closest point of
-  // the deformed surface and the system re-solved (refinements).
+  // with q_i = c_i and n_i the deformed base's vertex normal, then q_i, n_i re-taken at the closest
+  // point of the deformed base and the system re-solved (refinements) while a plane changes.
   const double beta = o.background_smoothness;
   if (!(beta > 0)) throw InvalidInput("background smoothness must be positive");
   const std::vector<char> frame = frame_vertices(mesh, X, o.frame_band);
   const double h_mean = mean_edge_length(mesh);
   Mesh deformed = mesh;
   set_positions(deformed, C);
-  const MatrixX3d Nv = vertex_normals(deformed);
+  // The base: faces whose vertices are all background (f < ½). The background slides along the
+  // deformed base, not along a feature's deformed (e.g. stretched) surface, and its normals are the
+  // base's own: a vertex normal averaged with a feature's faces would tilt toward the feature and
+  // drag the feature's foot along it. Vertices without a base face keep their vertex normal.
+  MatrixX3i Fb;
+  MatrixX3d Nv = vertex_normals(deformed);
+  {
+    const MatrixX3i F = faces(mesh);
+    const MatrixX3d Fn = face_normals(deformed);
+    std::vector<int> base_faces;
+    MatrixX3d acc = MatrixX3d::Zero(n, 3);
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      if (f[F(k, 0)] >= 0.5 || f[F(k, 1)] >= 0.5 || f[F(k, 2)] >= 0.5) continue;
+      base_faces.push_back(static_cast<int>(k));
+      const Vec3 a = C.row(F(k, 0)), b = C.row(F(k, 1)), c = C.row(F(k, 2));
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area * Fn.row(k);
+    }
+    Fb.resize(static_cast<Eigen::Index>(base_faces.size()), 3);
+    for (size_t k = 0; k < base_faces.size(); ++k) Fb.row(k) = F.row(base_faces[k]);
+    for (int i = 0; i < n; ++i)
+      if (acc.row(i).norm() > 0) Nv.row(i) = acc.row(i).normalized();
+  }
   MatrixX3d Nrm = Nv;
   MatrixX3d Q = C;
 
@@ -239,29 +261,26 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     report(o.progress, 0.1 + 0.8 * (round + 0.5) / rounds, "solve");
     out = unstack(solver.solve(b).col(0));
     if (round + 1 == rounds) break;
-    // Re-take q_i and n_i at the closest point of the deformed surface (curved bases). Skip when the
-    // background already lies on it (flat bases): a tangent plane is then the surface.
-    if (!tree) tree = std::make_unique<TriangleTree>(C, faces(mesh));
-    const MatrixX3d Fn = face_normals(deformed);
-    std::vector<TriangleTree::Hit> hits(n);
-    double off = 0;
-#pragma omp parallel for schedule(static) reduction(max : off)
+    // Re-take q_i and n_i at the closest point of the deformed base (curved bases); stop when no
+    // constraint plane changes (flat bases: the system, and so the solution, would be the same).
+    if (Fb.rows() == 0) break;
+    if (!tree) tree = std::make_unique<TriangleTree>(C, Fb);
+    double change = 0;
+#pragma omp parallel for schedule(static) reduction(max : change)
     for (int i = 0; i < n; ++i) {
       if (p[i] <= 0) continue;
-      hits[i] = tree->closest(out.row(i).transpose());
-      off = std::max(off, std::sqrt(hits[i].sq_distance));
-    }
-    if (off < 1e-6 * h_mean) break;
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < n; ++i) {
-      if (p[i] <= 0) continue;
-      const TriangleTree::Hit& hit = hits[i];
-      Q.row(i) = hit.point.transpose();
-      const Eigen::Vector3i F = tree->triangles().row(hit.face);
+      const TriangleTree::Hit hit = tree->closest(out.row(i).transpose());
+      const Eigen::Vector3i F = Fb.row(hit.face);
       Vec3 nv = hit.bary[0] * Vec3(Nv.row(F[0])) + hit.bary[1] * Vec3(Nv.row(F[1])) + hit.bary[2] * Vec3(Nv.row(F[2]));
-      if (nv.norm() < 1e-12) nv = Fn.row(hit.face).transpose();
-      Nrm.row(i) = nv.normalized().transpose();
+      if (nv.norm() < 1e-12) continue;
+      nv.normalize();
+      const Vec3 n_old = Nrm.row(i).transpose();
+      change = std::max({change, 1.0 - nv.dot(n_old),
+                         std::abs(nv.dot(hit.point) - n_old.dot(Vec3(Q.row(i).transpose()))) / h_mean});
+      Q.row(i) = hit.point.transpose();
+      Nrm.row(i) = nv.transpose();
     }
+    if (change < 1e-9) break;
   }
   report(o.progress, 1.0, "done");
   return out;
