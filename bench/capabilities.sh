@@ -20,7 +20,7 @@
 #   QUALITY  0 = skip those quality rows (default 1)
 #   ONLY     bash regex: run only the commands whose label matches (re-measure a pair; the tables keep
 #            the last run of each label)
-# Inputs (all from `geotex generate` + `geotex noise --sigma 0.3 --seed 1`):
+# Inputs (`geotex generate`; the cube also through `geotex noise --sigma 0.3 --seed 1`):
 #   1e4: cube level 3 (19,200 faces), spiky-plane level 2 (12,800), spiky-sphere level 2 (20,480)
 #   1e5: cube level 4 (76,800),       spiky-plane level 3 (51,200), spiky-sphere level 3 (81,920)
 #   1e6: cube level 6 (1,228,800),    spiky-plane level 5 (819,200), spiky-sphere level 5 (1,310,720)
