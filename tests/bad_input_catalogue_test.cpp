@@ -54,6 +54,14 @@ namespace {
   return ::testing::AssertionSuccess();
 }
 
+// No control characters but the line ends (bytes >= 0x80 may be UTF-8 in file names).
+bool printable(const std::string& s) {
+  return std::none_of(s.begin(), s.end(), [](char ch) {
+    const auto c = static_cast<unsigned char>(ch);
+    return (c < 0x20 && c != '\n') || c == 0x7f;
+  });
+}
+
 nlohmann::json info_json(const std::string& path) {
   const CliResult r = run_cli("-q info --json " + path);
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -113,9 +121,20 @@ TEST(BadInputCatalogue, BinaryGarbage) {
         write_file(f, p + bytes);
         const CliResult r = run_cli("info " + f);
         EXPECT_TRUE(one_line_error(r)) << ext << " trial " << trial << " prefix '" << p << "'";
+        EXPECT_TRUE(printable(r.err)) << r.err;
       }
     }
   }
+  // Bytes quoted from the file are shown escaped: a terminal escape sequence cannot act.
+  write_file(tmp / "esc.obj", "v 0 0 \x1b[2J\x07\n");
+  const CliResult r = run_cli("info " + (tmp / "esc.obj"));
+  EXPECT_TRUE(one_line_error(r, "\\x1b[2J\\x07")) << r.err;
+  EXPECT_TRUE(printable(r.err));
+  // A huge garbage token gives a line of bounded length.
+  write_file(tmp / "long.obj", "v 0 0 " + std::string(100000, 'x') + "\n");
+  const CliResult l = run_cli("info " + (tmp / "long.obj"));
+  EXPECT_TRUE(one_line_error(l));
+  EXPECT_LT(l.err.size(), 1200u);
 }
 
 // ---- truncated files --------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -11,6 +12,27 @@
 #include "cli.h"
 #include "geotex/error.h"
 #include "geotex/resources.h"
+
+namespace {
+// An error message as one printable line: messages may quote bytes from a broken file (binary garbage,
+// terminal escape sequences, a newline in a token); those are shown as \xNN, and very long messages
+// are cut, so the error stays one line that cannot disturb the terminal.
+std::string one_line(const char* what) {
+  std::string out;
+  for (const char* p = what; *p && out.size() < 1000; ++p) {
+    const unsigned char c = static_cast<unsigned char>(*p);
+    if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (out.size() >= 1000) out += "...";
+  return out;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace geotex::cli;
@@ -51,25 +73,25 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "geotex: error: %s (see --help)\n", e.what());
+    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
     return 2;
   } catch (const geotex::InvalidInput& e) {
-    std::fprintf(stderr, "geotex: invalid input: %s\n", e.what());
+    std::fprintf(stderr, "geotex: invalid input: %s\n", one_line(e.what()).c_str());
     return 1;
   } catch (const geotex::IoError& e) {
-    std::fprintf(stderr, "geotex: file error: %s\n", e.what());
+    std::fprintf(stderr, "geotex: file error: %s\n", one_line(e.what()).c_str());
     return 1;
   } catch (const geotex::SolverError& e) {
-    std::fprintf(stderr, "geotex: solver error: %s\n", e.what());
+    std::fprintf(stderr, "geotex: solver error: %s\n", one_line(e.what()).c_str());
     return 1;
   } catch (const geotex::Error& e) {
-    std::fprintf(stderr, "geotex: error: %s\n", e.what());
+    std::fprintf(stderr, "geotex: error: %s\n", one_line(e.what()).c_str());
     return 1;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "geotex: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "geotex: internal error: %s\n", e.what());
+    std::fprintf(stderr, "geotex: internal error: %s\n", one_line(e.what()).c_str());
     return 3;
   }
   return 0;
