@@ -208,8 +208,13 @@ Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::Vecto
     history.push_back(err);
     met = err <= options_.fit_tolerance;
     const size_t k = history.size();
-    const bool stalled = k > static_cast<size_t>(window) && err > 0.9 * history[k - 1 - window];
-    return met || stalled;
+    if (met || k <= static_cast<size_t>(window)) return met;
+    // Give up (and solve directly) when the error shrank by less than 10 % over the window, or when
+    // the rate over the window says the tolerance lies beyond max_iterations.
+    const double ratio = err / history[k - 1 - window];
+    if (!(ratio < 0.9)) return true;
+    const double windows_left = std::log(options_.fit_tolerance / err) / std::log(ratio);
+    return 10.0 * (k - 1) + windows_left * options_.stall_iterations > options_.max_iterations;
   };
   IterativeFitOptions io;
   io.max_iterations = options_.max_iterations;

@@ -75,8 +75,9 @@ struct TextureOptions {
   //! many mean edge lengths of the target's (4× below the 1e-3 round-trip target of the tests).
   double fit_tolerance = 2.5e-4;
   int max_iterations = 500;  //!< iterative: CGLS iterations before falling back to Direct
-  //! Iterative: fall back to Direct when the error shrank by less than 10 % over this many iterations
-  //! (on scans whose tilt the 1-form cannot hold exactly, the tolerance is out of reach).
+  //! Iterative: fall back to Direct when the error shrank by less than 10 % over this many iterations,
+  //! or when its rate over them puts the tolerance beyond max_iterations (on scans whose tilt the
+  //! 1-form cannot hold exactly, the tolerance is out of reach).
   int stall_iterations = 100;
 };
 
