@@ -305,6 +305,28 @@ TEST(TextureCli, ExtractEditAnimateApplyAndErrors) {
   EXPECT_NE(run_cli("texture").exit_code, 0);
 }
 
+TEST(TextureCli, TiltSolverOptions) {
+  TempDir dir;
+  ASSERT_EQ(run_cli("generate spiky-sphere --level 0 -o " + (dir / "s.ply")).exit_code, 0);
+  const std::string extract = "texture extract " + (dir / "s.ply") + " -o " + (dir / "t.ply") + " --steps 3";
+  auto r = run_cli(extract + " --tilt-solver direct");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("tilt fit: direct"), std::string::npos) << r.err;
+  const Texture direct = read_texture(dir / "t.ply").texture;
+  r = run_cli(extract + " --tilt-solver iterative --fit-tolerance 1e-3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("tilt fit: "), std::string::npos) << r.err;
+  const Texture iterative = read_texture(dir / "t.ply").texture;
+  EXPECT_LT((iterative.height - direct.height).cwiseAbs().maxCoeff(), 1e-12);  // heights are not fitted
+  r = run_cli(extract + " --tilt-solver cholesky");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--tilt-solver"), std::string::npos) << r.err;
+  r = run_cli(extract + " --fit-tolerance 0");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--fit-tolerance"), std::string::npos) << r.err;
+  EXPECT_EQ(run_cli("texture extract --help").exit_code, 0);
+}
+
 TEST(TextureData, BunnyPatchTransfersToSpotWithItsHeightStatistics) {
   GEOTEX_REQUIRE_DATA();
   const Mesh bunny = read_mesh(geotex::test::data_dir() / "stanford-bunny.obj");
