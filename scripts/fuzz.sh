@@ -4,7 +4,7 @@
 # Targets: the mesh readers Obj Ply Off Stl and the PLY data parser PlyData (fuzz/fuzz_read.cpp); the
 # user-file readers Handles Numbers PlyExtras Texture (fuzz/fuzz_files.cpp: deform handles, feature /
 # field / point text files, PLY extras read by resize, surfels, compare --labels and view, texture files).
-# Seeds: files written by the geotex CLI (build it first: scripts/build.sh) plus hand-written handles.
+# Seeds: files written by the geotex CLI (build/geotex, built if missing, or $GEOTEX_CLI) plus hand-written handles.
 # A crash leaves its input in build-fuzz/crashes/; copy it to tests/fuzz_regressions/ with the prefix of
 # its reader (see tests/fuzz_regressions_test.cpp: the test replays every file through every reader).
 set -euo pipefail
@@ -16,8 +16,8 @@ targets=("$@")
 out=build-fuzz
 mkdir -p "$out/crashes"
 command -v clang++ >/dev/null || { echo "fuzz: clang++ not found (apt-get install clang libclang-rt-14-dev)"; exit 1; }
-[ -x build/geotex ] || bash scripts/build.sh >/dev/null
-geotex=./build/geotex
+geotex="${GEOTEX_CLI:-./build/geotex}"  # the CLI that writes the seeds
+[ -x "$geotex" ] || bash scripts/build.sh >/dev/null
 
 # ---- Seed corpus (every reader gets files the CLI wrote) ----
 seeds="$out/seeds"
@@ -58,19 +58,34 @@ cxx="clang++ -std=c++20 -O1 -g -fno-omit-frame-pointer -Iinclude -I/usr/include/
 san="address,undefined -fno-sanitize-recover=undefined"
 objs="$out/objs"
 mkdir -p "$objs"
-newest_header=$(ls -t include/geotex/*.h src/*.h 2>/dev/null | head -1)
+# An object is stale when its source or any header it included (its -MMD file) is newer.
+stale_object() {
+  local o=$1 src=$2 dep
+  [ -f "$o" ] && [ -f "$o.d" ] && [ ! "$src" -nt "$o" ] || return 0
+  for dep in $(sed -e 's/^[^:]*://' -e 's/\\$//' "$o.d"); do [ "$dep" -nt "$o" ] && return 0; done
+  return 1
+}
+# Sources no fuzz target links are skipped (a shorter build); a link error names any that become needed.
+skip=" render resources surfel surfel_points surfel_retrieval mrf mrf_normal noise metrics "
 stale=()
+libobjs=()
 for src in src/*.cpp; do
-  o="$objs/$(basename "$src" .cpp).o"
-  if [ ! -f "$o" ] || [ "$src" -nt "$o" ] || [ "$newest_header" -nt "$o" ]; then stale+=("$src"); fi
+  b=$(basename "$src" .cpp)
+  [[ "$skip" == *" $b "* ]] && continue
+  libobjs+=("$objs/$b.o")
+  if stale_object "$objs/$b.o" "$src"; then stale+=("$src"); fi
 done
 if [ ${#stale[@]} -gt 0 ]; then
   echo "fuzz: compiling ${#stale[@]} library sources with clang (sanitizers, fuzzer coverage)"
+  # Tried twice: clang reads sources through mmap, and a source edited during its compile kills it (SIGBUS).
+  # The object gets the compile's start time, so that a header edited during the compile makes it stale.
+  o="$objs/\$(basename {} .cpp).o"
+  compile="$cxx -fsanitize=fuzzer-no-link,$san -MMD -MF $o.d -c {} -o $o"
   printf '%s\n' "${stale[@]}" | xargs -P"$(nproc 2>/dev/null || echo 2)" -I{} sh -c \
-    "$cxx -fsanitize=fuzzer-no-link,$san -c {} -o $objs/\$(basename {} .cpp).o"
+    "t=\$(date +%s); { $compile || $compile; } && touch -d @\$t $o"
   rm -f "$out/libgeotex_fuzz.a"
 fi
-[ -f "$out/libgeotex_fuzz.a" ] || ar rcs "$out/libgeotex_fuzz.a" "$objs"/*.o
+[ -f "$out/libgeotex_fuzz.a" ] || ar rcs "$out/libgeotex_fuzz.a" "${libobjs[@]}"
 
 status=0
 for target in "${targets[@]}"; do

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string_view>
 #include <unistd.h>
@@ -958,13 +959,23 @@ EdgeValues read_edge_values(const fs::path& path, const std::string& property) {
     if (!e->scalars.count(p)) throw IoError(fmt::format("{}: edge element has no '{}'", path.string(), p));
   if (!e->scalars.count(property))
     throw IoError(fmt::format("{}: edge element has no '{}' property", path.string(), property));
+  const auto &v1 = e->scalars.at("vertex1"), &v2 = e->scalars.at("vertex2"), &values = e->scalars.at(property);
+  if (v1.size() != e->count || v2.size() != e->count || values.size() != e->count)
+    throw IoError(fmt::format("{}: edge element declares a property twice", path.string()));
+  // Vertex indices are stored as numbers of any PLY type: only non-negative integers that fit an int
+  // are indices (a cast of anything else to int is undefined behaviour).
+  auto index = [&](double v, size_t row) {
+    if (!(v >= 0 && v <= std::numeric_limits<int>::max() && v == std::floor(v)))
+      throw IoError(fmt::format("{}: edge {} has vertex index {}, not a non-negative integer", path.string(), row, v));
+    return static_cast<int>(v);
+  };
   EdgeValues out;
   out.edges.resize(e->count, 2);
   out.values.resize(e->count);
   for (size_t i = 0; i < e->count; ++i) {
-    out.edges(i, 0) = static_cast<int>(e->scalars.at("vertex1")[i]);
-    out.edges(i, 1) = static_cast<int>(e->scalars.at("vertex2")[i]);
-    out.values[i] = e->scalars.at(property)[i];
+    out.edges(i, 0) = index(v1[i], i);
+    out.edges(i, 1) = index(v2[i], i);
+    out.values[i] = values[i];
   }
   return out;
 }

@@ -71,7 +71,9 @@ void edge_labels_from(const PlyElement& e, const std::string& property, const fs
   std::vector<int> keep;
   for (size_t i = 0; i < e.count; ++i) {
     if (!(l[i] > 0.5)) continue;
-    if (a[i] < 0 || b[i] < 0 || a[i] >= n_vertices || b[i] >= n_vertices)
+    // Indices are non-negative integers below n_vertices (NaN fails every comparison: test the positive).
+    auto is_index = [&](double v) { return v >= 0 && v < static_cast<double>(n_vertices) && v == std::floor(v); };
+    if (!is_index(a[i]) || !is_index(b[i]))
       throw InvalidInput(fmt::format("{}: edge {} refers to vertex {} or {}, but the mesh has {} vertices", path.string(),
                                      i, a[i], b[i], n_vertices));
     keep.push_back(static_cast<int>(i));
@@ -96,7 +98,7 @@ MeshLayers read_mesh_layers(const fs::path& path, size_t n_vertices) {
                                                 "s", "t", "u", "v", "texture_u", "texture_v"};
   if (const PlyElement* v = d.find("vertex"); v && v->count == n_vertices)
     for (const auto& [name, values] : v->scalars)
-      if (!not_fields.count(name)) layers.fields[name] = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
+      if (!not_fields.count(name) && values.size() == n_vertices) layers.fields[name] = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
   if (const PlyElement* e = d.find("edge"); e && e->scalars.count("label"))
     edge_labels_from(*e, "label", path, n_vertices, layers);
   return layers;
