@@ -354,17 +354,44 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
   auto scaled_product = [par](const auto& M, const Eigen::VectorXd& out, const Eigen::VectorXd& in,
                               const Eigen::VectorXd& x) {
     using Iterator = typename std::decay_t<decltype(M)>::InnerIterator;
+    const Eigen::VectorXd z = in.cwiseProduct(x);
     Eigen::VectorXd y(M.outerSize());
 #pragma omp parallel for schedule(static) if (par)
     for (Eigen::Index r = 0; r < M.outerSize(); ++r) {
       double sum = 0;
-      for (Iterator it(M, r); it; ++it) sum += it.value() * in[it.index()] * x[it.index()];
+      for (Iterator it(M, r); it; ++it) sum += it.value() * z[it.index()];
       y[r] = out[r] * sum;
     }
     return y;
   };
+  // Without the tangent projection, rows i, #V + i, 2#V + i of P share their columns (vertex i's
+  // spokes, reconstruction_rows()): one pass over vertex i's spokes gives all three.
+  const Eigen::Index nb = A.outerIndexPtr()[n];
+  auto vertex_product = [&, par](const Eigen::VectorXd& x) {
+    const Eigen::VectorXd z = col.cwiseProduct(x);
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    const double* val = A.valuePtr();
+    Eigen::VectorXd y(3 * n);
+#pragma omp parallel for schedule(static) if (par)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double a0 = 0, a1 = 0, a2 = 0;
+      for (int k = outer[i]; k < outer[i + 1]; ++k) {
+        const double zk = z[inner[k]];
+        a0 += val[k] * zk;
+        a1 += val[nb + k] * zk;
+        a2 += val[2 * nb + k] * zk;
+      }
+      y[i] = sw[i] * a0;
+      y[n + i] = sw[n + i] * a1;
+      y[2 * n + i] = sw[2 * n + i] * a2;
+    }
+    return y;
+  };
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(std::max(3 * n, m));
-  auto apply_A = [&](const Eigen::VectorXd& x) { return scaled_product(A, sw, col, x); };
+  auto apply_A = [&](const Eigen::VectorXd& x) {
+    return s.opt.tangential ? scaled_product(A, sw, col, x) : vertex_product(x);
+  };
   auto apply_At = [&](const Eigen::VectorXd& r) { return scaled_product(At, col, sw, r); };
 
   IterativeFitResult res;
