@@ -86,8 +86,9 @@ class OneFormFitter {
   //! The same (weighted) objective by CGLS with Jacobi column scaling, started from the averaging
   //! estimate (Eq. 5.80), which also takes the place of the regularization: CGLS never changes the
   //! start's component in the null space of P. Stops when \p converged returns true or after
-  //! options.max_iterations; ignores OneFormFitOptions::bound_by_edge_length and ::tangential (the
-  //! caller falls back to fit() for those). \param weights #V positive weights, or empty for all ones.
+  //! options.max_iterations. Honours OneFormFitOptions::tangential (the monitor still gets the
+  //! unprojected P c); ignores ::bound_by_edge_length (the caller uses fit() for it).
+  //! \param weights #V positive weights, or empty for all ones.
   IterativeFitResult fit_iterative(const MatrixX3d& T, const Eigen::VectorXd& weights,
                                    const OneFormFitMonitor& converged, const IterativeFitOptions& options = {});
 
