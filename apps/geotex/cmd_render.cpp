@@ -21,8 +21,9 @@ void parse_size(const std::string& s, int& w, int& h) {
   const size_t x = s.find('x');
   char* e1 = nullptr;
   char* e2 = nullptr;
+  const std::string width = s.substr(0, x == std::string::npos ? 0 : x);  // e1 points into it: keep it alive
   if (x != std::string::npos) {
-    w = static_cast<int>(std::strtol(s.substr(0, x).c_str(), &e1, 10));
+    w = static_cast<int>(std::strtol(width.c_str(), &e1, 10));
     h = static_cast<int>(std::strtol(s.c_str() + x + 1, &e2, 10));
   }
   if (x == std::string::npos || *e1 != '\0' || *e2 != '\0' || x == 0 || x + 1 == s.size() || w < 1 || h < 1 ||
