@@ -4,8 +4,7 @@
 # into the interpreter run with GEOTEX_SANITIZE_PYTHON=1, see below).
 # Any sanitizer report fails the run. Usage: scripts/sanitize.sh [extra cmake args]
 # The build uses Eigen's SimplicialLDLT instead of CHOLMOD (-DGEOTEX_USE_CHOLMOD=OFF), so the fallback
-# solver path is tested too (Editing.RejectsBadHandles fails there: SimplicialLDLT does not report the
-# rank-deficient system CHOLMOD rejects). Tests may shrink their problems when GEOTEX_SANITIZE is set.
+# solver path is tested too. Tests may shrink their problems when GEOTEX_SANITIZE is set (it is here).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc 2>/dev/null || echo 2)

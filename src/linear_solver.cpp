@@ -90,7 +90,12 @@ void SpdSolver::factorize(const SparseMatrix& A) {
     impl_->chol.factorize(impl_->permute(A));
   else
     impl_->chol.factorize(A);
-  if (impl_->chol.info() != Eigen::Success)
+  bool ok = impl_->chol.info() == Eigen::Success;
+#ifndef GEOTEX_HAVE_CHOLMOD
+  // LDLᵀ succeeds on indefinite and singular matrices; a non-positive pivot is where Cholesky (CHOLMOD) fails.
+  if (ok && A.rows() > 0) ok = impl_->chol.vectorD().minCoeff() > 0;
+#endif
+  if (!ok)
     throw SolverError(fmt::format("sparse Cholesky failed on a {}x{} system (not positive definite?)",
                                   A.rows(), A.cols()));
   impl_->factorized = true;
