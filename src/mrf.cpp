@@ -671,6 +671,16 @@ void check_edge_options(const EdgeProcessOptions& o) {
     throw InvalidInput("the edge process is optimized by metropolis or icm");
 }
 
+double edge_step(EdgeField& field, const EdgeProcessOptions& o, int it, int iterations, bool last, double temperature,
+                 uint64_t seed, int& sweep_counter, double* eps, bool& quenched) {
+  field.opt.phi0_deg = annealed_phi0(o, it, iterations);
+  const MrfOptimizer optimizer = last && o.quench ? MrfOptimizer::Icm : o.optimizer;
+  quenched = quenched || optimizer == MrfOptimizer::Icm;
+  double Ue = 0;
+  for (int s = 0; s < o.sweeps; ++s) Ue = field.sweep(eps, optimizer, temperature, seed, sweep_counter++);
+  return Ue;
+}
+
 double annealed_phi0(const EdgeProcessOptions& o, int it, int iterations) {
   if (!(o.phi0_start_deg > o.phi0_deg)) return o.phi0_deg;
   const double ramp = std::max(1.0, 0.5 * iterations);
@@ -834,12 +844,9 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
     compute_normals(T, x.data(), n.data(), nullptr);
     field.update(x.data(), n.data());
     prev = eps;
-    double Ue = 0;
-    field.opt.phi0_deg = annealed_phi0(o.edges, it, o.iterations);
-      const bool last = it + 1 == o.iterations || quench_now;
-    const MrfOptimizer eopt = last && o.edges.quench ? MrfOptimizer::Icm : o.edges.optimizer;
-      quenched = quenched || eopt == MrfOptimizer::Icm;
-    for (int s = 0; s < o.edges.sweeps; ++s) Ue = field.sweep(eps.data(), eopt, Te, o.seed, sweep_counter++);
+    const bool last = it + 1 == o.iterations || quench_now;
+    const double Ue =
+        edge_step(field, o.edges, it, o.iterations, last, Te, o.seed, sweep_counter, eps.data(), quenched);
     for (int e = 0; e < T.nE; ++e) w[e] = 1.0 - eps[e];
     // ... then the vertex process for the current labels (Eq. 6.15).
     double Uv = 0;

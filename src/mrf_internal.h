@@ -80,6 +80,12 @@ struct EdgeField {
   std::vector<double> phi, u;
 };
 
+//! One alternation's edge step (Sec. 6.3.5) in outer iteration \p it of \p iterations: the (annealed)
+//! threshold φ0 of \p o, then o.sweeps sweeps at \p temperature, or ICM (T = 0) when \p last and
+//! o.quench; sets \p quenched once ICM ran. \return U_E.
+double edge_step(EdgeField& field, const EdgeProcessOptions& o, int it, int iterations, bool last, double temperature,
+                 uint64_t seed, int& sweep_counter, double* eps, bool& quenched);
+
 //! After an outer iteration: append the energies, the labelled-edge count and the elapsed time to
 //! \p r, and return the largest label change since \p prev.
 double record_iteration(MrfResult& r, const std::vector<double>& eps, const std::vector<double>& prev,

@@ -182,12 +182,9 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
       // Edge process on the current normal field (angles between the filtered normals) ...
       field.update(x.data(), n.data());
       prev = eps;
-      double Ue = 0;
-      field.opt.phi0_deg = annealed_phi0(o.edges, it, o.iterations);
       const bool last = it + 1 == o.iterations || quench_now;
-      const MrfOptimizer eopt = last && o.edges.quench ? MrfOptimizer::Icm : o.edges.optimizer;
-      quenched = quenched || eopt == MrfOptimizer::Icm;
-      for (int s = 0; s < o.edges.sweeps; ++s) Ue = field.sweep(eps.data(), eopt, Te, o.seed, sweep_counter++);
+      const double Ue =
+          edge_step(field, o.edges, it, o.iterations, last, Te, o.seed, sweep_counter, eps.data(), quenched);
       for (int e = 0; e < T.nE; ++e) w[e] = 1.0 - eps[e];
       // ... then the normal process for the current labels.
       double Un = 0;
