@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Build geotex with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/) and run the whole test
-# suite under them: every CTest test except python_tests (the Python tests with the ASan runtime preloaded
-# into the interpreter run with GEOTEX_SANITIZE_PYTHON=1, see below).
+# suite under them: every CTest test, then the Python tests (pytest) with the ASan runtime preloaded into
+# the interpreter (GEOTEX_SANITIZE_PYTHON=0 skips them).
 # Any sanitizer report fails the run. Usage: scripts/sanitize.sh [extra cmake args]
 # The build uses Eigen's SimplicialLDLT instead of CHOLMOD (-DGEOTEX_USE_CHOLMOD=OFF), so the fallback
 # solver path is tested too. Tests may shrink their problems when GEOTEX_SANITIZE is set (it is here).
@@ -24,17 +24,23 @@ status=0
 ctest --test-dir "$build" --output-on-failure -j"$jobs" -E '^python_tests$' || status=1
 
 # The Python module is an ASan-instrumented extension of an uninstrumented /usr/bin/python3: the ASan
-# runtime must be loaded first (LD_PRELOAD), and the interpreter's own never-freed allocations are not
-# leaks (detect_leaks=0 here; the C++ tests above check for leaks).
-# Opt-in (GEOTEX_SANITIZE_PYTHON=1) because: with libasan preloaded, python/tests aborts without any
-# sanitizer report in test_capabilities.py::test_denoise_rejects_unknown_options (not yet understood).
-if [ "${GEOTEX_SANITIZE_PYTHON:-0}" = 1 ] && [ -d "$build/python/geotex" ]; then
-  libasan=$(${CXX:-c++} -print-file-name=libasan.so)
-  data=$(sed -n 's/^GEOTEX_DATA_DIR:PATH=//p' "$build/CMakeCache.txt")
-  echo "sanitize: python tests with LD_PRELOAD=$libasan"
-  if ! LD_PRELOAD="$libasan" ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
-       PYTHONPATH="$build/python" GEOTEX_CLI="$build/geotex" GEOTEX_DATA="$data" \
-       /usr/bin/python3 -m pytest -q -p no:cacheprovider python/tests; then
+# runtime must be loaded first (LD_PRELOAD), and with it libstdc++, or ASan's __cxa_throw interceptor
+# finds no real __cxa_throw (python3 does not link libstdc++) and the first C++ exception aborts. The
+# interpreter's own never-freed allocations are not leaks (detect_leaks=0 here; the C++ tests above
+# check for leaks).
+if [ "${GEOTEX_SANITIZE_PYTHON:-1}" = 1 ]; then
+  if [ -d "$build/python/geotex" ]; then
+    libasan=$(${CXX:-c++} -print-file-name=libasan.so)
+    libstdcxx=$(${CXX:-c++} -print-file-name=libstdc++.so)
+    data=$(sed -n 's/^GEOTEX_DATA_DIR:PATH=//p' "$build/CMakeCache.txt")
+    echo "sanitize: python tests with LD_PRELOAD=$libasan:$libstdcxx"
+    if ! LD_PRELOAD="$libasan:$libstdcxx" ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
+         PYTHONPATH="$build/python" GEOTEX_CLI="$build/geotex" GEOTEX_DATA="$data" \
+         /usr/bin/python3 -m pytest -q -p no:cacheprovider python/tests; then
+      status=1
+    fi
+  else
+    echo "sanitize: the Python module was not built (pybind11 or numpy missing?): python tests not run"
     status=1
   fi
 fi
