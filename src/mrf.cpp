@@ -881,19 +881,6 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
       break;
     }
   }
-  if (o.final_phi0_deg > 0) {
-    // Final labelling on the smoothed geometry (MrfOptions::final_phi0_deg): ICM on Eq. (6.12).
-    compute_normals(T, x.data(), n.data(), nullptr);
-    field.update(x.data(), n.data());
-    field.opt.phi0_deg = o.final_phi0_deg;
-    field.initial_labels(eps.data());
-    for (int s = 0; s < 50; ++s) {
-      prev = eps;
-      field.icm(eps.data());
-      if (prev == eps) break;
-    }
-    for (int e = 0; e < T.nE; ++e) w[e] = 1.0 - eps[e];
-  }
   if (o.final_sweeps > 0) {
     double Uv = 0;
     switch (o.optimizer) {
@@ -910,6 +897,18 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
     if (!r.vertex_energy.empty()) {
       r.vertex_energy.back() = Uv;
       r.seconds.back() = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+  }
+  if (o.final_phi0_deg > 0) {
+    // Final labelling on the denoised geometry (MrfOptions::final_phi0_deg): ICM on Eq. (6.12).
+    compute_normals(T, x.data(), n.data(), nullptr);
+    field.update(x.data(), n.data());
+    field.opt.phi0_deg = o.final_phi0_deg;
+    field.initial_labels(eps.data());
+    for (int s = 0; s < 50; ++s) {
+      prev = eps;
+      field.icm(eps.data());
+      if (prev == eps) break;
     }
   }
   r.positions = unflat(x.data(), T.nV, h);

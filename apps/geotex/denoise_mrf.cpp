@@ -18,7 +18,7 @@ struct MrfArgs {
   std::string edge_optimizer = "metropolis", potential = "quadratic", ridges = "all";
   double phi0 = 40.0, phi0_start = 0.0, support = 0.5, te = 0.2, te_cooling = 0.95, tv = 0.0, tv_cooling = 0.5, step = 0.1;
   double tolerance = 1e-6;
-  double final_phi0 = 50;
+  double final_phi0 = 60;
   int sweeps = 0, final_sweeps = 100, edge_sweeps = 1, normal_sweeps = 2, vertex_iterations = 20, rounds = 1;
   bool no_initial_labels = false;
 };
@@ -67,8 +67,8 @@ void add_options(CLI::App& app) {
                  "mrf: vertex sweeps or line searches after the last alternation, for the final labels")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--final-phi0", a.final_phi0,
-                 "mrf: relabel the ridges on the smoothed geometry with this threshold (degrees) before the final "
-                 "sweeps; 0 = off (thesis)")
+                 "mrf: label the sharp edges once more on the denoised geometry with this threshold (degrees); "
+                 "the geometry is not changed; 0 = off (thesis)")
       ->check(CLI::Range(0.0, 180.0))->capture_default_str()->group(g);
   app.add_option("--edge-sweeps", a.edge_sweeps, "edge-process sweeps per outer iteration")
       ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
