@@ -8,21 +8,6 @@ set -euo pipefail
 
 packages=(libcgal-dev libgmp-dev libmpfr-dev libboost-dev meshlab xvfb xauth)
 
-missing=()
-for p in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
-
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup_compare: all ${#packages[@]} packages present"
-  exit 0
-fi
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-echo "setup_compare: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+source "$(dirname "$0")/../scripts/apt_ensure.sh"
+apt_ensure setup_compare "${packages[@]}"
 echo "setup_compare: done"
