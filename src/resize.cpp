@@ -180,14 +180,13 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   {
     const MatrixX3i F = faces(mesh);
     const MatrixX3d Fn = face_normals(deformed);
+    const Eigen::VectorXd area = face_areas(deformed);
     std::vector<int> base_faces;
     MatrixX3d acc = MatrixX3d::Zero(n, 3);
     for (Eigen::Index k = 0; k < F.rows(); ++k) {
       if (f[F(k, 0)] >= 0.5 || f[F(k, 1)] >= 0.5 || f[F(k, 2)] >= 0.5) continue;
       base_faces.push_back(static_cast<int>(k));
-      const Vec3 a = C.row(F(k, 0)), b = C.row(F(k, 1)), c = C.row(F(k, 2));
-      const double area = 0.5 * (b - a).cross(c - a).norm();
-      for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area * Fn.row(k);
+      for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area[k] * Fn.row(k);
     }
     Fb.resize(static_cast<Eigen::Index>(base_faces.size()), 3);
     for (size_t k = 0; k < base_faces.size(); ++k) Fb.row(k) = F.row(base_faces[k]);
