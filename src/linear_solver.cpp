@@ -32,9 +32,13 @@ struct SpdSolver::Impl {
 
 namespace {
 
+constexpr int kNestedDissectionVertices = 300000;
+
 // Fill-reducing ordering of a coordinate-stacked system by its vertex graph: vertex i's unknowns
-// d·n + i (d < k) get the consecutive new indices k·pos(i) + d, pos from AMD on the n-vertex graph.
-Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(const SparseMatrix& A, int k) {
+// d·n + i (d < k) get the consecutive new indices k·pos(i) + d, pos from AMD (METIS for large graphs) on
+// the n-vertex graph.
+Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(const SparseMatrix& A, int k,
+                                                                                BlockOrdering ordering) {
   const int n = static_cast<int>(A.rows() / k);
   std::vector<Triplet> t;
   t.reserve(A.nonZeros() / (k * k) + n);
@@ -42,14 +46,34 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(c
     for (SparseMatrix::InnerIterator it(A, c); it; ++it)
       if (it.row() % n != c % n) t.emplace_back(it.row() % n, c % n, 1.0);
   for (int i = 0; i < n; ++i) t.emplace_back(i, i, 1.0);
+  // Vertex order → unknowns' permutation (old index → new index).
+  auto expand = [&](const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>& order) {
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm(static_cast<int>(A.rows()));
+    for (int p = 0; p < n; ++p)
+      for (int d = 0; d < k; ++d) perm.indices()[d * n + order.indices()[p]] = k * p + d;
+    return perm;
+  };
   SparseMatrix G(n, n);
   G.setFromTriplets(t.begin(), t.end(), [](double a, double) { return a; });
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;  // new position → old vertex
+#ifdef GEOTEX_HAVE_CHOLMOD
+  // Large graphs: METIS nested dissection, whose fill is far smaller than AMD's on big surface meshes
+  // (655k vertices, 2×2 blocks: 1.6e11 against 5.2e11 flops, factorization 7.0 s against 14.2 s).
+  if (ordering == BlockOrdering::NestedDissection ||
+      (ordering == BlockOrdering::Auto && n >= kNestedDissectionVertices)) {
+    cholmod_common cc;
+    cholmod_start(&cc);
+    SparseMatrix lower = G.triangularView<Eigen::Lower>();
+    cholmod_sparse view = Eigen::viewAsCholmod(lower);
+    view.stype = -1;
+    order.resize(n);
+    const bool ok = cholmod_metis(&view, nullptr, 0, 1, order.indices().data(), &cc);
+    cholmod_finish(&cc);
+    if (ok) return expand(order);
+  }
+#endif
   Eigen::AMDOrdering<int>()(G, order);
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm(static_cast<int>(A.rows()));
-  for (int p = 0; p < n; ++p)
-    for (int d = 0; d < k; ++d) perm.indices()[d * n + order.indices()[p]] = k * p + d;
-  return perm;
+  return expand(order);
 }
 
 }  // namespace
@@ -59,7 +83,7 @@ SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
 
-void SpdSolver::analyze(const SparseMatrix& A, int block_size) {
+void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ordering) {
   if (A.rows() != A.cols()) throw SolverError("SpdSolver: matrix is not square");
   if (block_size < 1 || A.rows() % block_size != 0)
     throw SolverError(fmt::format("SpdSolver: {} unknowns are not {} blocks", A.rows(), block_size));
@@ -67,7 +91,7 @@ void SpdSolver::analyze(const SparseMatrix& A, int block_size) {
 #ifdef GEOTEX_HAVE_CHOLMOD
   cholmod_common& c = impl_->chol.cholmod();
   if (block_size > 1 && A.rows() > 0) {
-    impl_->perm = blocked_ordering(A, block_size);
+    impl_->perm = blocked_ordering(A, block_size, ordering);
     c.nmethods = 1;
     c.method[0].ordering = CHOLMOD_NATURAL;  // the matrix comes ordered
     impl_->chol.analyzePattern(impl_->permute(A));

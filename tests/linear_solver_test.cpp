@@ -56,6 +56,23 @@ TEST(SpdSolver, BlockedAnalysisSolvesTheSameSystem) {
   EXPECT_LT((A2 * blocked.solve(B) - B).norm(), 1e-9 * B.norm());
 }
 
+TEST(SpdSolver, EveryBlockOrderingSolvesTheSameSystem) {
+  const Mesh mesh = icosphere(3);
+  const SparseMatrix A = stacked_system(mesh, 5);
+  Rng rng(4);
+  Eigen::VectorXd b(A.rows());
+  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = rng.normal();
+  SpdSolver plain;
+  plain.compute(A);
+  const Eigen::VectorXd x = plain.solve(b);
+  for (const BlockOrdering o : {BlockOrdering::MinimumDegree, BlockOrdering::NestedDissection}) {
+    SpdSolver s;
+    s.analyze(A, 3, o);
+    s.factorize(A);
+    EXPECT_LT((s.solve(b) - x).norm(), 1e-9 * x.norm());
+  }
+}
+
 TEST(SpdSolver, BlockSizeMustDivideTheUnknowns) {
   const SparseMatrix A = stacked_system(icosphere(1), 1);
   SpdSolver s;

@@ -13,6 +13,13 @@ namespace geotex {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplet = Eigen::Triplet<double>;
 
+//! Fill-reducing ordering of a blocked analysis (SpdSolver::analyze with block_size > 1).
+enum class BlockOrdering {
+  Auto,              //!< minimum degree below 300k vertices, nested dissection above
+  MinimumDegree,     //!< AMD on the vertex graph
+  NestedDissection,  //!< METIS on the vertex graph (CHOLMOD backend; else minimum degree)
+};
+
 class SpdSolver {
  public:
   SpdSolver();
@@ -25,7 +32,8 @@ class SpdSolver {
   //! block_size = 3 blocks of #V: the ordering is computed on the #V-vertex graph and each vertex's
   //! unknowns are kept together, which is several times faster to analyze than ordering all
   //! 3#V unknowns and gives supernodes of whole vertices (CHOLMOD backend; ignored otherwise).
-  void analyze(const SparseMatrix& A, int block_size = 1);
+  //! \param ordering the vertex graph's ordering (blocked analysis only).
+  void analyze(const SparseMatrix& A, int block_size = 1, BlockOrdering ordering = BlockOrdering::Auto);
   //! Numeric factorization. \throw SolverError if A is not positive definite.
   void factorize(const SparseMatrix& A);
   //! analyze() then factorize().
