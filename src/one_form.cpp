@@ -192,20 +192,78 @@ struct OneFormFitter::Impl {
   const Mesh* mesh = nullptr;
   OneFormFitOptions opt;
   SparseMatrix P;       // 3n × m
-  SparseMatrix A;       // P, or the tangent-projected P
+  SparseMatrix A;       // the tangent-projected P (tangential mode; built with the normal matrix)
   SparseMatrix normal;  // AᵀA + ε I
-  SparseMatrix proj;    // 3n × 3n tangent projector (tangential mode)
+  SparseMatrix proj;    // 3n × 3n tangent projector (tangential mode; built with the normal matrix)
+  MatrixX3d normals;    // the projector's unit normals, one row per vertex (tangential mode)
   double eps = 0;
   Eigen::VectorXd edge_len;
   SpdSolver solver;
   bool holds_normal = false;  // the solver's factor is of `normal` (not of a weighted/pinned matrix)
   bool has_normal = false;    // `normal`, `eps` and the symbolic analysis exist (built on first direct fit)
-  RowSparse A_rows;     // A row-major, for the iterative fit's row-parallel products (A itself gives Aᵀ's rows)
+  RowSparse A_rows;     // P row-major, for the iterative fit's vertex-parallel products
+
+  // Tangential direct fit in vertex form (see fit_tangential()): B = [Uᵀ P; Vᵀ P] (2n × m), the
+  // tangent components of P c in a per-vertex basis (u_i, v_i) of the plane ⊥ n_i.
+  SparseMatrix B, BBt;
+  SpdSolver tangent_solver;
+  Eigen::VectorXd tangent_weights;  // the weights tangent_solver's factor was made with
+  double tangent_eps = 0;
+  bool tangent_factored = false;
+
+  Vec3 basis(Eigen::Index i, int a) const {
+    const Vec3 n = normals.row(i).transpose();
+    if (!(n.squaredNorm() > 0.5)) return a == 0 ? Vec3::UnitX() : Vec3::UnitY();  // isolated vertex: no normal
+    const Vec3 u = n.unitOrthogonal();
+    return a == 0 ? u : Vec3(n.cross(u));
+  }
+
+  void ensure_tangent_system() {
+    if (B.size() > 0) return;
+    const Eigen::Index n = normals.rows();
+    const int* outer = A_rows.outerIndexPtr();
+    const int* inner = A_rows.innerIndexPtr();
+    const double* val = A_rows.valuePtr();
+    const Eigen::Index nb = outer[n];
+    RowSparse Br(2 * n, P.cols());
+    Br.resizeNonZeros(2 * nb);
+    for (int a = 0; a < 2; ++a)
+      for (Eigen::Index i = 0; i <= n; ++i) Br.outerIndexPtr()[a * n + i] = static_cast<int>(a * nb + outer[i]);
+#pragma omp parallel for schedule(static)
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (int a = 0; a < 2; ++a) {
+        const Vec3 e = basis(i, a);
+        for (int k = outer[i]; k < outer[i + 1]; ++k) {
+          Br.innerIndexPtr()[a * nb + k] = inner[k];
+          Br.valuePtr()[a * nb + k] = e[0] * val[k] + e[1] * val[nb + k] + e[2] * val[2 * nb + k];
+        }
+      }
+    B = SparseMatrix(Br);
+    BBt = B * SparseMatrix(B.transpose());
+    BBt.makeCompressed();
+    tangent_solver.analyze(BBt, 2);  // vertex graph ordering, each vertex's two unknowns together
+  }
+  Eigen::VectorXd fit_tangential(const MatrixX3d& T, const Eigen::VectorXd& weights);
+
+  const SparseMatrix& matrix() const { return opt.tangential ? A : P; }  // the direct fit's design matrix
 
   // The direct route's normal matrix AᵀA + εI and its symbolic analysis, built on first use so that
   // an iterative-only caller never pays for them.
   void ensure_normal() {
     if (has_normal) return;
+    if (opt.tangential) {
+      const Eigen::Index n = normals.rows();
+      std::vector<Triplet> trip;
+      trip.reserve(9 * n);
+      for (Eigen::Index i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            trip.emplace_back(a * n + i, b * n + i, (a == b ? 1.0 : 0.0) - normals(i, a) * normals(i, b));
+      proj.resize(3 * n, 3 * n);
+      proj.setFromTriplets(trip.begin(), trip.end());
+      A = proj * P;
+    }
+    const SparseMatrix& A = matrix();
     const Eigen::Index m = A.cols();
     normal = SparseMatrix(A.transpose()) * A;
     eps = opt.regularization * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
@@ -229,19 +287,8 @@ OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options,
   s.edge_len = edge_lengths(mesh);
   const Eigen::Index n = mesh.n_vertices(), m = mesh.n_edges();
   if (options.tangential) {
-    const MatrixX3d N = normals.rows() ? normals : vertex_normals(mesh);
-    if (N.rows() != n) throw InvalidInput("1-form fit: expected one normal per vertex");
-    std::vector<Triplet> trip;
-    trip.reserve(9 * n);
-    for (Eigen::Index i = 0; i < n; ++i)
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) trip.emplace_back(a * n + i, b * n + i, (a == b ? 1.0 : 0.0) - N(i, a) * N(i, b));
-    s.proj.resize(3 * n, 3 * n);
-    s.proj.setFromTriplets(trip.begin(), trip.end());
-    s.A = s.proj * s.P;
-    s.A_rows = s.A;
-  } else {
-    s.A = s.P;
+    s.normals = normals.rows() ? normals : vertex_normals(mesh);
+    if (s.normals.rows() != n) throw InvalidInput("1-form fit: expected one normal per vertex");
   }
   (void)m;
 }
@@ -253,14 +300,45 @@ const SparseMatrix& OneFormFitter::matrix() const { return impl_->P; }
 
 Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T) { return fit(T, Eigen::VectorXd()); }
 
+// The tangential fit without the bound, in vertex form. Its objective ‖W^½ (B c − b)‖² + ε ‖c − c0‖²
+// (B: the tangent rows of Eq. 5.81, c0: Eq. 5.80) has the minimiser c = c0 + Bᵀ (B Bᵀ + ε W⁻¹)⁻¹
+// (b − B c0), the same as the #E × #E normal equations (BᵀWB + εI)⁻¹ give. B has 2#V rows against #E
+// ≈ 3#V columns, so this system is a third smaller and has the vertex graph's 2×2-block pattern: its
+// ordering and factorization cost a fraction of the edge system's (bench/texture.md).
+Eigen::VectorXd OneFormFitter::Impl::fit_tangential(const MatrixX3d& T, const Eigen::VectorXd& weights) {
+  Impl& s = *this;
+  const Eigen::Index n = T.rows(), m = s.P.cols();
+  s.ensure_tangent_system();
+  const Eigen::VectorXd w = weights.size() ? weights : Eigen::VectorXd::Ones(n);
+  if (!s.tangent_factored || s.tangent_weights.size() != w.size() || s.tangent_weights != w) {
+    // ε as in the edge form: regularization × mean diagonal of BᵀWB (trace(BᵀWB) = Σ w_k (BBᵀ)_kk).
+    Eigen::VectorXd w2(2 * n), diag = s.BBt.diagonal();
+    w2 << w, w;
+    s.tangent_eps = s.opt.regularization * w2.dot(diag) / std::max<Eigen::Index>(m, 1);
+    SparseMatrix S = s.BBt;
+    for (Eigen::Index k = 0; k < 2 * n; ++k) S.coeffRef(k, k) += s.tangent_eps / w2[k];
+    s.tangent_solver.factorize(S);
+    s.tangent_weights = w;
+    s.tangent_factored = true;
+  }
+  const Eigen::VectorXd c0 = one_form_average(*s.mesh, T);  // Eq. (5.80)
+  Eigen::VectorXd b(2 * n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int a = 0; a < 2; ++a) b[a * n + i] = s.basis(i, a).dot(T.row(i).transpose());
+  const Eigen::VectorXd y = s.tangent_solver.solve(b - s.B * c0);
+  return c0 + s.B.transpose() * y;
+}
+
+
 Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& weights) {
   Impl& s = *impl_;
   const Eigen::Index n = s.mesh->n_vertices(), m = s.mesh->n_edges();
   if (T.rows() != n) throw InvalidInput("1-form fit: expected one vector per vertex");
-  s.ensure_normal();
   const bool weighted = weights.size() > 0;
   if (weighted && (weights.size() != n || !(weights.minCoeff() > 0) || !weights.allFinite()))
     throw InvalidInput("1-form fit: expected one positive weight per vertex");
+  if (s.opt.tangential && !s.opt.bound_by_edge_length) return s.fit_tangential(T, weights);
+  s.ensure_normal();
   Eigen::VectorXd t(3 * n);
   for (int d = 0; d < 3; ++d) t.segment(d * n, n) = T.col(d);
   if (s.opt.tangential) t = s.proj * t;
@@ -271,19 +349,19 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
   if (weighted) {
     Eigen::VectorXd w3(3 * n);
     for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = weights;
-    const SparseMatrix WA = w3.asDiagonal() * s.A;  // rows scaled by w_i (squared in the normal matrix)
-    normal = SparseMatrix(s.A.transpose()) * WA;
+    const SparseMatrix WA = w3.asDiagonal() * s.matrix();  // rows scaled by w_i (squared in the normal matrix)
+    normal = SparseMatrix(s.matrix().transpose()) * WA;
     const double eps = s.opt.regularization * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
     SparseMatrix I(m, m);
     I.setIdentity();
     normal += eps * I;
     normal.makeCompressed();
-    rhs = s.A.transpose() * w3.cwiseProduct(t) + eps * c_avg;
+    rhs = s.matrix().transpose() * w3.cwiseProduct(t) + eps * c_avg;
     s.solver.factorize(normal);
     s.holds_normal = false;
   } else {
     normal = s.normal;
-    rhs = s.A.transpose() * t + s.eps * c_avg;
+    rhs = s.matrix().transpose() * t + s.eps * c_avg;
     if (!s.holds_normal) s.solver.factorize(s.normal);
     s.holds_normal = true;
   }
@@ -329,77 +407,98 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
     throw InvalidInput("1-form fit: expected one positive weight per vertex");
   if (o.max_iterations < 0 || o.check_every < 1)
     throw InvalidInput("1-form fit: max_iterations must be non-negative and check_every positive");
-  const RowSparse& A = s.A_rows;  // rows: vertex components
-  const SparseMatrix& At = s.A;   // column-major A: its outer index runs over the edges, i.e. Aᵀ's rows
+  const RowSparse& A = s.A_rows;  // P row-major: rows d·#V + i, vertex i's spokes
+  const SparseMatrix& Pcol = s.P;  // P column-major: its outer index runs over the edges, i.e. Pᵀ's rows
 
-  // Weighted objective ‖W^½ (A c − t)‖² (Eq. 5.81), solved for x = c ./ col in the column-scaled
-  // variables (Jacobi preconditioning: every column of W^½ A S has unit length).
+  // Weighted objective ‖W^½ (Π P c − Π t)‖² (Eq. 5.81; Π = I, or the per-vertex tangent projector
+  // when tangential), solved for x = c ./ col in the column-scaled variables (Jacobi preconditioning:
+  // every column of W^½ Π P S has unit length).
   Eigen::VectorXd sw = Eigen::VectorXd::Ones(3 * n), t(3 * n);
   for (int d = 0; d < 3; ++d) {
     if (weights.size()) sw.segment(d * n, n) = weights.cwiseSqrt();
     t.segment(d * n, n) = T.col(d);
   }
-  if (s.opt.tangential) t = s.proj * t;
-  const Eigen::VectorXd b = sw.cwiseProduct(t);
+  Eigen::VectorXd b = sw.cwiseProduct(t);  // projected below, once `project` exists
   // Threads only for large meshes: on small ones the per-product barriers cost more than they save.
   const bool par = A.nonZeros() > 500000;
-  Eigen::VectorXd col(m);
-#pragma omp parallel for schedule(static) if (par)
-  for (Eigen::Index j = 0; j < m; ++j) {
-    double sum = 0;
-    for (SparseMatrix::InnerIterator it(At, j); it; ++it) sum += sw[it.index()] * sw[it.index()] * it.value() * it.value();
-    col[j] = sum > 0 ? 1.0 / std::sqrt(sum) : 1.0;
-  }
-  // y = diag(out) · M · diag(in) · x, row-parallel.
-  auto scaled_product = [par](const auto& M, const Eigen::VectorXd& out, const Eigen::VectorXd& in,
-                              const Eigen::VectorXd& x) {
-    using Iterator = typename std::decay_t<decltype(M)>::InnerIterator;
-    const Eigen::VectorXd z = in.cwiseProduct(x);
-    Eigen::VectorXd y(M.outerSize());
-#pragma omp parallel for schedule(static) if (par)
-    for (Eigen::Index r = 0; r < M.outerSize(); ++r) {
-      double sum = 0;
-      for (Iterator it(M, r); it; ++it) sum += it.value() * z[it.index()];
-      y[r] = out[r] * sum;
-    }
-    return y;
-  };
-  // Without the tangent projection, rows i, #V + i, 2#V + i of P share their columns (vertex i's
-  // spokes, reconstruction_rows()): one pass over vertex i's spokes gives all three.
+  // Rows i, #V + i, 2#V + i of P share their columns (vertex i's spokes, reconstruction_rows()): one
+  // pass over vertex i's spokes gives all three; the tangent projection is applied per vertex on the fly.
   const Eigen::Index nb = A.outerIndexPtr()[n];
-  auto vertex_product = [&, par](const Eigen::VectorXd& x) {
-    const Eigen::VectorXd z = col.cwiseProduct(x);
+  auto project = [&](Eigen::Index i, double& a0, double& a1, double& a2) {
+    const double dn = a0 * s.normals(i, 0) + a1 * s.normals(i, 1) + a2 * s.normals(i, 2);
+    a0 -= dn * s.normals(i, 0);
+    a1 -= dn * s.normals(i, 1);
+    a2 -= dn * s.normals(i, 2);
+  };
+  // y = diag(out) Π P z (Π = I when !projected).
+  // y = diag(out) Π P diag(in) x (Π = I when !projected; in, out optional). Writes into y, allocated
+  // once by the caller: fresh 3#V vectors every iteration cost more in page faults than the product.
+  auto vertex_product = [&, par](const Eigen::VectorXd* in, const Eigen::VectorXd& x, const Eigen::VectorXd* out,
+                                 bool projected, Eigen::VectorXd& y) {
     const int* outer = A.outerIndexPtr();
     const int* inner = A.innerIndexPtr();
     const double* val = A.valuePtr();
-    Eigen::VectorXd y(3 * n);
 #pragma omp parallel for schedule(static) if (par)
     for (Eigen::Index i = 0; i < n; ++i) {
       double a0 = 0, a1 = 0, a2 = 0;
       for (int k = outer[i]; k < outer[i + 1]; ++k) {
-        const double zk = z[inner[k]];
+        const double zk = in ? (*in)[inner[k]] * x[inner[k]] : x[inner[k]];
         a0 += val[k] * zk;
         a1 += val[nb + k] * zk;
         a2 += val[2 * nb + k] * zk;
       }
-      y[i] = sw[i] * a0;
-      y[n + i] = sw[n + i] * a1;
-      y[2 * n + i] = sw[2 * n + i] * a2;
+      if (projected) project(i, a0, a1, a2);
+      y[i] = out ? (*out)[i] * a0 : a0;
+      y[n + i] = out ? (*out)[n + i] * a1 : a1;
+      y[2 * n + i] = out ? (*out)[2 * n + i] * a2 : a2;
     }
-    return y;
   };
-  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(std::max(3 * n, m));
-  auto apply_A = [&](const Eigen::VectorXd& x) {
-    return s.opt.tangential ? scaled_product(A, sw, col, x) : vertex_product(x);
+  if (s.opt.tangential)
+    for (Eigen::Index i = 0; i < n; ++i) project(i, b[i], b[n + i], b[2 * n + i]);
+  Eigen::VectorXd col(m);  // 1 / ‖column j of W^½ Π P‖
+  {
+    Eigen::VectorXd sq = Eigen::VectorXd::Zero(m);
+    if (!s.opt.tangential) {
+#pragma omp parallel for schedule(static) if (par)
+      for (Eigen::Index j = 0; j < m; ++j)
+        for (SparseMatrix::InnerIterator it(Pcol, j); it; ++it) sq[j] += sw[it.index()] * sw[it.index()] * it.value() * it.value();
+    } else {  // a column's entries at vertex i form the vector (P_x, P_y, P_z); project it, then square
+      const int* outer = A.outerIndexPtr();
+      const int* inner = A.innerIndexPtr();
+      const double* val = A.valuePtr();
+      for (Eigen::Index i = 0; i < n; ++i)
+        for (int k = outer[i]; k < outer[i + 1]; ++k) {
+          double a0 = val[k], a1 = val[nb + k], a2 = val[2 * nb + k];
+          project(i, a0, a1, a2);
+          sq[inner[k]] += sw[i] * sw[i] * (a0 * a0 + a1 * a1 + a2 * a2);
+        }
+    }
+    for (Eigen::Index j = 0; j < m; ++j) col[j] = sq[j] > 0 ? 1.0 / std::sqrt(sq[j]) : 1.0;
+  }
+  auto apply_A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { vertex_product(&col, x, &sw, s.opt.tangential, y); };
+  Eigen::VectorXd v(3 * n);
+  auto apply_At = [&, par](const Eigen::VectorXd& r, Eigen::VectorXd& y) {  // diag(col) Pᵀ Π W^½ r (Π symmetric)
+#pragma omp parallel for schedule(static) if (par)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      v[i] = sw[i] * r[i];
+      v[n + i] = sw[n + i] * r[n + i];
+      v[2 * n + i] = sw[2 * n + i] * r[2 * n + i];
+      if (s.opt.tangential) project(i, v[i], v[n + i], v[2 * n + i]);
+    }
+#pragma omp parallel for schedule(static) if (par)
+    for (Eigen::Index j = 0; j < m; ++j) {
+      double sum = 0;
+      for (SparseMatrix::InnerIterator it(Pcol, j); it; ++it) sum += it.value() * v[it.index()];
+      y[j] = col[j] * sum;
+    }
   };
-  auto apply_At = [&](const Eigen::VectorXd& r) { return scaled_product(At, col, sw, r); };
 
   IterativeFitResult res;
   res.c = one_form_average(*s.mesh, T);  // start: Eq. (5.80)
+  Eigen::VectorXd field(3 * n);
   auto check = [&]() {
-    const Eigen::VectorXd Pc =
-        s.opt.tangential ? Eigen::VectorXd(s.P * res.c) : scaled_product(A, ones.head(3 * n), ones.head(m), res.c);
-    return converged && converged(res.c, Pc);
+    vertex_product(nullptr, res.c, nullptr, false, field);  // the monitor gets P c unprojected
+    return converged && converged(res.c, field);
   };
   if (check()) {
     res.converged = true;
@@ -407,17 +506,20 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
   }
   // CGLS (conjugate gradients on the normal equations without forming them).
   Eigen::VectorXd x = res.c.cwiseQuotient(col);
-  Eigen::VectorXd r = b - apply_A(x);
-  Eigen::VectorXd g = apply_At(r), p = g;
+  Eigen::VectorXd q(3 * n), r(3 * n), g(m);
+  apply_A(x, q);
+  r = b - q;
+  apply_At(r, g);
+  Eigen::VectorXd p = g;
   double gamma = g.squaredNorm();
   while (res.iterations < o.max_iterations && gamma > 0) {
-    const Eigen::VectorXd q = apply_A(p);
+    apply_A(p, q);
     const double qq = q.squaredNorm();
     if (!(qq > 0)) break;
     const double alpha = gamma / qq;
     x += alpha * p;
     r -= alpha * q;
-    g = apply_At(r);
+    apply_At(r, g);
     const double gamma_next = g.squaredNorm();
     p = g + (gamma_next / gamma) * p;
     gamma = gamma_next;

@@ -84,6 +84,7 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
   require_valid(input, "smooth: input mesh");
   if (opt.steps < 0) throw InvalidInput("smooth: steps must be >= 0");
   if (!(opt.lambda > 0) || !std::isfinite(opt.lambda)) throw InvalidInput("smooth: lambda must be > 0");
+  if (!(opt.stop_tolerance >= 0)) throw InvalidInput("smooth: stop tolerance must be >= 0");
 
   Mesh mesh = input;
   const bool closed = boundary_loops(mesh).empty();
@@ -115,6 +116,7 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
   SparseMatrix C;     // cotangent matrix, kept across steps when weights are frozen
   Eigen::VectorXd m;  // mass diagonal
   for (int step = 0; step < opt.steps; ++step) {
+    const MatrixX3d X_before = opt.stop_tolerance > 0 ? X : MatrixX3d();
     if (opt.laplacian == LaplacianType::Umbrella) {
       if (opt.implicit) {
         X = system.solve(D * X, X);
@@ -148,6 +150,7 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
       X = positions(mesh);
     }
     report(opt.progress, double(step + 1) / opt.steps, "smoothing");
+    if (opt.stop_tolerance > 0 && (X - X_before).rowwise().norm().maxCoeff() < opt.stop_tolerance * h) break;
   }
   return X;
 }

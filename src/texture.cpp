@@ -88,20 +88,11 @@ MatrixX3d extract_base_shape(const Mesh& textured, const BaseShapeOptions& o) {
     s.progress = o.progress;
     return smooth(textured, s);
   }
-  // Automatic (Sec. 8.3.1): step until the shape stops changing.
-  s.steps = 1;
-  Mesh m = textured;
-  const double h = mean_edge_length(textured);
-  MatrixX3d X = positions(m);
-  for (int step = 0; step < o.max_steps; ++step) {
-    const MatrixX3d Y = smooth(m, s);
-    const double moved = (Y - X).rowwise().norm().maxCoeff();
-    X = Y;
-    set_positions(m, X);
-    if (o.progress) o.progress(double(step + 1) / o.max_steps, "smoothing");
-    if (moved < o.stop_tolerance * h) break;
-  }
-  return X;
+  // Automatic (Sec. 8.3.1): step until the shape stops changing; one factorization for all steps.
+  s.steps = o.max_steps;
+  s.stop_tolerance = o.stop_tolerance;
+  s.progress = o.progress;
+  return smooth(textured, s);
 }
 
 Mesh project_onto_base(const Mesh& textured, const Mesh& base, size_t* missed) {
@@ -177,7 +168,13 @@ Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::Vecto
   if (heights.size() != 0 && heights.size() != T.rows()) throw InvalidInput("texture: expected one height per vertex");
   const double hmax = heights.size() ? heights.cwiseAbs().maxCoeff() : 0.0;
   Eigen::VectorXd w;  // empty: unweighted
-  if (options_.height_weighted && hmax > 0) w = (heights / hmax).array().square() + 1e-4;
+  if (options_.height_weighted && hmax > 0) {
+    // Full fit: h² (a vertex's position error is |h_i| × its direction error, Eq. 8.8). Tangential fit:
+    // |h|; the system is consistent, so the weights only steer CGLS (|h| needs the fewest iterations
+    // on both the spiky shapes and igea; bench/texture.md).
+    const Eigen::ArrayXd r = (heights / hmax).array().abs();
+    w = (options_.tangential_fit ? r : r.square()) + 1e-4;
+  }
   last_fit_ = TiltFitReport();
   if (options_.solver == TiltSolver::Direct || options_.bound_tilt) return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);
 

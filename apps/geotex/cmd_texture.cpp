@@ -41,7 +41,8 @@ TextureFile load_texture(const std::string& path) {
 
 // ------------------------------------------------------------------------------------------------
 struct ExtractArgs {
-  std::string input, output, base, reconstructed, laplacian = "umbrella", solver = "iterative";
+  std::string input, output, base, reconstructed, laplacian = "umbrella", solver = "iterative",
+      fit = "tangential";
   bool project = false, bound = false;
   double fit_tolerance = TextureOptions().fit_tolerance;
   BaseShapeOptions base_opt;
@@ -77,6 +78,7 @@ void run_extract(const ExtractArgs& a) {
   to.bound_tilt = a.bound;
   to.solver = a.solver == "direct" ? TiltSolver::Direct : TiltSolver::Iterative;
   to.fit_tolerance = a.fit_tolerance;
+  to.tangential_fit = a.fit == "tangential";
   TextureCodec codec(base, to);
   const MatrixX3d X = positions(textured);
   const Texture tex = codec.extract(X);
@@ -84,7 +86,7 @@ void run_extract(const ExtractArgs& a) {
   if (fit.iterative)
     info(fmt::format("tilt fit: iterative, {} CGLS iterations", fit.iterations));
   else
-    info(fmt::format("tilt fit: direct (sparse Cholesky){}",
+    info(fmt::format("tilt fit: direct (sparse Cholesky{}){}", to.tangential_fit && !to.bound_tilt ? ", vertex form" : "",
                      fit.iterations ? fmt::format("; the iterative fit stopped at {:.3g} mean edges after {} iterations",
                                                   fit.error, fit.iterations)
                                     : ""));
@@ -253,6 +255,10 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
                   "tilt 1-form fit: iterative (CGLS to --fit-tolerance, falls back to direct) or direct (exact "
                   "sparse Cholesky; slower)")
         ->check(CLI::IsMember({"iterative", "direct"}))->capture_default_str();
+    s->add_option("--tilt-fit", a->fit,
+                  "what the tilt 1-form fits at each vertex: tangential (the tilt's tangent components, all that "
+                  "decoding reads) or full (Eq. 5.81 as in the thesis: all three components of P c)")
+        ->check(CLI::IsMember({"tangential", "full"}))->capture_default_str();
     s->add_option("--fit-tolerance", a->fit_tolerance,
                   "iterative: stop when every reconstructed vertex is within this many mean edge lengths")
         ->check(CLI::PositiveNumber)->capture_default_str();

@@ -38,9 +38,13 @@ MatrixX3d one_form_to_vertices(const Mesh& mesh, const Eigen::VectorXd& c);
 SparseMatrix one_form_reconstruction_matrix(const Mesh& mesh);
 
 struct OneFormFitOptions {
-  //! Fit only the components tangent to the vertex normals. The thesis' system (Eq. 5.81) fits all
-  //! three, and does better: on icosphere(3) with a rotation field the full fit's max relative vertex
-  //! error is 1.4e-7, the tangential one's 1.2e-2 (one_form_test). Kept for comparison.
+  //! Fit only the components tangent to the vertex normals (2#V equations against #E ≈ 3#V unknowns:
+  //! an exact fit where the thesis' full system, Eq. 5.81, is a compromise with the normal parts of
+  //! P c). On icosphere(3) with a rotation field the full fit reproduces the field to 1.4e-7, the
+  //! tangential one its tangent parts to 3e-12 (one_form_test). Direct tangential fits without the
+  //! bound solve the 2#V × 2#V vertex form of the same normal equations (one third the unknowns of
+  //! the #E system, on the vertex graph). Off by default here: a general field's normal parts count;
+  //! a texture's tilt is tangent (TextureOptions::tangential_fit).
   bool tangential = false;
   //! Keep |c_ij| ≤ ‖e_ij‖ (Sec. 8.5: a tilt has magnitude at most one).
   bool bound_by_edge_length = false;

@@ -24,6 +24,9 @@ struct SmoothingOptions {
   //! Cotangent implicit steps: recompute the weights on the current surface each step (true, the
   //! flow of Eq. 5.14) or keep the first step's matrix and factor it once for all steps (false).
   bool update_weights = true;
+  //! Stop before \ref steps once a step moves no vertex by more than this many mean edge lengths
+  //! (0: always run every step). The system is factored once either way (umbrella, or frozen weights).
+  double stop_tolerance = 0;
   ProgressFn progress;  //!< called after each step
 };
 

@@ -61,13 +61,19 @@ enum class TiltSolver {
 
 struct TextureOptions {
   NormalWeighting normals = NormalWeighting::Angle;  //!< base vertex normals n_i
-  bool tangential_fit = false;    //!< see OneFormFitOptions::tangential (the thesis' full fit is better)
+  //! Fit only the tilt's components in the tangent planes (OneFormFitOptions::tangential). The tilt
+  //! is tangent (Eq. 8.6) and decoding keeps only the tangent part of P c (Eq. 8.8), so the thesis'
+  //! full fit (false) also spends its least squares on the normal part of P c, which nothing reads: on
+  //! a scan whose tilt the 1-form cannot hold exactly it leaves a larger decoded error, and its CGLS
+  //! converges ~10× slower (bench/texture.md).
+  bool tangential_fit = true;
   //! Keep |c_ij| ≤ ‖e_ij‖ (Sec. 8.5). Off by default: on the spiky shapes the pinned coefficients
   //! raise the round-trip error from ~1e-6 to several mean edge lengths (texture_test, bench/texture.md).
   bool bound_tilt = false;
   double regularization = 1e-8;  //!< see OneFormFitOptions::regularization
-  //! Weight each vertex's tilt equation by (h_i / max|h|)² + 1e-4: the position error of a
-  //! reconstructed vertex is |h_i| times its direction error, so tall vertices matter most.
+  //! Weight each vertex's tilt equation by (|h_i| / max|h|)^p + 1e-4: the position error of a
+  //! reconstructed vertex is |h_i| times its direction error, so tall vertices matter most. p = 2 for
+  //! the full fit; p = 1 for the tangential one, whose weights only steer CGLS (fewest iterations).
   bool height_weighted = true;
   //! Tilt fit solver. The bound |c_ij| ≤ ‖e_ij‖ (bound_tilt) always uses Direct.
   TiltSolver solver = TiltSolver::Iterative;

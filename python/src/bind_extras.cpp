@@ -329,7 +329,12 @@ method: 'sliding' (default: background slides along the surface) or 'thesis' (Eq
       },
       py::arg("V"), py::arg("F"), py::arg("c"), "Per-vertex vectors from edge coefficients (Eq. 5.78–5.79).");
 
-  m.def("texture_extract", [](V3 V, F3 F, py::object V_base, int steps, double lambda_) {
+  m.def("texture_extract", [](V3 V, F3 F, py::object V_base, int steps, double lambda_, const std::string& tilt_fit,
+                              const std::string& tilt_solver) {
+        if (tilt_fit != "tangential" && tilt_fit != "full")
+          throw InvalidInput("texture_extract: tilt_fit must be 'tangential' or 'full', got '" + tilt_fit + "'");
+        if (tilt_solver != "iterative" && tilt_solver != "direct")
+          throw InvalidInput("texture_extract: tilt_solver must be 'iterative' or 'direct', got '" + tilt_solver + "'");
         const Mesh textured = to_mesh(V, F);
         MatrixX3d B;
         if (V_base.is_none()) {
@@ -342,13 +347,19 @@ method: 'sliding' (default: background slides along the surface) or 'thesis' (Eq
         }
         Mesh base = textured;
         set_positions(base, B);
-        const Texture t = extract_texture(base, positions(textured));
+        TextureOptions to;
+        to.tangential_fit = tilt_fit == "tangential";
+        to.solver = tilt_solver == "direct" ? TiltSolver::Direct : TiltSolver::Iterative;
+        const Texture t = extract_texture(base, positions(textured), to);
         return py::dict(py::arg("V_base") = VArray(B), py::arg("height") = t.height, py::arg("tilt") = t.tilt,
                         py::arg("edges") = MatrixX2i(edges(base)));
       },
       py::arg("V"), py::arg("F"), py::arg("V_base") = py::none(), py::arg("steps") = 0, py::arg("lambda_") = 1.0,
+      py::arg("tilt_fit") = "tangential", py::arg("tilt_solver") = "iterative",
       R"doc(Extract a height-and-tilt texture (Eq. 8.4–8.7). The base is V_base (same connectivity) or, by
-default, implicit smoothing until the shape stops changing (steps=0). Returns V_base, height (#V), tilt (#E).)doc");
+default, implicit smoothing until the shape stops changing (steps=0). tilt_fit: "tangential" (the tilt's
+tangent components) or "full" (Eq. 5.81 as in the thesis); tilt_solver: "iterative" or "direct" (as the
+CLI's --tilt-fit and --tilt-solver). Returns V_base, height (#V), tilt (#E).)doc");
 
   m.def("texture_apply", [](V3 V_base, F3 F, const Eigen::VectorXd& height, const Eigen::VectorXd& tilt) {
         Texture t{height, tilt};

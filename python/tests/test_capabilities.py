@@ -115,6 +115,18 @@ def test_one_form_round_trip_of_a_constant_field_on_a_plane():
     assert np.abs(geotex.one_form_to_vertices(V, F, c) - T).max() < 1e-8
 
 
+def test_texture_tilt_fit_options_agree_on_an_exact_texture():
+    (Vt, F), (Vb, _) = geotex.generate("spiky-sphere", level=0, with_base=True)
+    h = geotex.mean_edge_length(Vb, F)
+    for fit in ("tangential", "full"):
+        for solver in ("iterative", "direct"):
+            tex = geotex.texture_extract(Vt, F, V_base=Vb, tilt_fit=fit, tilt_solver=solver)
+            rebuilt = geotex.texture_apply(Vb, F, tex["height"], tex["tilt"])
+            assert np.abs(rebuilt - Vt).max() < 1e-3 * h, (fit, solver)
+    with pytest.raises(ValueError):
+        geotex.texture_extract(Vt, F, V_base=Vb, tilt_fit="normal")
+
+
 def test_texture_round_trip_and_edits():
     (Vt, F), (Vb, _) = geotex.generate("spiky-sphere", level=1, with_base=True)
     tex = geotex.texture_extract(Vt, F, V_base=Vb)
