@@ -125,6 +125,36 @@ TEST(Smoothing, FrozenWeightsMatchUpdatedForOneStep) {
   EXPECT_LT((smooth(m, a) - smooth(m, b)).cwiseAbs().maxCoeff(), 1e-14);
 }
 
+TEST(Smoothing, StopToleranceEndsAtTheFirstSmallStepAndMatchesThatManySteps) {
+  NoiseOptions no;
+  no.sigma = 0.5;
+  Mesh m = icosphere(3);
+  set_positions(m, add_noise(m, no));
+  const double h = mean_edge_length(m);
+  for (const LaplacianType type : {LaplacianType::Umbrella, LaplacianType::Cotangent}) {
+    SmoothingOptions o;
+    o.laplacian = type;
+    o.lambda = 0.5;
+    o.steps = 40;
+    o.stop_tolerance = 0.05;
+    int calls = 0;
+    o.progress = [&](double, std::string_view) { ++calls; };
+    const MatrixX3d stopped = smooth(m, o);
+    ASSERT_GT(calls, 1);
+    ASSERT_LT(calls, o.steps);  // it stopped early...
+    SmoothingOptions fixed = o;
+    fixed.stop_tolerance = 0;
+    fixed.progress = nullptr;
+    fixed.steps = calls;  // ...after exactly `calls` steps
+    EXPECT_LT((smooth(m, fixed) - stopped).cwiseAbs().maxCoeff(), 1e-12);
+    fixed.steps = calls - 1;  // and the step before moved more than the tolerance
+    const MatrixX3d before = smooth(m, fixed);
+    EXPECT_LT((stopped - before).rowwise().norm().maxCoeff(), o.stop_tolerance * h);
+    fixed.steps = calls - 2;
+    EXPECT_GE((before - smooth(m, fixed)).rowwise().norm().maxCoeff(), o.stop_tolerance * h);
+  }
+}
+
 TEST(Smoothing, BadOptionsAreRejected) {
   const Mesh m = icosphere(1);
   SmoothingOptions o;
