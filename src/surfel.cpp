@@ -265,15 +265,16 @@ void update_centers(const std::vector<Vec3>& X, Config& s) {
 
 // The site terms of surfel i in configuration s at threshold t (chord).
 // The weights are those of a surfel with normal \p m (Eq. 7.12–7.13), or, with \p guide, those of
-// the guidance normals of i and j.
+// the guidance normals of i and j; squared with \p irls.
 void site_terms(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, Eigen::Index i, double t_chord,
-                const Vec3& m, std::vector<SiteTerm>& terms, const std::vector<Vec3>* guide = nullptr) {
+                const Vec3& m, std::vector<SiteTerm>& terms, const std::vector<Vec3>* guide = nullptr, bool irls = false) {
   terms.clear();
   const Vec3& x = X[i];
   double W = 0;
   for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k) {
     const int j = N.indices[k];
-    const double w = guide ? surfel_weight((*guide)[i], (*guide)[j], t_chord) : surfel_weight(m, s.n[j], t_chord);
+    double w = guide ? surfel_weight((*guide)[i], (*guide)[j], t_chord) : surfel_weight(m, s.n[j], t_chord);
+    if (irls) w *= w;  // SurfelOptions::irls_weights
     W += w;
     terms.push_back({s.n[j], s.c[j] - x, s.n[j].dot(x) - s.a[j], w});
   }
@@ -281,7 +282,7 @@ void site_terms(const std::vector<Vec3>& X, const Neighborhoods& N, const Config
 }
 
 double total_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, double alpha, double beta,
-                    double t_chord, const std::vector<Vec3>* guide = nullptr) {
+                    double t_chord, const std::vector<Vec3>* guide = nullptr, bool irls = false) {
   const Eigen::Index P = static_cast<Eigen::Index>(X.size());
   double E = 0;
 #pragma omp parallel reduction(+ : E) if (P > 4096)
@@ -289,7 +290,7 @@ double total_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Co
     std::vector<SiteTerm> terms;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < P; ++i) {
-      site_terms(X, N, s, i, t_chord, s.n[i], terms, guide);
+      site_terms(X, N, s, i, t_chord, s.n[i], terms, guide, irls);
       const double rho = s.n[i].dot(X[i]) - s.a[i];
       E += term_energy(terms, alpha, beta, s.n[i], rho);
     }
@@ -434,7 +435,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
         for (Eigen::Index i = 0; i < P; ++i) {
           const Vec3& x = w.X[i];
           // The lagged-weight minimiser from the current surfel (the thesis' scheme).
-          site_terms(w.X, N, w.s, i, chord, w.s.n[i], terms, G);
+          site_terms(w.X, N, w.s, i, chord, w.s.n[i], terms, G, o.irls_weights);
           Vec3 n = w.s.n[i];
           double rho = n.dot(x) - w.s.a[i];
           minimize_terms(terms, o.alpha, o.beta, n, rho, o.local_sweeps, 1e-14);
@@ -444,7 +445,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
             // Eq. (7.13): ICM keeps the label of least energy. This escapes the symmetric saddles
             // of noiseless data (a surfel on a cube edge exactly between its two faces).
             auto true_energy = [&](const Vec3& cn, double crho) {
-              site_terms(w.X, N, w.s, i, chord, cn, terms);
+              site_terms(w.X, N, w.s, i, chord, cn, terms, nullptr, o.irls_weights);
               return term_energy(terms, o.alpha, o.beta, cn, crho);
             };
             double best = true_energy(n, rho);
@@ -463,7 +464,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
               for (const Vec3& q : starts) seen = seen || (q - m).norm() < distinct;
               if (seen) continue;
               starts.push_back(m);
-              site_terms(w.X, N, w.s, i, chord, m, terms);
+              site_terms(w.X, N, w.s, i, chord, m, terms, nullptr, o.irls_weights);
               Vec3 cn = m;
               double crho = rho;
               minimize_terms(terms, o.alpha, o.beta, cn, crho, o.local_sweeps, 1e-14);

@@ -17,6 +17,7 @@ struct SurfelArgs {
   std::string retrieval = "dual", neighborhood = "ring", polygons;
   int neighbors = 10, per_threshold = 1;
   bool candidates = false, guided = false;
+  std::string weights = "lagged";
   DualOptions dual;
 };
 
@@ -51,6 +52,10 @@ void add_options(CLI::App& app) {
   app.add_flag("--surfel-guided", a.guided,
                "not in the thesis: weights from guidance normals (mean normal of the most consistent one-ring patch)")
       ->group(g);
+  app.add_option("--surfel-weights", a.weights,
+                 "weights held during each local minimisation: lagged (the thesis: w of Eq. 7.12) or irls (w², the "
+                 "stated energy's own reweighting; keeps edges sharp over more sweeps)")
+      ->check(CLI::IsMember({"lagged", "irls"}))->capture_default_str()->group(g);
   app.add_option("--surfel-eigen-threshold", a.dual.eigen_threshold,
                  "dual retrieval: relative eigenvalue below which plane intersections are ill-determined")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str()->group(g);
@@ -70,6 +75,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   o.iterations_per_threshold = a.per_threshold;
   o.candidates = a.candidates;
   o.guided = a.guided;
+  o.irls_weights = a.weights == "irls";
   o.progress = common.progress;
   Neighborhoods N;
   Surfels S0;
@@ -106,7 +112,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   out.report["parameters"] = {{"alpha", o.alpha},         {"beta", o.beta},
                               {"t_start_deg", o.t_start_deg}, {"t_end_deg", o.t_end_deg},
                               {"iterations", o.iterations}, {"iterations_per_threshold", o.iterations_per_threshold},
-                              {"candidates", o.candidates}, {"guided", o.guided}, {"retrieval", a.retrieval},
+                              {"candidates", o.candidates}, {"guided", o.guided}, {"weights", a.weights}, {"retrieval", a.retrieval},
                               {"neighborhood", a.neighborhood}, {"neighbors", a.neighbors},
                               {"unit_length", r.unit_length}};
   out.report["initial_energy"] = r.initial_energy;

@@ -143,9 +143,14 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
     kw.get("t_end", o.t_end_deg);
     kw.get("iterations_per_threshold", o.iterations_per_threshold);
     kw.get("candidates", o.candidates);
+    kw.get("guided", o.guided);
+    std::string weights = "lagged";
+    kw.get("weights", weights);
     kw.get("retrieval", retrieval);
     kw.finish();
     if (retrieval != "dual" && retrieval != "primal") throw InvalidInput("retrieval must be 'dual' or 'primal'");
+    if (weights != "lagged" && weights != "irls") throw InvalidInput("weights must be 'lagged' or 'irls'");
+    o.irls_weights = weights == "irls";
     const MatrixX3d X = positions(mesh);
     Mesh out;
     SurfelResult r;
@@ -201,7 +206,7 @@ method='mrf' (vertex + edge process) or 'mrf-normal' (face-normal MRF + edge pro
   initial_labels, and the edge process' phi0 (degrees), phi0_start, support, te, te_cooling, edge_sweeps,
   quench, ridges ('all'|'convex'|'concave'), edge_optimizer ('metropolis'|'icm').
 method='surfel' takes alpha, beta, iterations, t_start, t_end (degrees), iterations_per_threshold,
-  candidates, retrieval ('dual'|'primal').
+  candidates, guided, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal').
 
 Returns a dict with V, F (the result), edge_labels (per edge of edges, or None) and energies.)doc");
 
