@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -165,6 +166,69 @@ Mesh surfel_primal_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S) 
     throw InvalidInput(fmt::format("primal mesh: {} vertices but {} points", mesh.n_vertices(), X.rows()));
   Mesh out = mesh;
   set_positions(out, surfel_centers(X, S));  // Eq. (7.6)
+  return out;
+}
+
+MatrixX3d surfel_face_normals(const Mesh& mesh, const MatrixX3d& X, const Surfels& S) {
+  if (static_cast<size_t>(X.rows()) != mesh.n_vertices() || X.rows() != S.size())
+    throw InvalidInput(fmt::format("surfel face normals: {} vertices, {} points, {} surfels", mesh.n_vertices(),
+                                   X.rows(), S.size()));
+  const MatrixX3i F = faces(mesh);
+  const MatrixX3d C = surfel_centers(X, S);
+  MatrixX3d N(F.rows(), 3);
+#pragma omp parallel for schedule(static) if (F.rows() > 4096)
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    // The corner surfel whose plane the face's three surfel centres fit best.
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 n = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const Surfel s = S[F(f, k)];
+      double r = 0;
+      for (int m = 0; m < 3; ++m) r += std::pow(s.n.dot(C.row(F(f, m)).transpose()) - s.a, 2);
+      if (r < best) {
+        best = r;
+        n = s.n;
+      }
+    }
+    N.row(f) = n.transpose();
+  }
+  return N;
+}
+
+Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, int iterations) {
+  if (iterations < 0) throw InvalidInput("surfel fitted mesh: iterations must be non-negative");
+  const MatrixX3d N = surfel_face_normals(mesh, X, S);
+  const MatrixX3i F = faces(mesh);
+  const Eigen::Index nv = X.rows();
+  std::vector<int> off(nv + 1, 0), vf;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++off[F(f, k) + 1];
+  for (Eigen::Index v = 0; v < nv; ++v) off[v + 1] += off[v];
+  vf.resize(off[nv]);
+  {
+    std::vector<int> fill(off.begin(), off.end() - 1);
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) vf[fill[F(f, k)]++] = static_cast<int>(f);
+  }
+  MatrixX3d x = surfel_centers(X, S), y(nv, 3), c(F.rows(), 3);
+  // Sun et al. 2007, Eq. (8): x_i ← x_i + 1/|F_i| Σ_{f ∋ i} n_f (n_f · (c_f − x_i)), all vertices at once.
+  for (int it = 0; it < iterations; ++it) {
+#pragma omp parallel for schedule(static) if (F.rows() > 4096)
+    for (Eigen::Index f = 0; f < F.rows(); ++f) c.row(f) = (x.row(F(f, 0)) + x.row(F(f, 1)) + x.row(F(f, 2))) / 3.0;
+#pragma omp parallel for schedule(static) if (nv > 4096)
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      Vec3 d = Vec3::Zero();
+      for (int k = off[v]; k < off[v + 1]; ++k) {
+        const Vec3 nf = N.row(vf[k]).transpose();
+        d += nf * nf.dot(Vec3((c.row(vf[k]) - x.row(v)).transpose()));
+      }
+      y.row(v) = x.row(v);
+      if (off[v + 1] > off[v]) y.row(v) += d.transpose() / (off[v + 1] - off[v]);
+    }
+    x.swap(y);
+  }
+  Mesh out = mesh;
+  set_positions(out, x);
   return out;
 }
 

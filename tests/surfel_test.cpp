@@ -237,6 +237,58 @@ TEST(Surfel, IrlsWeightsKeepEdgesFromBleedingIntoFacesOverManySweeps) {
   EXPECT_LT(err[1], 0.5 * initial);
 }
 
+TEST(Surfel, FaceNormalsTakeTheirOwnSidesPlaneAndTheFitRetrievalBeatsPrimalAndDual) {
+  // Noiseless cube, every vertex's surfel the plane of one face it lies on (edge and corner vertices
+  // take the first axis): a face with a corner strictly inside its cube face gets that face's normal
+  // even when its other corners carry another side's plane.
+  const Mesh cube = subdivided_cube(6);
+  const MatrixX3d C = positions(cube);
+  MatrixX3d N0 = MatrixX3d::Zero(C.rows(), 3);
+  std::vector<int> inside(C.rows(), 0);
+  for (Eigen::Index i = 0; i < C.rows(); ++i) {
+    int faces_on = 0;
+    for (int d = 2; d >= 0; --d)
+      if (std::abs(std::abs(C(i, d)) - 0.5) < 1e-9) {
+        N0.row(i).setZero();
+        N0(i, d) = C(i, d) > 0 ? 1 : -1;
+        ++faces_on;
+      }
+    inside[i] = faces_on == 1;
+  }
+  const Surfels S = surfels_from_normals(C, N0);
+  const MatrixX3d FN = surfel_face_normals(cube, C, S), truth = face_normals(cube);
+  const MatrixX3i F = faces(cube);
+  int checked = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (!inside[F(f, 0)] && !inside[F(f, 1)] && !inside[F(f, 2)]) continue;
+    EXPECT_LT((FN.row(f) - truth.row(f)).norm(), 1e-12) << "face " << f;
+    ++checked;
+  }
+  EXPECT_GT(checked, F.rows() / 2);
+
+  // Noisy cube: fitting the vertices to those face normals beats moving them to the surfel centres
+  // (primal) and the dual mesh.
+  const Mesh fine = subdivided_cube(12);
+  Mesh noisy = fine;
+  NoiseOptions no;
+  no.sigma = 0.3;
+  set_positions(noisy, add_noise(fine, no));
+  const MatrixX3d X = positions(noisy);
+  SurfelOptions o;
+  o.irls_weights = true;
+  o.t_start_deg = 20;
+  o.iterations = 20;
+  const Surfels R = optimize_surfels(X, one_ring_neighborhoods(noisy), initial_surfels(noisy), o).surfels;
+  const double fit = compare_meshes(surfel_fitted_mesh(noisy, X, R), fine).mean_normal_error_deg;
+  const double primal = compare_meshes(surfel_primal_mesh(noisy, X, R), fine).mean_normal_error_deg;
+  const double dual = compare_meshes(triangulate_polygons(surfel_dual_polygons(noisy, X, R)), fine).mean_normal_error_deg;
+  std::cout << "[ noisy cube, mean normal error ] fit " << fit << " deg, primal " << primal << ", dual " << dual
+            << " (input " << compare_meshes(noisy, fine).mean_normal_error_deg << ")\n";
+  EXPECT_LT(fit, primal);
+  EXPECT_LT(fit, dual);
+  EXPECT_THROW(surfel_fitted_mesh(noisy, X, R, -1), InvalidInput);
+}
+
 TEST(Surfel, CubeFaceSurfelsDoNotMove) {
   // The vertices of one face of a cube with that face's plane as surfels: every term vanishes.
   const Mesh cube = subdivided_cube(8);

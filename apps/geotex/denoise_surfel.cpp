@@ -15,7 +15,7 @@ namespace {
 struct SurfelArgs {
   double beta = 100, t_start = 45, t_end = 10;
   std::string retrieval = "dual", neighborhood = "ring", polygons;
-  int neighbors = 10, per_threshold = 1;
+  int neighbors = 10, per_threshold = 1, fit_iterations = 20;
   bool candidates = false, guided = false;
   std::string weights = "lagged";
   DualOptions dual;
@@ -36,8 +36,9 @@ void add_options(CLI::App& app) {
   app.add_option("--t-end", a.t_end, "last angle threshold t, degrees (exponential decrease)")
       ->check(CLI::Range(1e-6, 180.0))->capture_default_str()->group(g);
   app.add_option("--retrieval", a.retrieval,
-                 "dual: dual mesh at surfel-plane intersections (Sec. 7.4.4); primal: vertices moved to surfel centres")
-      ->check(CLI::IsMember({"dual", "primal"}))->capture_default_str()->group(g);
+                 "dual: dual mesh at surfel-plane intersections (Sec. 7.4.4); primal: vertices moved to surfel centres; "
+                 "fit: vertices fitted to the surfel planes of their faces (not in the thesis; same connectivity)")
+      ->check(CLI::IsMember({"dual", "primal", "fit"}))->capture_default_str()->group(g);
   app.add_option("--neighbors", a.neighbors, "k nearest neighbours with --surfel-neighborhood knn")
       ->check(CLI::Range(1, 1000))->capture_default_str()->group(g);
   app.add_option("--surfel-neighborhood", a.neighborhood,
@@ -56,6 +57,8 @@ void add_options(CLI::App& app) {
                  "weights held during each local minimisation: lagged (the thesis: w of Eq. 7.12) or irls (w², the "
                  "stated energy's own reweighting; keeps edges sharp over more sweeps)")
       ->check(CLI::IsMember({"lagged", "irls"}))->capture_default_str()->group(g);
+  app.add_option("--surfel-fit-iterations", a.fit_iterations, "fit retrieval: vertex updates (Sun et al. 2007)")
+      ->check(CLI::Range(0, 100000))->capture_default_str()->group(g);
   app.add_option("--surfel-eigen-threshold", a.dual.eigen_threshold,
                  "dual retrieval: relative eigenvalue below which plane intersections are ill-determined")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str()->group(g);
@@ -90,8 +93,8 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   }
   const SurfelResult r = optimize_surfels(X, N, S0, o);
   DenoiseResult out;
-  if (a.retrieval == "primal") {
-    out.mesh = surfel_primal_mesh(input, X, r.surfels);
+  if (a.retrieval == "primal" || a.retrieval == "fit") {
+    out.mesh = a.retrieval == "fit" ? surfel_fitted_mesh(input, X, r.surfels, a.fit_iterations) : surfel_primal_mesh(input, X, r.surfels);
     // Edge label: 1 − w at the last threshold (w = 1/2 at the threshold angle, Eq. 7.12).
     const double chord = threshold_chord(o.t_end_deg);
     out.edge_labels.resize(out.mesh.n_edges());

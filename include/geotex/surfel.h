@@ -196,6 +196,16 @@ Vec3 plane_quadric_point(const std::vector<Surfel>& planes, const Vec3& p0, doub
 //! Primal retrieval: the mesh with every vertex moved to its surfel centre (Eq. 7.6); same connectivity.
 Mesh surfel_primal_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S);
 
+//! A target normal per face from the surfels: of its three corners' surfels, the one whose plane the
+//! face's three surfel centres fit best (a face beside a sharp edge takes the plane of its own side,
+//! not a corner's on the edge). \return #F by 3 unit normals.
+MatrixX3d surfel_face_normals(const Mesh& mesh, const MatrixX3d& X, const Surfels& S);
+
+//! Fitted retrieval (not in the thesis): from the surfel centres, fit the vertices to the surfel face
+//! normals (surfel_face_normals()) by the vertex update of Sun et al. 2007, \p iterations times; same
+//! connectivity. Vertices beside a sharp edge move onto the intersection of the two sides' planes.
+Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, int iterations = 20);
+
 //! Write a polygon mesh as OBJ, atomically. \throw IoError on failure.
 void write_polygon_obj(const PolygonMesh& poly, const std::string& path);
 

@@ -148,7 +148,8 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
     kw.get("weights", weights);
     kw.get("retrieval", retrieval);
     kw.finish();
-    if (retrieval != "dual" && retrieval != "primal") throw InvalidInput("retrieval must be 'dual' or 'primal'");
+    if (retrieval != "dual" && retrieval != "primal" && retrieval != "fit")
+      throw InvalidInput("retrieval must be 'dual', 'primal' or 'fit'");
     if (weights != "lagged" && weights != "irls") throw InvalidInput("weights must be 'lagged' or 'irls'");
     o.irls_weights = weights == "irls";
     const MatrixX3d X = positions(mesh);
@@ -158,8 +159,9 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
       py::gil_scoped_release release;
       o.unit_length = mean_edge_length(mesh);
       r = optimize_surfels(X, one_ring_neighborhoods(mesh), initial_surfels(mesh), o);
-      out = retrieval == "dual" ? triangulate_polygons(surfel_dual_polygons(mesh, X, r.surfels))
-                                : surfel_primal_mesh(mesh, X, r.surfels);
+      out = retrieval == "dual"  ? triangulate_polygons(surfel_dual_polygons(mesh, X, r.surfels))
+            : retrieval == "fit" ? surfel_fitted_mesh(mesh, X, r.surfels)
+                                 : surfel_primal_mesh(mesh, X, r.surfels);
     }
     py::dict d;
     d["V"] = VArray(positions(out));
@@ -206,7 +208,7 @@ method='mrf' (vertex + edge process) or 'mrf-normal' (face-normal MRF + edge pro
   initial_labels, and the edge process' phi0 (degrees), phi0_start, support, te, te_cooling, edge_sweeps,
   quench, ridges ('all'|'convex'|'concave'), edge_optimizer ('metropolis'|'icm').
 method='surfel' takes alpha, beta, iterations, t_start, t_end (degrees), iterations_per_threshold,
-  candidates, guided, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal').
+  candidates, guided, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal'|'fit').
 
 Returns a dict with V, F (the result), edge_labels (per edge of edges, or None) and energies.)doc");
 
