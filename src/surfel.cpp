@@ -395,6 +395,22 @@ double surfel_energy(const MatrixX3d& X, const Neighborhoods& N, const Surfels& 
   return total_energy(w.X, N, w.s, alpha, beta, threshold_chord(t_deg));
 }
 
+double median_neighbor_angle_deg(const Surfels& S, const Neighborhoods& N) {
+  if (N.size() != S.size()) throw InvalidInput(fmt::format("surfels: {} surfels but {} neighbourhoods", S.size(), N.size()));
+  std::vector<double> angle;
+  angle.reserve(N.indices.size() / 2 + 1);
+  for (Eigen::Index i = 0; i < N.size(); ++i)
+    for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k) {
+      const int j = N.indices[k];
+      if (j <= i) continue;
+      const Vec3 a = S.normals.row(i).transpose(), b = S.normals.row(j).transpose();
+      angle.push_back(std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI);
+    }
+  if (angle.empty()) throw InvalidInput("surfels: no neighbour pairs");
+  std::nth_element(angle.begin(), angle.begin() + angle.size() / 2, angle.end());
+  return angle[angle.size() / 2];
+}
+
 SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const Surfels& initial,
                               const SurfelOptions& o) {
   check_inputs(X, N, initial);

@@ -210,7 +210,10 @@ Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, 
     for (Eigen::Index f = 0; f < F.rows(); ++f)
       for (int k = 0; k < 3; ++k) vf[fill[F(f, k)]++] = static_cast<int>(f);
   }
-  MatrixX3d x = surfel_centers(X, S), y(nv, 3), c(F.rows(), 3);
+  // From the data points: the surfels give the normals only, so the planes' drift along their normals
+  // (shrinkage on curved parts over many sweeps) does not move the result (measured: Fandisk0.3 2.79°
+  // from the data points against 2.86° from the surfel centres; Block0.4 3.79° against 3.92°).
+  MatrixX3d x = X, y(nv, 3), c(F.rows(), 3);
   // Sun et al. 2007, Eq. (8): x_i ← x_i + 1/|F_i| Σ_{f ∋ i} n_f (n_f · (c_f − x_i)), all vertices at once.
   for (int it = 0; it < iterations; ++it) {
 #pragma omp parallel for schedule(static) if (F.rows() > 4096)

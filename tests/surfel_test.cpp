@@ -534,6 +534,51 @@ TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
 }
 
+TEST(SurfelCli, TunedPresetBeatsTheThesisDefaultsAndExplicitFlagsOverrideIt) {
+  test::TempDir tmp;
+  const Mesh clean = subdivided_cube(10);
+  Mesh noisy = clean;
+  NoiseOptions no;
+  no.sigma = 0.3;
+  set_positions(noisy, add_noise(clean, no));
+  write_mesh(noisy, tmp / "noisy.ply");
+  write_mesh(clean, tmp / "clean.ply");
+  auto r = test::run_cli(fmt::format("denoise {} -o {} --method surfel --surfel-preset tuned --report {}",
+                                     tmp / "noisy.ply", tmp / "tuned.ply", tmp / "t.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("median angle between neighbouring surfels"), std::string::npos) << r.err;
+  const std::string report = test::read_file(tmp / "t.json");
+  EXPECT_NE(report.find("\"retrieval\": \"fit\""), std::string::npos) << report;
+  EXPECT_NE(report.find("\"weights\": \"irls\""), std::string::npos) << report;
+  const Mesh tuned = read_mesh(tmp / "tuned.ply");
+  EXPECT_EQ(tuned.n_faces(), noisy.n_faces());  // the fit retrieval keeps the connectivity
+  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval primal", tmp / "noisy.ply", tmp / "thesis.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(compare_meshes(tuned, clean).mean_normal_error_deg,
+            0.7 * compare_meshes(read_mesh(tmp / "thesis.ply"), clean).mean_normal_error_deg);
+  // An explicit flag wins over the preset.
+  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --surfel-preset tuned --retrieval dual --report {}",
+                                tmp / "noisy.ply", tmp / "dual.ply", tmp / "d.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::read_file(tmp / "d.json").find("\"retrieval\": \"dual\""), std::string::npos);
+}
+
+TEST(Surfel, MedianNeighborAngleMeasuresTheNormalNoise) {
+  const Mesh flat = plane(10, 1.0);
+  EXPECT_NEAR(median_neighbor_angle_deg(initial_surfels(flat), one_ring_neighborhoods(flat)), 0.0, 1e-9);
+  // Every normal tilted by a random 10° about a random horizontal axis: neighbours differ by ~10–20°.
+  MatrixX3d N(flat.n_vertices(), 3);
+  Rng rng(5);
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const double phi = rng.uniform(0, 2 * M_PI);
+    N.row(i) = Eigen::RowVector3d(std::sin(10 * M_PI / 180) * std::cos(phi), std::sin(10 * M_PI / 180) * std::sin(phi),
+                                  std::cos(10 * M_PI / 180));
+  }
+  const double m = median_neighbor_angle_deg(surfels_from_normals(positions(flat), N), one_ring_neighborhoods(flat));
+  EXPECT_GT(m, 5.0);
+  EXPECT_LT(m, 20.0);
+}
+
 TEST(SurfelCli, BadFlagsFailWithOneLine) {
   test::TempDir tmp;
   write_mesh(subdivided_cube(4), tmp / "c.ply");

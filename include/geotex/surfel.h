@@ -154,6 +154,10 @@ struct SurfelResult {
   double unit_length = 0;              //!< the unit length used
 };
 
+//! Median angle (degrees) between the normals of neighbouring surfels: a robust measure of the normal
+//! noise (sharp edges are a small fraction of the pairs). Used for an automatic first threshold.
+double median_neighbor_angle_deg(const Surfels& S, const Neighborhoods& N);
+
 //! Optimise surfels by ICM with simultaneous updates (Sec. 7.4.3.5) and the decreasing threshold
 //! schedule t_k = t_start (t_end / t_start)^(k/(K−1)) (Sec. 7.4.3.4). OpenMP-parallel per sweep.
 //! \param X #P by 3 data points, \param N their neighbourhoods, \param initial the starting surfels.
@@ -201,7 +205,7 @@ Mesh surfel_primal_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S);
 //! not a corner's on the edge). \return #F by 3 unit normals.
 MatrixX3d surfel_face_normals(const Mesh& mesh, const MatrixX3d& X, const Surfels& S);
 
-//! Fitted retrieval (not in the thesis): from the surfel centres, fit the vertices to the surfel face
+//! Fitted retrieval (not in the thesis): from the data points, fit the vertices to the surfel face
 //! normals (surfel_face_normals()) by the vertex update of Sun et al. 2007, \p iterations times; same
 //! connectivity. Vertices beside a sharp edge move onto the intersection of the two sides' planes.
 Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, int iterations = 20);
