@@ -377,6 +377,120 @@ Normalized normalize(const MatrixX3d& X, const Surfels& S, const Vec3& origin, d
   return out;
 }
 
+// Site energy U_k (Eq. 7.14–7.16) of configuration s, weights from s itself (Eq. 7.12–7.13).
+double site_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, Eigen::Index k, double alpha,
+                   double beta, double chord) {
+  double W = 0, E = 0;
+  for (int q = N.offsets[k]; q < N.offsets[k + 1]; ++q) {
+    const int j = N.indices[q];
+    const double w = surfel_weight(s.n[k], s.n[j], chord);
+    const double dkj = s.n[j].dot(s.c[k]) - s.a[j], djk = s.n[k].dot(s.c[j]) - s.a[k];
+    E += w * (beta * (s.n[k] - s.n[j]).squaredNorm() + dkj * dkj + djk * djk);
+    W += w;
+  }
+  const double r = s.n[k].dot(X[k]) - s.a[k];
+  return (W > 0 ? E / W : 0.0) + alpha * r * r;
+}
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Cluster moves (not in the thesis). ICM changes one surfel at a time, so a chain of parallel surfels
+// can sit in a state that no single surfel can leave and the chain as a whole can: on a noiseless cube
+// the surfels along an edge stay at the bisector of its faces, a zero-width chamfer, though turning the
+// whole chain to either face lowers the energy. Each move takes a cluster (surfels joined through
+// neighbours with the same normal), tries the normal of every larger cluster just outside it within 60°,
+// with each plane through its data point, and keeps the one that lowers Σ U_k over the cluster and its
+// neighbours the most.
+// Returns the number of moves made.
+int cluster_moves(const std::vector<Vec3>& X, const Neighborhoods& N, Config& s, double alpha, double beta,
+                  double chord, int passes) {
+  const Eigen::Index P = static_cast<Eigen::Index>(X.size());
+  constexpr double same = 1e-9;  // "the same normal": exactly parallel (noiseless data)
+  int moves = 0;
+  std::vector<int> parent(P), mark(P, -1);
+  for (int pass = 0; pass < passes; ++pass) {
+    for (Eigen::Index i = 0; i < P; ++i) parent[i] = static_cast<int>(i);
+    for (Eigen::Index i = 0; i < P; ++i)
+      for (int q = N.offsets[i]; q < N.offsets[i + 1]; ++q)
+        if ((s.n[i] - s.n[N.indices[q]]).norm() < same) parent[find_root(parent, static_cast<int>(i))] = find_root(parent, N.indices[q]);
+    std::vector<std::vector<int>> members(P);
+    for (Eigen::Index i = 0; i < P; ++i) members[find_root(parent, static_cast<int>(i))].push_back(static_cast<int>(i));
+    int made = 0, stamp = 0;
+    std::vector<int> affected;
+    std::vector<Vec3> candidates, old_n;
+    std::vector<double> old_a;
+    for (Eigen::Index root = 0; root < P; ++root) {
+      const std::vector<int>& M = members[root];
+      if (M.empty()) continue;
+      ++stamp;
+      affected.assign(M.begin(), M.end());
+      for (int i : M) mark[i] = stamp;
+      candidates.clear();
+      for (int i : M)
+        for (int q = N.offsets[i]; q < N.offsets[i + 1]; ++q) {
+          const int j = N.indices[q];
+          if (mark[j] == stamp) continue;
+          mark[j] = stamp;
+          affected.push_back(j);
+          // A candidate turns the cluster by less than 60° (a plane across the surface, normal along a chain
+          // of edge points, can have less overlap energy than the chamfer it would replace).
+          bool seen = (s.n[j] - s.n[i]).norm() < same || s.n[j].dot(s.n[i]) < 0.5 ||
+                      members[find_root(parent, j)].size() <= M.size();
+          for (const Vec3& m : candidates) seen = seen || (m - s.n[j]).norm() < same;
+          if (!seen) candidates.push_back(s.n[j]);
+        }
+      if (candidates.empty()) continue;
+      auto energy = [&] {
+        double E = 0;
+        for (int k : affected) E += site_energy(X, N, s, k, alpha, beta, chord);
+        return E;
+      };
+      const double before = energy();
+      old_n.clear();
+      old_a.clear();
+      for (int i : M) {
+        old_n.push_back(s.n[i]);
+        old_a.push_back(s.a[i]);
+      }
+      auto assign = [&](const Vec3& m) {
+        for (int i : M) {
+          s.n[i] = m;
+          s.a[i] = m.dot(X[i]);
+          s.c[i] = X[i];
+        }
+      };
+      auto restore = [&] {
+        for (size_t k = 0; k < M.size(); ++k) {
+          s.n[M[k]] = old_n[k];
+          s.a[M[k]] = old_a[k];
+          s.c[M[k]] = X[M[k]] - (old_n[k].dot(X[M[k]]) - old_a[k]) * old_n[k];
+        }
+      };
+      double best = before - 1e-12 * std::max(1.0, std::abs(before));
+      int best_k = -1;
+      for (size_t k = 0; k < candidates.size(); ++k) {
+        assign(candidates[k]);
+        const double e = energy();
+        if (e < best) {
+          best = e;
+          best_k = static_cast<int>(k);
+        }
+        restore();
+      }
+      if (best_k >= 0) {
+        assign(candidates[best_k]);
+        ++made;
+      }
+    }
+    moves += made;
+    if (made == 0) break;
+  }
+  return moves;
+}
+
 double resolve_unit(const MatrixX3d& X, const Neighborhoods& N, double unit) {
   if (unit < 0 || !std::isfinite(unit)) throw InvalidInput("surfels: the unit length must be positive");
   if (unit == 0) unit = mean_neighbor_distance(X, N);
@@ -432,6 +546,10 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
   if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
   result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), G);
 
+  if (o.cluster_moves) {
+    result.cluster_moves += cluster_moves(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), 20);
+    update_centers(w.X, w.s);
+  }
   const int K = o.iterations;
   const int total = K * o.iterations_per_threshold;
   int done = 0;
@@ -504,6 +622,12 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
       result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord, G));
       report(o.progress, double(++done) / std::max(total, 1), "surfel ICM");
     }
+  }
+
+  if (o.cluster_moves && K > 0) {
+    const double chord = threshold_chord(o.t_end_deg);
+    result.cluster_moves += cluster_moves(w.X, N, w.s, o.alpha, o.beta, chord, 20);
+    update_centers(w.X, w.s);
   }
 
   result.surfels.normals.resize(P, 3);

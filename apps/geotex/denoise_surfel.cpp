@@ -68,8 +68,8 @@ void add_options(CLI::App& app) {
       ->check(CLI::Range(0, 100000))->capture_default_str()->group(g);
   app.add_option("--surfel-preset", a.preset,
                  "thesis: the thesis' defaults (alpha 0.1, beta 100, t 45 -> 10 deg, 10 iterations, lagged weights, "
-                 "dual mesh); tuned (not in the thesis): irls weights, fit retrieval, 30 iterations and t from 0.85 x the "
-                 "median angle between neighbouring initial surfels down to 10 deg. Explicit flags override either")
+                 "dual mesh); tuned (not in the thesis): irls weights, cluster moves, fit retrieval, 30 iterations and t from "
+                 "0.85 x the median angle between neighbouring initial surfels down to 10 deg. Explicit flags override either")
       ->check(CLI::IsMember({"thesis", "tuned"}))->capture_default_str()->group(g);
   app.add_option("--surfel-eigen-threshold", a.dual.eigen_threshold,
                  "dual retrieval: relative eigenvalue below which plane intersections are ill-determined")
@@ -93,6 +93,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   o.candidates = a.candidates;
   o.guided = a.guided;
   o.irls_weights = a.weights == "irls" || (tuned && !a.weights_opt->count());
+  o.cluster_moves = tuned;
   o.progress = common.progress;
   Neighborhoods N;
   Surfels S0;
@@ -135,7 +136,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   out.report["parameters"] = {{"alpha", o.alpha},         {"beta", o.beta},
                               {"t_start_deg", o.t_start_deg}, {"t_end_deg", o.t_end_deg},
                               {"iterations", o.iterations}, {"iterations_per_threshold", o.iterations_per_threshold},
-                              {"candidates", o.candidates}, {"guided", o.guided}, {"weights", o.irls_weights ? "irls" : "lagged"}, {"preset", a.preset}, {"retrieval", retrieval},
+                              {"candidates", o.candidates}, {"guided", o.guided}, {"weights", o.irls_weights ? "irls" : "lagged"}, {"preset", a.preset}, {"cluster_moves", r.cluster_moves}, {"retrieval", retrieval},
                               {"neighborhood", a.neighborhood}, {"neighbors", a.neighbors},
                               {"unit_length", r.unit_length}};
   out.report["initial_energy"] = r.initial_energy;

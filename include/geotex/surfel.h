@@ -143,6 +143,11 @@ struct SurfelOptions {
   //! weights, d/dΔ[Δ²/(1 + Δ²/t²)] = 2Δ w². Edges stay sharp over more sweeps: on Block0.4 the flat
   //! faces' surfel normals go from 22° (lagged) to 3.8° after 40 sweeps at t = 20° (bench/surfel.md).
   bool irls_weights = false;
+  //! Not in the thesis: after the last sweep, move whole clusters of exactly parallel surfels to a
+  //! neighbouring orientation where that lowers the summed site energy (Eq. 7.16) of the cluster and
+  //! its neighbours. ICM moves one surfel at a time and cannot leave the zero-width chamfer that a
+  //! noiseless cube's edges keep (each edge surfel at the bisector of its faces); a chain can.
+  bool cluster_moves = false;
   ProgressFn progress;            //!< optional progress callback
 };
 
@@ -152,6 +157,7 @@ struct SurfelResult {
   std::vector<double> energy;          //!< Σ_i U_i after each sweep (weights from that configuration), in unit lengths
   double initial_energy = 0;           //!< Σ_i U_i of the initial configuration at the first threshold
   double unit_length = 0;              //!< the unit length used
+  int cluster_moves = 0;               //!< cluster moves made (SurfelOptions::cluster_moves)
 };
 
 //! Median angle (degrees) between the normals of neighbouring surfels: a robust measure of the normal

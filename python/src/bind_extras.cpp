@@ -144,6 +144,7 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
     kw.get("iterations_per_threshold", o.iterations_per_threshold);
     kw.get("candidates", o.candidates);
     kw.get("guided", o.guided);
+    kw.get("cluster_moves", o.cluster_moves);
     std::string weights = "lagged";
     kw.get("weights", weights);
     kw.get("retrieval", retrieval);
@@ -208,7 +209,7 @@ method='mrf' (vertex + edge process) or 'mrf-normal' (face-normal MRF + edge pro
   initial_labels, and the edge process' phi0 (degrees), phi0_start, support, te, te_cooling, edge_sweeps,
   quench, ridges ('all'|'convex'|'concave'), edge_optimizer ('metropolis'|'icm').
 method='surfel' takes alpha, beta, iterations, t_start, t_end (degrees), iterations_per_threshold,
-  candidates, guided, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal'|'fit').
+  candidates, guided, cluster_moves, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal'|'fit').
 
 Returns a dict with V, F (the result), edge_labels (per edge of edges, or None) and energies.)doc");
 
