@@ -195,8 +195,9 @@ MatrixX3d surfel_face_normals(const Mesh& mesh, const MatrixX3d& X, const Surfel
   return N;
 }
 
-Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, int iterations) {
+Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, int iterations, double tangential) {
   if (iterations < 0) throw InvalidInput("surfel fitted mesh: iterations must be non-negative");
+  if (!(tangential >= 0 && tangential <= 1)) throw InvalidInput("surfel fitted mesh: relaxation must lie in [0, 1]");
   const MatrixX3d N = surfel_face_normals(mesh, X, S);
   const MatrixX3i F = faces(mesh);
   const Eigen::Index nv = X.rows();
@@ -226,7 +227,28 @@ Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, 
         d += nf * nf.dot(Vec3((c.row(vf[k]) - x.row(v)).transpose()));
       }
       y.row(v) = x.row(v);
-      if (off[v + 1] > off[v]) y.row(v) += d.transpose() / (off[v + 1] - off[v]);
+      const int k = off[v + 1] - off[v];
+      if (k == 0) continue;
+      y.row(v) += d.transpose() / k;
+      if (tangential > 0) {
+        // Relaxation along the directions no incident face normal constrains (the tangent plane on a
+        // smooth part, the edge line on a sharp edge, none at a corner): it untangles the triangles
+        // that the noise turned over, which the normal update alone cannot.
+        Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+        Vec3 mean = Vec3::Zero();
+        for (int q = off[v]; q < off[v + 1]; ++q) {
+          const Vec3 nf = N.row(vf[q]).transpose();
+          M += nf * nf.transpose();
+          mean += c.row(vf[q]).transpose();
+        }
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+        es.computeDirect(M / k);
+        const Vec3 u = mean / k - Vec3(x.row(v).transpose());
+        Vec3 move = Vec3::Zero();
+        for (int e = 0; e < 3; ++e)
+          if (es.eigenvalues()[e] < 0.1 * es.eigenvalues()[2]) move += es.eigenvectors().col(e) * es.eigenvectors().col(e).dot(u);
+        y.row(v) += tangential * move.transpose();
+      }
     }
     x.swap(y);
   }
