@@ -10,6 +10,7 @@
 #include "geotex/error.h"
 #include "geotex/geometry.h"
 #include "geotex/mrf.h"
+#include "geotex/normal_fit.h"
 #include "geotex/random.h"
 #include "mrf_internal.h"
 
@@ -121,27 +122,14 @@ double normal_metropolis(const NormalProblem& P, std::vector<double>& n, double 
   return P.value(n.data());
 }
 
-// Sun et al. 2007, Eq. (8): x_i ← x_i + 1/|F_i| Σ_{f ∋ i} n_f (n_f · (c_f − x_i)), all vertices at once.
+// Sun et al. 2007, Eq. (8), on the flat (x, y, z interleaved) arrays of the solver (normal_fit.h).
 void fit_vertices(const Topology& T, std::vector<double>& x, const std::vector<double>& n, int iterations) {
-  std::vector<double> c(3 * T.nF), y(x.size());
-  for (int it = 0; it < iterations; ++it) {
-#pragma omp parallel for schedule(static) if (T.nF >= min_parallel)
-    for (int f = 0; f < T.nF; ++f)
-      put(&c[3 * f], (vec(&x[3 * T.F[3 * f]]) + vec(&x[3 * T.F[3 * f + 1]]) + vec(&x[3 * T.F[3 * f + 2]])) / 3.0);
-#pragma omp parallel for schedule(static) if (T.nV >= min_parallel)
-    for (int v = 0; v < T.nV; ++v) {
-      const Vec3 xv = vec(&x[3 * v]);
-      Vec3 d = Vec3::Zero();
-      const int k0 = T.vf_off[v], k1 = T.vf_off[v + 1];
-      for (int k = k0; k < k1; ++k) {
-        const int f = T.vf[k] / 3;
-        const Vec3 nf = vec(&n[3 * f]);
-        d += nf * nf.dot(vec(&c[3 * f]) - xv);
-      }
-      put(&y[3 * v], k1 > k0 ? Vec3(xv + d / (k1 - k0)) : xv);
-    }
-    x.swap(y);
-  }
+  using RowMajor3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  using RowMajor3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  const MatrixX3d X = Eigen::Map<const RowMajor3d>(x.data(), T.nV, 3);
+  const MatrixX3d N = Eigen::Map<const RowMajor3d>(n.data(), T.nF, 3);
+  const MatrixX3i F = Eigen::Map<const RowMajor3i>(T.F.data(), T.nF, 3);
+  Eigen::Map<RowMajor3d>(x.data(), T.nV, 3) = fit_vertices_to_normals(F, X, N, iterations);
 }
 
 }  // namespace

@@ -377,21 +377,6 @@ Normalized normalize(const MatrixX3d& X, const Surfels& S, const Vec3& origin, d
   return out;
 }
 
-// Site energy U_k (Eq. 7.14–7.16) of configuration s, weights from s itself (Eq. 7.12–7.13).
-double site_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, Eigen::Index k, double alpha,
-                   double beta, double chord) {
-  double W = 0, E = 0;
-  for (int q = N.offsets[k]; q < N.offsets[k + 1]; ++q) {
-    const int j = N.indices[q];
-    const double w = surfel_weight(s.n[k], s.n[j], chord);
-    const double dkj = s.n[j].dot(s.c[k]) - s.a[j], djk = s.n[k].dot(s.c[j]) - s.a[k];
-    E += w * (beta * (s.n[k] - s.n[j]).squaredNorm() + dkj * dkj + djk * djk);
-    W += w;
-  }
-  const double r = s.n[k].dot(X[k]) - s.a[k];
-  return (W > 0 ? E / W : 0.0) + alpha * r * r;
-}
-
 int find_root(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
@@ -420,6 +405,7 @@ int cluster_moves(const std::vector<Vec3>& X, const Neighborhoods& N, Config& s,
     for (Eigen::Index i = 0; i < P; ++i) members[find_root(parent, static_cast<int>(i))].push_back(static_cast<int>(i));
     int made = 0, stamp = 0;
     std::vector<int> affected;
+    std::vector<SiteTerm> terms;
     std::vector<Vec3> candidates, old_n;
     std::vector<double> old_a;
     for (Eigen::Index root = 0; root < P; ++root) {
@@ -443,9 +429,12 @@ int cluster_moves(const std::vector<Vec3>& X, const Neighborhoods& N, Config& s,
           if (!seen) candidates.push_back(s.n[j]);
         }
       if (candidates.empty()) continue;
-      auto energy = [&] {
+      auto energy = [&] {  // Σ U_k (Eq. 7.16), the weights from the configuration itself (Eq. 7.13)
         double E = 0;
-        for (int k : affected) E += site_energy(X, N, s, k, alpha, beta, chord);
+        for (int k : affected) {
+          site_terms(X, N, s, k, chord, s.n[k], terms);
+          E += term_energy(terms, alpha, beta, s.n[k], s.n[k].dot(X[k]) - s.a[k]);
+        }
         return E;
       };
       const double before = energy();
