@@ -23,10 +23,6 @@ struct SurfelArgs {
   CLI::Option *t_start_opt = nullptr, *retrieval_opt = nullptr, *weights_opt = nullptr;
 };
 
-// The tuned preset's first threshold, as a fraction of the median angle between neighbouring initial
-// surfels (the normal noise): 0.85 × 21.5° = 18.2° on Block0.4, 0.85 × 17.7° = 15.0° on Fandisk0.3.
-constexpr double kTunedThresholdFactor = 0.85;
-constexpr int kTunedIterations = 30;
 
 SurfelArgs& args() {
   static SurfelArgs a;
@@ -85,15 +81,14 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
   const std::string retrieval = tuned && !a.retrieval_opt->count() ? "fit" : a.retrieval;
   SurfelOptions o;
   o.alpha = common.alpha.value_or(0.1);
-  o.iterations = common.iterations.value_or(tuned ? kTunedIterations : 10);
+  o.iterations = common.iterations.value_or(10);
   o.beta = a.beta;
   o.t_start_deg = a.t_start;
   o.t_end_deg = a.t_end;
   o.iterations_per_threshold = a.per_threshold;
   o.candidates = a.candidates;
   o.guided = a.guided;
-  o.irls_weights = a.weights == "irls" || (tuned && !a.weights_opt->count());
-  o.cluster_moves = tuned;
+  o.irls_weights = a.weights == "irls";
   o.progress = common.progress;
   Neighborhoods N;
   Surfels S0;
@@ -106,11 +101,14 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
     S0 = surfels_from_normals(X, pca_normals(X, a.neighbors));
     o.unit_length = mean_neighbor_spacing(X);
   }
-  if (tuned && !a.t_start_opt->count()) {
-    const double noise = median_neighbor_angle_deg(S0, N);
-    o.t_start_deg = std::clamp(kTunedThresholdFactor * noise, o.t_end_deg, 60.0);
+  if (tuned) {  // the preset, under any flag given explicitly
+    const SurfelOptions t = tuned_surfel_options(S0, N, o);
+    if (!common.iterations) o.iterations = t.iterations;
+    if (!a.t_start_opt->count()) o.t_start_deg = t.t_start_deg;
+    if (!a.weights_opt->count()) o.irls_weights = t.irls_weights;
+    o.cluster_moves = t.cluster_moves;
     info(fmt::format("surfel: median angle between neighbouring surfels {:.1f} deg: t from {:.1f} to {:.1f} deg",
-                     noise, o.t_start_deg, o.t_end_deg));
+                     median_neighbor_angle_deg(S0, N), o.t_start_deg, o.t_end_deg));
   }
   const SurfelResult r = optimize_surfels(X, N, S0, o);
   DenoiseResult out;

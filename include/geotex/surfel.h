@@ -164,6 +164,11 @@ struct SurfelResult {
 //! noise (sharp edges are a small fraction of the pairs). Used for an automatic first threshold.
 double median_neighbor_angle_deg(const Surfels& S, const Neighborhoods& N);
 
+//! The tuned preset (not in the thesis; the figures behind it are in bench/surfel.md): \p base with IRLS
+//! weights, cluster moves, 30 iterations and t_start = 0.85 × median_neighbor_angle_deg(\p initial, \p N),
+//! clamped to [t_end, 60°]. Meant with the fit retrieval (surfel_fitted_mesh()).
+SurfelOptions tuned_surfel_options(const Surfels& initial, const Neighborhoods& N, SurfelOptions base = {});
+
 //! Optimise surfels by ICM with simultaneous updates (Sec. 7.4.3.5) and the decreasing threshold
 //! schedule t_k = t_start (t_end / t_start)^(k/(K−1)) (Sec. 7.4.3.4). OpenMP-parallel per sweep.
 //! \param X #P by 3 data points, \param N their neighbourhoods, \param initial the starting surfels.

@@ -135,7 +135,13 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
   }
   if (method == "surfel") {
     SurfelOptions o;
-    std::string retrieval = "dual";
+    std::string retrieval = "dual", preset = "thesis";
+    kw.get("preset", preset);
+    if (preset != "thesis" && preset != "tuned") throw InvalidInput("preset must be 'thesis' or 'tuned'");
+    const bool tuned = preset == "tuned";
+    const bool given_iterations = kw.has("iterations"), given_t_start = kw.has("t_start"),
+               given_weights = kw.has("weights");
+    if (tuned && !kw.has("retrieval")) retrieval = "fit";
     kw.get("alpha", o.alpha);
     kw.get("beta", o.beta);
     kw.get("iterations", o.iterations);
@@ -159,7 +165,16 @@ py::dict denoise(V3 V, F3 F, const std::string& method, const py::kwargs& kwargs
     {
       py::gil_scoped_release release;
       o.unit_length = mean_edge_length(mesh);
-      r = optimize_surfels(X, one_ring_neighborhoods(mesh), initial_surfels(mesh), o);
+      const Neighborhoods N = one_ring_neighborhoods(mesh);
+      const Surfels S0 = initial_surfels(mesh);
+      if (tuned) {  // the preset, under any option given explicitly (as the CLI's --surfel-preset)
+        const SurfelOptions t = tuned_surfel_options(S0, N, o);
+        if (!given_iterations) o.iterations = t.iterations;
+        if (!given_t_start) o.t_start_deg = t.t_start_deg;
+        if (!given_weights) o.irls_weights = t.irls_weights;
+        o.cluster_moves = t.cluster_moves;
+      }
+      r = optimize_surfels(X, N, S0, o);
       out = retrieval == "dual"  ? triangulate_polygons(surfel_dual_polygons(mesh, X, r.surfels))
             : retrieval == "fit" ? surfel_fitted_mesh(mesh, X, r.surfels)
                                  : surfel_primal_mesh(mesh, X, r.surfels);
@@ -209,7 +224,8 @@ method='mrf' (vertex + edge process) or 'mrf-normal' (face-normal MRF + edge pro
   initial_labels, and the edge process' phi0 (degrees), phi0_start, support, te, te_cooling, edge_sweeps,
   quench, ridges ('all'|'convex'|'concave'), edge_optimizer ('metropolis'|'icm').
 method='surfel' takes alpha, beta, iterations, t_start, t_end (degrees), iterations_per_threshold,
-  candidates, guided, cluster_moves, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal'|'fit').
+  candidates, guided, cluster_moves, weights ('lagged' as in the thesis | 'irls'), retrieval ('dual'|'primal'|'fit'),
+  preset ('thesis' | 'tuned': irls weights, cluster moves, fit retrieval, 30 iterations, automatic t_start).
 
 Returns a dict with V, F (the result), edge_labels (per edge of edges, or None) and energies.)doc");
 

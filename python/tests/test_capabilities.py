@@ -43,6 +43,11 @@ def test_surfel_primal_denoising(noisy_cube):
     assert err(fit) < err(irls) < geotex.compare(Vn, F, V, F)["mean_normal_error_deg"]
     with pytest.raises(geotex.InvalidInput):
         geotex.denoise(Vn, F, method="surfel", weights="heavy")
+    tuned = geotex.denoise(Vn, F, method="surfel", preset="tuned")
+    assert np.array_equal(tuned["F"], F)  # the preset's fit retrieval keeps the connectivity
+    assert err(tuned) < err(irls)
+    with pytest.raises(geotex.InvalidInput):
+        geotex.denoise(Vn, F, method="surfel", preset="best")
 
 
 def test_denoise_rejects_unknown_options(noisy_cube):
