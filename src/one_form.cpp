@@ -430,7 +430,6 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
     a1 -= dn * s.normals(i, 1);
     a2 -= dn * s.normals(i, 2);
   };
-  // y = diag(out) Π P z (Π = I when !projected).
   // y = diag(out) Π P diag(in) x (Π = I when !projected; in, out optional). Writes into y, allocated
   // once by the caller: fresh 3#V vectors every iteration cost more in page faults than the product.
   auto vertex_product = [&, par](const Eigen::VectorXd* in, const Eigen::VectorXd& x, const Eigen::VectorXd* out,

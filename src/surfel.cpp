@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -401,15 +402,22 @@ int cluster_moves(const std::vector<Vec3>& X, const Neighborhoods& N, Config& s,
     for (Eigen::Index i = 0; i < P; ++i)
       for (int q = N.offsets[i]; q < N.offsets[i + 1]; ++q)
         if ((s.n[i] - s.n[N.indices[q]]).norm() < same) parent[find_root(parent, static_cast<int>(i))] = find_root(parent, N.indices[q]);
-    std::vector<std::vector<int>> members(P);
-    for (Eigen::Index i = 0; i < P; ++i) members[find_root(parent, static_cast<int>(i))].push_back(static_cast<int>(i));
+    // Clusters as compressed rows: the members of root r are order[start[r] .. start[r + 1]).
+    std::vector<int> root(P), start(P + 1, 0), order(P);
+    for (Eigen::Index i = 0; i < P; ++i) ++start[(root[i] = find_root(parent, static_cast<int>(i))) + 1];
+    for (Eigen::Index r = 0; r < P; ++r) start[r + 1] += start[r];
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (Eigen::Index i = 0; i < P; ++i) order[fill[root[i]]++] = static_cast<int>(i);
+    }
+    auto members = [&](int r) { return std::span<const int>(order.data() + start[r], start[r + 1] - start[r]); };
     int made = 0, stamp = 0;
     std::vector<int> affected;
     std::vector<SiteTerm> terms;
     std::vector<Vec3> candidates, old_n;
     std::vector<double> old_a;
-    for (Eigen::Index root = 0; root < P; ++root) {
-      const std::vector<int>& M = members[root];
+    for (int r = 0; r < P; ++r) {
+      const std::span<const int> M = members(r);
       if (M.empty()) continue;
       ++stamp;
       affected.assign(M.begin(), M.end());
@@ -424,7 +432,7 @@ int cluster_moves(const std::vector<Vec3>& X, const Neighborhoods& N, Config& s,
           // A candidate turns the cluster by less than 60° (a plane across the surface, normal along a chain
           // of edge points, can have less overlap energy than the chamfer it would replace).
           bool seen = (s.n[j] - s.n[i]).norm() < same || s.n[j].dot(s.n[i]) < 0.5 ||
-                      members[find_root(parent, j)].size() <= M.size();
+                      members(root[j]).size() <= M.size();
           for (const Vec3& m : candidates) seen = seen || (m - s.n[j]).norm() < same;
           if (!seen) candidates.push_back(s.n[j]);
         }

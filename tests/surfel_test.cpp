@@ -45,6 +45,15 @@ Eigen::Vector4d numeric_gradient(F f, const Surfel& s) {
   return g;
 }
 
+// \p clean with seeded noise of \p sigma mean edge lengths (add_noise's default seed).
+Mesh noisy_copy(const Mesh& clean, double sigma = NoiseOptions().sigma) {
+  NoiseOptions no;
+  no.sigma = sigma;
+  Mesh noisy = clean;
+  set_positions(noisy, add_noise(clean, no));
+  return noisy;
+}
+
 double angle_deg(const Vec3& a, const Vec3& b) {
   return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
 }
@@ -181,8 +190,7 @@ TEST(Surfel, OptionVariantsKeepPlanesAndLowerTheNoise) {
     EXPECT_LT(r.surfels.offsets.cwiseAbs().maxCoeff(), 1e-9);
   }
   const Mesh cube = subdivided_cube(12);
-  Mesh noisy = cube;
-  set_positions(noisy, add_noise(cube, {}));
+  const Mesh noisy = noisy_copy(cube);
   const MatrixX3d X = positions(noisy);
   for (int variant = 0; variant < 2; ++variant) {
     SurfelOptions o;
@@ -199,10 +207,7 @@ TEST(Surfel, IrlsWeightsKeepEdgesFromBleedingIntoFacesOverManySweeps) {
   // across the edges (a Cauchy-type penalty's reweighting), so the faces' surfels tilt more the longer
   // it runs; with w² (the stated energy's own reweighting) they settle on their faces.
   const Mesh cube = subdivided_cube(12);
-  Mesh noisy = cube;
-  NoiseOptions no;
-  no.sigma = 0.3;
-  set_positions(noisy, add_noise(cube, no));
+  const Mesh noisy = noisy_copy(cube, 0.3);
   const MatrixX3d X = positions(noisy), C = positions(cube);
   const Neighborhoods N = one_ring_neighborhoods(noisy);
   // Face-interior vertices of the clean cube (two coordinates strictly inside): their true normal is
@@ -269,10 +274,7 @@ TEST(Surfel, FaceNormalsTakeTheirOwnSidesPlaneAndTheFitRetrievalBeatsPrimalAndDu
   // Noisy cube: fitting the vertices to those face normals beats moving them to the surfel centres
   // (primal) and the dual mesh.
   const Mesh fine = subdivided_cube(12);
-  Mesh noisy = fine;
-  NoiseOptions no;
-  no.sigma = 0.3;
-  set_positions(noisy, add_noise(fine, no));
+  const Mesh noisy = noisy_copy(fine, 0.3);
   const MatrixX3d X = positions(noisy);
   SurfelOptions o;
   o.irls_weights = true;
@@ -325,10 +327,7 @@ TEST(Surfel, CubeFaceSurfelsDoNotMove) {
 
 TEST(Surfel, EnergyDecreasesOverSweepsAtFixedThreshold) {
   const Mesh clean = subdivided_cube(10);
-  Mesh noisy = clean;
-  NoiseOptions no;
-  no.sigma = 0.2;
-  set_positions(noisy, add_noise(clean, no));
+  const Mesh noisy = noisy_copy(clean, 0.2);
   SurfelOptions o;
   o.t_start_deg = o.t_end_deg = 30;
   o.iterations = 6;
@@ -456,8 +455,7 @@ TEST(Surfel, DualMeshOfASphereIsOrientedAndClose) {
 
 TEST(Surfel, PrimalRetrievalKeepsConnectivityAndMovesToCentres) {
   const Mesh cube = subdivided_cube(12);
-  Mesh noisy = cube;
-  set_positions(noisy, add_noise(cube, {}));
+  const Mesh noisy = noisy_copy(cube);
   const MatrixX3d X = positions(noisy);
   const SurfelResult r = optimize_surfels(X, one_ring_neighborhoods(noisy), initial_surfels(noisy));
   const Mesh out = surfel_primal_mesh(noisy, X, r.surfels);
@@ -548,8 +546,7 @@ int count_lines(const std::string& s) {
 TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
   test::TempDir tmp;
   const Mesh clean = subdivided_cube(8);
-  Mesh noisy = clean;
-  set_positions(noisy, add_noise(clean, {}));
+  const Mesh noisy = noisy_copy(clean);
   write_mesh(noisy, tmp / "noisy.ply");
   auto r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --report {} --polygons {}", tmp / "noisy.ply",
                                      tmp / "dual.ply", tmp / "r.json", tmp / "poly.obj"));
@@ -574,10 +571,7 @@ TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
 TEST(SurfelCli, TunedPresetBeatsTheThesisDefaultsAndExplicitFlagsOverrideIt) {
   test::TempDir tmp;
   const Mesh clean = subdivided_cube(10);
-  Mesh noisy = clean;
-  NoiseOptions no;
-  no.sigma = 0.3;
-  set_positions(noisy, add_noise(clean, no));
+  const Mesh noisy = noisy_copy(clean, 0.3);
   write_mesh(noisy, tmp / "noisy.ply");
   write_mesh(clean, tmp / "clean.ply");
   auto r = test::run_cli(fmt::format("denoise {} -o {} --method surfel --surfel-preset tuned --report {}",
