@@ -5,10 +5,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "geotex/diffusion.h"
-#include "geotex/editing.h"
-#include "geotex/parametrization.h"
-#include "geotex/shapes.h"
+#include "geotex/toolkit/diffusion.h"
+#include "geotex/toolkit/editing.h"
+#include "geotex/toolkit/parametrization.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 

@@ -8,12 +8,12 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
-#include "geotex/io.h"
-#include "geotex/laplace.h"
-#include "geotex/linear_solver.h"
-#include "geotex/noise.h"
-#include "geotex/shapes.h"
-#include "geotex/smoothing.h"
+#include "geotex/core/io.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/toolkit/linear_solver.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/toolkit/smoothing.h"
 
 using namespace geotex;
 

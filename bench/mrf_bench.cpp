@@ -9,11 +9,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "geotex/io.h"
-#include "geotex/metrics.h"
-#include "geotex/mrf.h"
-#include "geotex/noise.h"
-#include "geotex/shapes.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/metrics.h"
+#include "geotex/denoise/mrf.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 

@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "geotex/phong_projection.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/toolkit/phong_projection.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 

@@ -4,9 +4,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "geotex/render.h"
-#include "geotex/shapes.h"
-#include "geotex/viewer.h"
+#include "geotex/tools/render.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/tools/viewer.h"
 
 using namespace geotex;
 

@@ -5,7 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "geotex/resize.h"
+#include "geotex/resize/resize.h"
 
 using namespace geotex;
 

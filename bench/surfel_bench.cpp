@@ -4,10 +4,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "geotex/geometry.h"
-#include "geotex/noise.h"
-#include "geotex/shapes.h"
-#include "geotex/surfel.h"
+#include "geotex/core/geometry.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/denoise/surfel.h"
 
 using namespace geotex;
 

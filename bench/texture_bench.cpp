@@ -7,10 +7,10 @@
 #include <ctime>
 #include <map>
 
-#include "geotex/geometry.h"
-#include "geotex/one_form.h"
-#include "geotex/shapes.h"
-#include "geotex/texture.h"
+#include "geotex/core/geometry.h"
+#include "geotex/toolkit/one_form.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/texture/texture.h"
 
 using namespace geotex;
 

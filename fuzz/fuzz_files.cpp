@@ -18,13 +18,13 @@
 #include <string>
 #include <string_view>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
-#include "geotex/mesh.h"
-#include "geotex/shapes.h"
-#include "geotex/texture.h"
-#include "geotex/user_files.h"
-#include "geotex/viewer.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/core/mesh.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/texture/texture.h"
+#include "geotex/core/user_files.h"
+#include "geotex/tools/viewer.h"
 
 namespace {
 

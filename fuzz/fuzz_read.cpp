@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);

@@ -69,7 +69,7 @@ stale_object() {
 skip=" render resources surfel surfel_points surfel_retrieval mrf mrf_normal noise metrics "
 stale=()
 libobjs=()
-for src in src/*.cpp; do
+for src in src/*/*.cpp; do
   b=$(basename "$src" .cpp)
   [[ "$skip" == *" $b "* ]] && continue
   libobjs+=("$objs/$b.o")

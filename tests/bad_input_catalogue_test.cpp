@@ -15,12 +15,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/laplace.h"
-#include "geotex/shapes.h"
-#include "geotex/smoothing.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/toolkit/smoothing.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "geotex/io.h"
-#include "geotex/metrics.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/metrics.h"
 #include "test_util.h"
 
 using geotex::test::run_cli;

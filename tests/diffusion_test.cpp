@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/diffusion.h"
-#include "geotex/error.h"
-#include "geotex/laplace.h"
-#include "geotex/shapes.h"
+#include "geotex/toolkit/diffusion.h"
+#include "geotex/core/error.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -6,12 +6,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "geotex/editing.h"
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/toolkit/editing.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -8,12 +8,12 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
-#include "geotex/shapes.h"
-#include "geotex/texture.h"
-#include "geotex/user_files.h"
-#include "geotex/viewer.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/texture/texture.h"
+#include "geotex/core/user_files.h"
+#include "geotex/tools/viewer.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/geometry.h"
-#include "geotex/shapes.h"
+#include "geotex/core/geometry.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

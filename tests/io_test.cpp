@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

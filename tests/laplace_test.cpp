@@ -3,11 +3,11 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include "geotex/geometry.h"
-#include "geotex/laplace.h"
-#include "geotex/noise.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/core/geometry.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/tools/noise.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

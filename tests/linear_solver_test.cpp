@@ -2,11 +2,11 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/laplace.h"
-#include "geotex/linear_solver.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/toolkit/linear_solver.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 

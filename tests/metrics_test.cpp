@@ -3,11 +3,11 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/geometry.h"
-#include "geotex/metrics.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
-#include "geotex/spatial.h"
+#include "geotex/core/geometry.h"
+#include "geotex/tools/metrics.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/core/spatial.h"
 #include "test_util.h"
 
 using namespace geotex;

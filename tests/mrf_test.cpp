@@ -8,15 +8,15 @@
 #include <nlohmann/json.hpp>
 #include <omp.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/metrics.h"
-#include "geotex/mrf.h"
-#include "geotex/noise.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
-#include "../src/mrf_internal.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/metrics.h"
+#include "geotex/denoise/mrf.h"
+#include "geotex/tools/noise.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
+#include "../src/denoise/mrf_internal.h"
 #include "test_util.h"
 
 using namespace geotex;

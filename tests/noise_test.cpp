@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/noise.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

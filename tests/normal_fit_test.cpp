@@ -2,11 +2,11 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/normal_fit.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/denoise/normal_fit.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 

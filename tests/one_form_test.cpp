@@ -5,11 +5,11 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/one_form.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/toolkit/one_form.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/parametrization.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/toolkit/parametrization.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

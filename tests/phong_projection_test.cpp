@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/phong_projection.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/toolkit/phong_projection.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

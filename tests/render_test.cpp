@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
-#include "geotex/render.h"
-#include "geotex/shapes.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/render.h"
+#include "geotex/tools/shapes.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -2,13 +2,13 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/metrics.h"
-#include "geotex/noise.h"
-#include "geotex/shapes.h"
-#include "geotex/random.h"
-#include "geotex/smoothing.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/tools/metrics.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/core/random.h"
+#include "geotex/toolkit/smoothing.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -8,14 +8,14 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/metrics.h"
-#include "geotex/noise.h"
-#include "geotex/random.h"
-#include "geotex/shapes.h"
-#include "geotex/surfel.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/metrics.h"
+#include "geotex/tools/noise.h"
+#include "geotex/core/random.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/denoise/surfel.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -5,13 +5,13 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/noise.h"
-#include "geotex/one_form.h"
-#include "geotex/shapes.h"
-#include "geotex/texture.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/noise.h"
+#include "geotex/toolkit/one_form.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/texture/texture.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
-#include "geotex/shapes.h"
-#include "geotex/user_files.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/core/user_files.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -10,10 +10,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
-#include "geotex/shapes.h"
-#include "geotex/viewer.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/tools/viewer.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "geotex/error.h"
+#include "geotex/core/error.h"
 
 namespace geotex::cli {
 

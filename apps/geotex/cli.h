@@ -10,9 +10,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "geotex/error.h"
-#include "geotex/io.h"
-#include "geotex/progress.h"
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/core/progress.h"
 
 namespace geotex::cli {
 

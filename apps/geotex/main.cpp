@@ -10,8 +10,8 @@
 #include <omp.h>
 
 #include "cli.h"
-#include "geotex/error.h"
-#include "geotex/resources.h"
+#include "geotex/core/error.h"
+#include "geotex/core/resources.h"
 
 namespace {
 // An error message as one printable line: messages may quote bytes from a broken file (binary garbage,

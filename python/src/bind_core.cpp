@@ -2,14 +2,14 @@
 
 #include "common.h"
 
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/io.h"
-#include "geotex/laplace.h"
-#include "geotex/metrics.h"
-#include "geotex/noise.h"
-#include "geotex/shapes.h"
-#include "geotex/smoothing.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/tools/metrics.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
+#include "geotex/toolkit/smoothing.h"
 
 namespace geotex::python {
 

@@ -10,17 +10,17 @@
 
 #include <fmt/format.h>
 
-#include "geotex/diffusion.h"
-#include "geotex/editing.h"
-#include "geotex/error.h"
-#include "geotex/geometry.h"
-#include "geotex/mrf.h"
-#include "geotex/one_form.h"
-#include "geotex/parametrization.h"
-#include "geotex/phong_projection.h"
-#include "geotex/resize.h"
-#include "geotex/surfel.h"
-#include "geotex/texture.h"
+#include "geotex/toolkit/diffusion.h"
+#include "geotex/toolkit/editing.h"
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/denoise/mrf.h"
+#include "geotex/toolkit/one_form.h"
+#include "geotex/toolkit/parametrization.h"
+#include "geotex/toolkit/phong_projection.h"
+#include "geotex/resize/resize.h"
+#include "geotex/denoise/surfel.h"
+#include "geotex/texture/texture.h"
 
 namespace geotex::python {
 

@@ -8,7 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "geotex/mesh.h"
+#include "geotex/core/mesh.h"
 
 namespace py = pybind11;
 

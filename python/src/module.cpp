@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "geotex/error.h"
+#include "geotex/core/error.h"
 
 namespace geotex::python {
 

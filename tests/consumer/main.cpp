@@ -1,6 +1,6 @@
 // Built against an installed geotex by the install_and_find_package test.
-#include <geotex/geometry.h>
-#include <geotex/shapes.h>
+#include <geotex/core/geometry.h>
+#include <geotex/tools/shapes.h>
 
 int main() {
   const geotex::Mesh m = geotex::icosphere(1);

@@ -1,0 +1,36 @@
+// geotex generate SHAPE -o OUT: procedural test shapes.
+
+#include <fmt/format.h>
+
+#include "cli.h"
+#include "geotex/tools/shapes.h"
+
+namespace geotex::cli {
+namespace {
+
+struct Args {
+  std::string shape, output, base_output;
+  int level = 1;
+  uint64_t seed = 1;
+};
+
+void run(const Args& a) {
+  const TexturedShape s = make_shape(a.shape, a.level, a.seed);
+  save_mesh(s.textured, a.output);
+  if (!a.base_output.empty()) save_mesh(s.base, a.base_output);
+}
+
+Registrar reg{20, "generate", "Write a procedural test shape (cube, cylinder, sphere, torus, plane, spiky-sphere, spiky-plane)",
+              [](CLI::App& app) {
+                auto a = std::make_shared<Args>();
+                app.add_option("SHAPE", a->shape, "shape name")->required()->check(CLI::IsMember(shape_names()));
+                app.add_option("-o,--output", a->output, "output mesh file")->required();
+                app.add_option("--level", a->level, "resolution level: 0 coarse, 1 default, each level ~4x the faces")
+                    ->check(CLI::Range(0, 8))->capture_default_str();
+                app.add_option("--seed", a->seed, "seed for the spiky shapes")->capture_default_str();
+                app.add_option("--base-output", a->base_output, "also write the untextured base (spiky shapes)");
+                app.callback([a] { run(*a); });
+              }};
+
+}  // namespace
+}  // namespace geotex::cli

@@ -1,0 +1,133 @@
+#pragma once
+//! \file io.h Reading and writing meshes: OBJ, PLY (ascii and binary, faces or triangle strips),
+//! OFF and STL (ascii and binary).
+//!
+//! Readers parse into a polygon soup, check it (counts against the header, finite coordinates,
+//! index ranges), triangulate polygons as fans, and build the halfedge mesh with make_mesh(),
+//! which drops and counts degenerate, duplicate and non-manifold faces. Nothing is dropped
+//! silently: every count lands in ReadReport, and ReadOptions::strict turns a drop into an error.
+//! Writers write to a temporary file beside the target and rename it into place, so a failed
+//! write never leaves a partial file and never damages an existing one.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geotex/core/mesh.h"
+
+namespace geotex {
+
+enum class MeshFormat { Obj, Ply, Off, Stl };
+
+//! The format named by a path's extension (case-insensitive). \throw IoError if unknown.
+MeshFormat format_from_path(const std::filesystem::path& path);
+
+struct ReadOptions {
+  bool strict = false;  //!< throw instead of dropping or repairing faces (degenerate, duplicate, non-manifold, flipped)
+  //! Turn faces that disagree with their neighbours' orientation round, and split non-manifold
+  //! vertices into one copy per fan (BuildOptions), instead of dropping those faces.
+  bool repair = true;
+};
+
+struct ReadReport {
+  std::string format;                //!< "obj", "ply (binary_little_endian)", …
+  size_t file_vertices = 0;          //!< vertices in the file
+  size_t file_polygons = 0;          //!< faces (or strips) in the file
+  size_t triangulated_polygons = 0;  //!< polygons with more than 3 corners split into fans
+  size_t strip_triangles = 0;        //!< triangles decoded from PLY triangle strips
+  size_t merged_vertices = 0;        //!< STL corners merged into shared vertices
+  BuildReport build;                 //!< what make_mesh() dropped
+  std::vector<std::string> warnings; //!< one line per thing that was dropped or looks wrong
+  std::vector<std::string> notes;    //!< informational lines (e.g. triangle strips decoded)
+};
+
+//! Read a mesh file.
+//! \throw IoError for a missing/unreadable file, unknown extension, malformed or truncated content;
+//!        InvalidInput for non-finite coordinates, out-of-range indices, an empty result, or (strict)
+//!        any dropped face.
+Mesh read_mesh(const std::filesystem::path& path, const ReadOptions& options = {},
+               ReadReport* report = nullptr);
+
+//! Read a mesh from bytes in memory (same checks as read_mesh); \p name is used in messages.
+Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOptions& options = {},
+                          ReadReport* report = nullptr, const std::string& name = "<memory>");
+
+struct WriteOptions {
+  bool binary = true;  //!< PLY and STL: binary (default) or ascii. OBJ/OFF are always ascii.
+};
+
+//! Write a mesh, atomically. Coordinates are written in full (shortest round-trip decimal in text
+//! formats, float64 in PLY; STL stores float32 by definition). \throw IoError on failure.
+void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const WriteOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------
+// General PLY access, for files that carry more than a mesh (edge labels, tilt, heights).
+
+//! A list property stored flat: items of row r are items[offsets[r] .. offsets[r+1]).
+struct PlyList {
+  std::vector<int64_t> offsets{0};
+  std::vector<double> items;
+  size_t rows() const { return offsets.size() - 1; }
+};
+
+struct PlyElement {
+  std::string name;
+  size_t count = 0;
+  std::vector<std::string> order;                 //!< property names in file order
+  std::map<std::string, std::vector<double>> scalars;
+  std::map<std::string, PlyList> lists;
+  bool has(const std::string& p) const { return scalars.count(p) || lists.count(p); }
+};
+
+struct PlyData {
+  std::string format;               //!< ascii | binary_little_endian | binary_big_endian
+  std::vector<PlyElement> elements; //!< in file order
+  const PlyElement* find(const std::string& name) const;
+};
+
+//! Parse any PLY file (every element, every property). \throw IoError on malformed/truncated content.
+PlyData read_ply_data(const std::filesystem::path& path);
+//! Parse PLY bytes in memory.
+PlyData parse_ply_bytes(std::string_view data, const std::string& name = "<memory>");
+
+//! Extra data written beside a mesh in a PLY file.
+struct PlyExtras {
+  //! per-vertex scalar properties (each of size #V), e.g. "height", "feature"
+  std::map<std::string, std::vector<double>> vertex_scalars;
+  //! additional elements, e.g. an "edge" element with int "vertex1", "vertex2" and a "tilt" or "label"
+  struct Element {
+    std::string name;
+    std::map<std::string, std::vector<int>> int_props;        //!< written as int
+    std::map<std::string, std::vector<double>> double_props;  //!< written as double
+  };
+  std::vector<Element> elements;
+};
+
+//! Write a mesh and extra per-vertex properties and elements as PLY, atomically.
+void write_ply(const Mesh& mesh, const std::filesystem::path& path, const PlyExtras& extras,
+               bool binary = true);
+
+//! Per-edge values read from, or written to, a PLY "edge" element (vertex1, vertex2, value).
+struct EdgeValues {
+  MatrixX2i edges;        //!< #E by 2 vertex indices
+  Eigen::VectorXd values; //!< #E values of the named property
+};
+
+//! Read the "edge" element of a PLY file and its property \p property ("label", "tilt", …).
+//! \throw IoError if the file has no such element or property.
+EdgeValues read_edge_values(const std::filesystem::path& path, const std::string& property);
+
+//! Write a mesh with per-edge values (one per mesh edge, OpenMesh edge order) as PLY, atomically.
+void write_edge_values(const Mesh& mesh, const Eigen::VectorXd& values, const std::string& property,
+                       const std::filesystem::path& path, bool binary = true);
+
+//! Write line segments (e.g. labelled sharp edges) as an OBJ of `v` and `l` lines, atomically.
+void write_polylines_obj(const MatrixX3d& V, const MatrixX2i& segments, const std::filesystem::path& path);
+
+//! Write a text file atomically (temporary file + rename). \throw IoError on failure.
+void write_text_atomic(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace geotex

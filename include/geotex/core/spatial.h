@@ -1,0 +1,54 @@
+#pragma once
+//! \file spatial.h An axis-aligned bounding-box tree over triangles, for closest-point queries
+//! (metrics, projections) and for finding the triangles near a point (candidate search).
+
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "geotex/core/mesh.h"
+
+namespace geotex {
+
+//! Closest point on a triangle (a, b, c) to p. \return the point; \p bary receives its barycentric
+//! coordinates (weights of a, b, c).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                               Vec3* bary = nullptr);
+
+class TriangleTree {
+ public:
+  //! \param V #V by 3 positions, \param F #F by 3 triangles (copied).
+  TriangleTree(const MatrixX3d& V, const MatrixX3i& F);
+  explicit TriangleTree(const Mesh& mesh) : TriangleTree(positions(mesh), faces(mesh)) {}
+
+  struct Hit {
+    int face = -1;
+    Vec3 point = Vec3::Zero();
+    Vec3 bary = Vec3::Zero();
+    double sq_distance = 0;
+  };
+  //! Closest point on the surface. Thread-safe (const).
+  Hit closest(const Vec3& p) const;
+
+  //! Faces whose bounding box comes within \p radius of p (candidates for other queries).
+  void faces_near(const Vec3& p, double radius, std::vector<int>& out) const;
+
+  const MatrixX3d& vertices() const { return V_; }
+  const MatrixX3i& triangles() const { return F_; }
+
+ private:
+  struct Node {
+    Eigen::AlignedBox3d box;
+    int left = -1, right = -1;  // children (internal node) or -1
+    int begin = 0, end = 0;     // range in order_ (leaf)
+  };
+  int build(int begin, int end);
+  MatrixX3d V_;
+  MatrixX3i F_;
+  std::vector<int> order_;
+  std::vector<Node> nodes_;
+  std::vector<Eigen::AlignedBox3d> face_box_;
+  std::vector<Vec3> centroid_;
+};
+
+}  // namespace geotex

@@ -1,0 +1,1018 @@
+// Mesh file readers and writers. Written here rather than taken from OpenMesh's IO because
+// OpenMesh 9 reports partial reads as success, drops faces with only a stderr line, cannot read PLY
+// triangle strips or extra PLY elements, and writes text coordinates with 6 digits.
+
+#include "geotex/core/io.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string_view>
+#include <unistd.h>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "geotex/core/error.h"
+
+namespace geotex {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+std::string read_file_bytes(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IoError(fmt::format("{}: no such file", path.string()));
+  if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path.string()));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("{}: cannot open for reading", path.string()));
+  std::string data;
+  in.seekg(0, std::ios::end);
+  const auto size = in.tellg();
+  if (size < 0) throw IoError(fmt::format("{}: cannot determine size", path.string()));
+  data.resize(static_cast<size_t>(size));
+  in.seekg(0);
+  in.read(data.data(), size);
+  if (!in) throw IoError(fmt::format("{}: read failed", path.string()));
+  return data;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Text scanning helpers.
+
+struct LineReader {
+  std::string_view data;
+  size_t pos = 0;
+  size_t line_no = 0;
+  bool next(std::string_view& line) {
+    if (pos >= data.size()) return false;
+    size_t end = data.find('\n', pos);
+    if (end == std::string_view::npos) end = data.size();
+    line = data.substr(pos, end - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos = end + 1;
+    ++line_no;
+    return true;
+  }
+};
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+// Split off the next whitespace-separated token; empty when none is left.
+std::string_view next_token(std::string_view& s) {
+  size_t i = 0;
+  while (i < s.size() && is_space(s[i])) ++i;
+  size_t j = i;
+  while (j < s.size() && !is_space(s[j])) ++j;
+  std::string_view tok = s.substr(i, j - i);
+  s.remove_prefix(j);
+  return tok;
+}
+
+bool parse_double(std::string_view tok, double& out) {
+  if (tok.empty()) return false;
+  if (tok.front() == '+') tok.remove_prefix(1);
+  auto [p, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+  if (ec == std::errc::result_out_of_range) {  // denormal or overflow: let strtod decide
+    out = std::strtod(std::string(tok).c_str(), nullptr);
+    return true;
+  }
+  if (ec != std::errc() || p != tok.data() + tok.size()) {
+    // from_chars does not accept "inf"/"nan" spelled with case variants other tools write.
+    const std::string t = lower(std::string(tok));
+    if (t == "nan" || t == "-nan" || t == "inf" || t == "-inf" || t == "infinity" || t == "-infinity") {
+      out = std::strtod(t.c_str(), nullptr);
+      return true;
+    }
+    return false;
+  }
+  return true;
+}
+
+bool parse_int64(std::string_view tok, int64_t& out) {
+  if (tok.empty()) return false;
+  if (tok.front() == '+') tok.remove_prefix(1);
+  auto [p, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+  return ec == std::errc() && p == tok.data() + tok.size();
+}
+
+[[noreturn]] void malformed(const fs::path& path, size_t line, const std::string& what) {
+  throw IoError(fmt::format("{}:{}: {}", path.string(), line, what));
+}
+
+// A polygon soup before triangulation.
+struct Soup {
+  std::vector<double> xyz;             // 3 per vertex
+  std::vector<int64_t> poly_offsets{0};
+  std::vector<int64_t> poly_items;
+  size_t n_vertices() const { return xyz.size() / 3; }
+  size_t n_polygons() const { return poly_offsets.size() - 1; }
+  void add_polygon(const int64_t* idx, size_t n) {
+    poly_items.insert(poly_items.end(), idx, idx + n);
+    poly_offsets.push_back(static_cast<int64_t>(poly_items.size()));
+  }
+};
+
+// Triangulate (fans), validate and build the halfedge mesh.
+Mesh build_from_soup(const fs::path& path, const Soup& soup, const ReadOptions& opt,
+                     ReadReport& rep) {
+  const size_t nv = soup.n_vertices();
+  if (nv == 0) throw InvalidInput(fmt::format("{}: the file holds no vertices", path.string()));
+  MatrixX3d V(nv, 3);
+  for (size_t i = 0; i < nv; ++i) {
+    V(i, 0) = soup.xyz[3 * i];
+    V(i, 1) = soup.xyz[3 * i + 1];
+    V(i, 2) = soup.xyz[3 * i + 2];
+    if (!V.row(i).allFinite())
+      throw InvalidInput(fmt::format("{}: vertex {} has a non-finite coordinate ({}, {}, {})",
+                                     path.string(), i, V(i, 0), V(i, 1), V(i, 2)));
+  }
+  size_t n_tris = 0;
+  for (size_t p = 0; p < soup.n_polygons(); ++p) {
+    const int64_t n = soup.poly_offsets[p + 1] - soup.poly_offsets[p];
+    if (n < 3)
+      throw IoError(fmt::format("{}: face {} has {} corner(s); a face needs at least 3",
+                                path.string(), p, n));
+    if (n > 3) ++rep.triangulated_polygons;
+    n_tris += static_cast<size_t>(n - 2);
+  }
+  if (n_tris == 0) throw InvalidInput(fmt::format("{}: the file holds no faces", path.string()));
+  MatrixX3i F(n_tris, 3);
+  size_t t = 0;
+  for (size_t p = 0; p < soup.n_polygons(); ++p) {
+    const int64_t* idx = soup.poly_items.data() + soup.poly_offsets[p];
+    const int64_t n = soup.poly_offsets[p + 1] - soup.poly_offsets[p];
+    for (int64_t k = 0; k < n; ++k)
+      if (idx[k] < 0 || idx[k] >= static_cast<int64_t>(nv))
+        throw InvalidInput(fmt::format("{}: face {} refers to vertex {}, but there are {} vertices",
+                                       path.string(), p, idx[k], nv));
+    for (int64_t k = 1; k + 1 < n; ++k) {
+      F(t, 0) = static_cast<int>(idx[0]);
+      F(t, 1) = static_cast<int>(idx[k]);
+      F(t, 2) = static_cast<int>(idx[k + 1]);
+      ++t;
+    }
+  }
+  BuildOptions build_options;
+  build_options.fix_orientation = opt.repair;
+  build_options.split_nonmanifold_vertices = opt.repair;
+  Mesh mesh = make_mesh(V, F, &rep.build, build_options);
+  const BuildReport& b = rep.build;
+  if (b.degenerate_faces)
+    rep.warnings.push_back(fmt::format("dropped {} degenerate face(s) (a vertex used twice)", b.degenerate_faces));
+  if (b.duplicate_faces)
+    rep.warnings.push_back(fmt::format("dropped {} duplicate face(s)", b.duplicate_faces));
+  if (b.nonmanifold_faces)
+    rep.warnings.push_back(fmt::format(
+        "dropped {} non-manifold face(s) (an edge with more than two faces, or a vertex joining separate fans)",
+        b.nonmanifold_faces));
+  if (b.flipped_faces)
+    rep.warnings.push_back(fmt::format("turned {} face(s) round to agree with their neighbours' orientation",
+                                       b.flipped_faces));
+  if (b.split_vertices)
+    rep.warnings.push_back(fmt::format(
+        "split {} non-manifold vertex(es) (several fans meeting at a point) into {} extra vertex(es), "
+        "appended after the file's vertices", b.split_vertices, b.added_vertices));
+  if (b.nonmanifold_vertices)
+    rep.warnings.push_back(fmt::format("{} vertex(es) join several fans (non-manifold, kept)", b.nonmanifold_vertices));
+  if (b.isolated_vertices)
+    rep.warnings.push_back(fmt::format("{} vertex(es) belong to no face (kept)", b.isolated_vertices));
+  if (opt.strict && b.dropped() + b.repaired() + b.nonmanifold_vertices > 0)
+    throw InvalidInput(fmt::format("{}: the mesh would be changed to read it (strict mode): {}", path.string(),
+                                   fmt::join(rep.warnings, "; ")));
+  if (mesh.n_faces() == 0)
+    throw InvalidInput(fmt::format("{}: no usable face is left after dropping {} face(s)",
+                                   path.string(), b.dropped()));
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ
+
+Soup parse_obj(const fs::path& path, std::string_view data, ReadReport& rep) {
+  Soup soup;
+  LineReader lr{data};
+  std::string_view line;
+  std::vector<int64_t> poly;
+  size_t unknown = 0;
+  while (lr.next(line)) {
+    std::string_view rest = line;
+    const std::string_view key = next_token(rest);
+    if (key.empty() || key.front() == '#') continue;
+    if (key == "v") {
+      double c[3];
+      for (int k = 0; k < 3; ++k) {
+        const auto tok = next_token(rest);
+        if (tok.empty()) malformed(path, lr.line_no, fmt::format("vertex with {} coordinate(s); expected 3 (truncated file?)", k));
+        if (!parse_double(tok, c[k])) malformed(path, lr.line_no, fmt::format("'{}' is not a number", tok));
+      }
+      soup.xyz.insert(soup.xyz.end(), c, c + 3);
+    } else if (key == "f") {
+      poly.clear();
+      for (auto tok = next_token(rest); !tok.empty(); tok = next_token(rest)) {
+        const auto slash = tok.find('/');
+        int64_t idx;
+        if (!parse_int64(tok.substr(0, slash), idx) || idx == 0)
+          malformed(path, lr.line_no, fmt::format("'{}' is not a vertex reference", tok));
+        // OBJ indices are 1-based; negative ones count back from the latest vertex.
+        poly.push_back(idx > 0 ? idx - 1 : static_cast<int64_t>(soup.n_vertices()) + idx);
+      }
+      if (poly.size() < 3)
+        malformed(path, lr.line_no, fmt::format("face with {} vertex reference(s); expected at least 3 (truncated file?)", poly.size()));
+      soup.add_polygon(poly.data(), poly.size());
+    } else if (key == "vn" || key == "vt" || key == "vp" || key == "o" || key == "g" || key == "s" ||
+               key == "usemtl" || key == "mtllib" || key == "l" || key == "p") {
+      continue;
+    } else {
+      ++unknown;
+    }
+  }
+  if (unknown) rep.warnings.push_back(fmt::format("ignored {} line(s) with unknown keywords", unknown));
+  rep.format = "obj";
+  return soup;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF
+
+Soup parse_off(const fs::path& path, std::string_view data, ReadReport& rep) {
+  Soup soup;
+  LineReader lr{data};
+  std::string_view line;
+  // Skip comments and blank lines.
+  auto next_content = [&](std::string_view& l) {
+    while (lr.next(l)) {
+      const auto hash = l.find('#');
+      if (hash != std::string_view::npos) l = l.substr(0, hash);
+      std::string_view probe = l;
+      if (!next_token(probe).empty()) return true;
+    }
+    return false;
+  };
+  if (!next_content(line)) throw IoError(fmt::format("{}: empty OFF file", path.string()));
+  std::string_view rest = line;
+  std::string head(next_token(rest));
+  if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")
+    throw IoError(fmt::format("{}: not an OFF file (first word '{}')", path.string(), head));
+  if (head.find("4") != std::string::npos || head.find("n") != std::string::npos)
+    throw IoError(fmt::format("{}: OFF variant '{}' is not supported", path.string(), head));
+  std::string_view counts = rest;
+  if (next_token(rest).empty()) {  // counts on the next line
+    if (!next_content(line)) throw IoError(fmt::format("{}: OFF header without counts", path.string()));
+    counts = line;
+  }
+  if (counts.find("BINARY") != std::string_view::npos)
+    throw IoError(fmt::format("{}: binary OFF is not supported", path.string()));
+  int64_t nv = -1, nf = -1;
+  if (!parse_int64(next_token(counts), nv) || !parse_int64(next_token(counts), nf) || nv < 0 || nf < 0)
+    malformed(path, lr.line_no, "expected the vertex and face counts");
+  if (nv > (1ll << 31) || nf > (1ll << 31)) malformed(path, lr.line_no, "counts too large");
+  // Every vertex takes at least 6 bytes ("0 0 0\n") and every face 8: a larger count cannot fit.
+  if (static_cast<uint64_t>(nv) * 6 + static_cast<uint64_t>(nf) * 8 > data.size() + 16)
+    throw IoError(fmt::format("{}: truncated: the header declares {} vertices and {} faces, more than the file can hold",
+                              path.string(), nv, nf));
+  rep.file_vertices = nv;
+  soup.xyz.reserve(3 * nv);
+  for (int64_t i = 0; i < nv; ++i) {
+    if (!next_content(line))
+      throw IoError(fmt::format("{}: truncated: the header declares {} vertices, the file has {}",
+                                path.string(), nv, i));
+    rest = line;
+    for (int k = 0; k < 3; ++k) {
+      double c;
+      const auto tok = next_token(rest);
+      if (!parse_double(tok, c)) malformed(path, lr.line_no, fmt::format("bad vertex coordinate '{}'", tok));
+      soup.xyz.push_back(c);
+    }
+  }
+  std::vector<int64_t> poly;
+  for (int64_t f = 0; f < nf; ++f) {
+    if (!next_content(line))
+      throw IoError(fmt::format("{}: truncated: the header declares {} faces, the file has {}",
+                                path.string(), nf, f));
+    rest = line;
+    int64_t n;
+    if (!parse_int64(next_token(rest), n) || n < 0 || n > 1000000)
+      malformed(path, lr.line_no, "expected the number of corners of a face");
+    poly.resize(n);
+    for (int64_t k = 0; k < n; ++k)
+      if (!parse_int64(next_token(rest), poly[k]))
+        malformed(path, lr.line_no, fmt::format("face lists {} corners but has fewer indices", n));
+    soup.add_polygon(poly.data(), poly.size());
+  }
+  rep.format = "off";
+  return soup;
+}
+
+// ---------------------------------------------------------------------------------------------
+// STL
+
+Soup stl_from_corners(const std::vector<float>& corners, ReadReport& rep) {
+  // STL repeats every corner; merge exactly equal coordinates into one vertex.
+  Soup soup;
+  struct Key {
+    float x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint32_t a, b, c;
+      std::memcpy(&a, &k.x, 4);
+      std::memcpy(&b, &k.y, 4);
+      std::memcpy(&c, &k.z, 4);
+      uint64_t h = a * 0x9E3779B97F4A7C15ull;
+      h ^= b + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+      h ^= c + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+      return h;
+    }
+  };
+  std::unordered_map<Key, int64_t, KeyHash> index;
+  const size_t n_corners = corners.size() / 3;
+  index.reserve(n_corners);
+  std::vector<int64_t> tri(3);
+  for (size_t c = 0; c < n_corners; ++c) {
+    Key k{corners[3 * c], corners[3 * c + 1], corners[3 * c + 2]};
+    auto [it, inserted] = index.emplace(k, static_cast<int64_t>(soup.n_vertices()));
+    if (inserted) soup.xyz.insert(soup.xyz.end(), {double(k.x), double(k.y), double(k.z)});
+    tri[c % 3] = it->second;
+    if (c % 3 == 2) soup.add_polygon(tri.data(), 3);
+  }
+  rep.merged_vertices = n_corners - soup.n_vertices();
+  return soup;
+}
+
+Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
+  // Binary STL: 80-byte header, uint32 count, 50 bytes per triangle. Some binary files start with
+  // "solid" too, so the size decides first.
+  if (data.size() >= 84) {
+    uint32_t n;
+    std::memcpy(&n, data.data() + 80, 4);
+    const uint64_t expect = 84ull + 50ull * n;
+    const bool looks_ascii = data.substr(0, 5) == "solid" && data.find("facet") != std::string_view::npos;
+    if (expect == data.size() || !looks_ascii) {
+      if (data.size() < expect)
+        throw IoError(fmt::format("{}: truncated binary STL: {} triangles declared, room for {}",
+                                  path.string(), n, (data.size() - 84) / 50));
+      std::vector<float> corners(9ull * n);
+      for (uint32_t t = 0; t < n; ++t)
+        std::memcpy(&corners[9ull * t], data.data() + 84 + 50ull * t + 12, 36);
+      rep.format = "stl (binary)";
+      rep.file_polygons = n;
+      return stl_from_corners(corners, rep);
+    }
+  } else if (data.substr(0, std::min<size_t>(5, data.size())) != "solid") {
+    throw IoError(fmt::format("{}: not an STL file (too short for binary, no 'solid' header)", path.string()));
+  }
+  std::vector<float> corners;
+  LineReader lr{data};
+  std::string_view line;
+  size_t in_facet = 0;
+  bool ended = false;
+  while (lr.next(line)) {
+    std::string_view rest = line;
+    const auto key = next_token(rest);
+    if (key == "endsolid") ended = true;
+    if (key == "vertex") {
+      for (int k = 0; k < 3; ++k) {
+        double c;
+        const auto tok = next_token(rest);
+        if (!parse_double(tok, c)) malformed(path, lr.line_no, fmt::format("bad vertex coordinate '{}'", tok));
+        corners.push_back(static_cast<float>(c));
+      }
+      ++in_facet;
+    } else if (key == "endfacet") {
+      if (in_facet != 3) malformed(path, lr.line_no, fmt::format("facet with {} vertices; expected 3", in_facet));
+      in_facet = 0;
+    }
+  }
+  if (in_facet != 0 || corners.size() % 9 != 0)
+    throw IoError(fmt::format("{}: truncated ascii STL (a facet is not closed)", path.string()));
+  if (!ended) rep.warnings.push_back("no 'endsolid' line: the file may be truncated");
+  rep.format = "stl (ascii)";
+  rep.file_polygons = corners.size() / 9;
+  return stl_from_corners(corners, rep);
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY
+
+enum class PlyType { I8, U8, I16, U16, I32, U32, F32, F64 };
+
+PlyType ply_type(const fs::path& path, std::string_view t) {
+  if (t == "char" || t == "int8") return PlyType::I8;
+  if (t == "uchar" || t == "uint8") return PlyType::U8;
+  if (t == "short" || t == "int16") return PlyType::I16;
+  if (t == "ushort" || t == "uint16") return PlyType::U16;
+  if (t == "int" || t == "int32") return PlyType::I32;
+  if (t == "uint" || t == "uint32") return PlyType::U32;
+  if (t == "float" || t == "float32") return PlyType::F32;
+  if (t == "double" || t == "float64") return PlyType::F64;
+  throw IoError(fmt::format("{}: unknown PLY property type '{}'", path.string(), t));
+}
+
+size_t type_size(PlyType t) {
+  switch (t) {
+    case PlyType::I8: case PlyType::U8: return 1;
+    case PlyType::I16: case PlyType::U16: return 2;
+    case PlyType::I32: case PlyType::U32: case PlyType::F32: return 4;
+    case PlyType::F64: return 8;
+  }
+  return 0;
+}
+
+struct PlyPropDecl {
+  std::string name;
+  bool is_list = false;
+  PlyType count_type = PlyType::U8;
+  PlyType type = PlyType::F32;
+};
+
+struct PlyElemDecl {
+  std::string name;
+  size_t count = 0;
+  std::vector<PlyPropDecl> props;
+};
+
+template <class T>
+T load(const char* p, bool swap) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  if (swap) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    std::reverse(b, b + sizeof(T));
+    std::memcpy(&v, b, sizeof(T));
+  }
+  return v;
+}
+
+double load_as_double(const char* p, PlyType t, bool swap) {
+  switch (t) {
+    case PlyType::I8: return load<int8_t>(p, swap);
+    case PlyType::U8: return load<uint8_t>(p, swap);
+    case PlyType::I16: return load<int16_t>(p, swap);
+    case PlyType::U16: return load<uint16_t>(p, swap);
+    case PlyType::I32: return load<int32_t>(p, swap);
+    case PlyType::U32: return load<uint32_t>(p, swap);
+    case PlyType::F32: return load<float>(p, swap);
+    case PlyType::F64: return load<double>(p, swap);
+  }
+  return 0;
+}
+
+PlyData parse_ply(const fs::path& path, std::string_view data) {
+  LineReader lr{data};
+  std::string_view line;
+  if (!lr.next(line) || line != "ply") throw IoError(fmt::format("{}: not a PLY file (no 'ply' magic)", path.string()));
+  // A header cut short would otherwise be reported by whichever line the cut made malformed.
+  if (data.find("end_header") == std::string_view::npos)
+    throw IoError(fmt::format("{}: PLY header has no end_header (truncated?)", path.string()));
+  PlyData out;
+  std::vector<PlyElemDecl> decls;
+  bool header_done = false;
+  while (lr.next(line)) {
+    std::string_view rest = line;
+    const auto key = next_token(rest);
+    if (key == "format") {
+      out.format = std::string(next_token(rest));
+      if (out.format != "ascii" && out.format != "binary_little_endian" && out.format != "binary_big_endian")
+        malformed(path, lr.line_no, fmt::format("unknown PLY format '{}'", out.format));
+    } else if (key == "comment" || key == "obj_info" || key.empty()) {
+      continue;
+    } else if (key == "element") {
+      PlyElemDecl d;
+      d.name = std::string(next_token(rest));
+      int64_t n;
+      if (d.name.empty() || !parse_int64(next_token(rest), n) || n < 0)
+        malformed(path, lr.line_no, "bad element declaration");
+      d.count = static_cast<size_t>(n);
+      decls.push_back(d);
+    } else if (key == "property") {
+      if (decls.empty()) malformed(path, lr.line_no, "property before any element");
+      PlyPropDecl p;
+      const auto t = next_token(rest);
+      if (t == "list") {
+        p.is_list = true;
+        p.count_type = ply_type(path, next_token(rest));
+        p.type = ply_type(path, next_token(rest));
+      } else {
+        p.type = ply_type(path, t);
+      }
+      p.name = std::string(next_token(rest));
+      if (p.name.empty()) malformed(path, lr.line_no, "property without a name");
+      decls.back().props.push_back(p);
+    } else if (key == "end_header") {
+      header_done = true;
+      break;
+    } else {
+      malformed(path, lr.line_no, fmt::format("unexpected header line '{}'", line));
+    }
+  }
+  if (!header_done) throw IoError(fmt::format("{}: PLY header has no end_header (truncated?)", path.string()));
+  if (out.format.empty()) throw IoError(fmt::format("{}: PLY header has no format line", path.string()));
+
+  const bool ascii = out.format == "ascii";
+  const bool swap = (out.format == "binary_big_endian") == (std::endian::native == std::endian::little);
+  size_t pos = lr.pos;
+  for (const auto& d : decls) {
+    PlyElement el;
+    el.name = d.name;
+    el.count = d.count;
+    if (d.props.empty()) {  // rows without properties take no bytes; don't loop over them
+      out.elements.push_back(std::move(el));
+      continue;
+    }
+    // Guard against absurd counts before allocating: every row takes at least one byte.
+    if (d.count > data.size() - std::min(pos, data.size()) + 1)
+      throw IoError(fmt::format("{}: truncated: element '{}' declares {} rows, the file is too short",
+                                path.string(), d.name, d.count));
+    for (const auto& p : d.props) {
+      el.order.push_back(p.name);
+      if (p.is_list) {
+        el.lists[p.name].offsets.reserve(d.count + 1);
+      } else {
+        el.scalars[p.name].reserve(d.count);
+      }
+    }
+    std::vector<std::vector<double>*> scal(d.props.size(), nullptr);
+    std::vector<PlyList*> lst(d.props.size(), nullptr);
+    for (size_t k = 0; k < d.props.size(); ++k) {
+      if (d.props[k].is_list) lst[k] = &el.lists[d.props[k].name];
+      else scal[k] = &el.scalars[d.props[k].name];
+    }
+    auto truncated = [&](size_t row) {
+      throw IoError(fmt::format("{}: truncated: element '{}' declares {} rows, the file ends in row {}",
+                                path.string(), d.name, d.count, row));
+    };
+    if (ascii) {
+      LineReader body{data};
+      body.pos = pos;
+      body.line_no = lr.line_no;
+      for (size_t r = 0; r < d.count; ++r) {
+        std::string_view row;
+        do {
+          if (!body.next(row)) truncated(r);
+        } while ([&] { std::string_view probe = row; return next_token(probe).empty(); }());
+        for (size_t k = 0; k < d.props.size(); ++k) {
+          const auto& p = d.props[k];
+          auto tok = next_token(row);
+          if (p.is_list) {
+            int64_t n;
+            if (!parse_int64(tok, n) || n < 0) malformed(path, body.line_no, fmt::format("bad list length '{}'", tok));
+            for (int64_t i = 0; i < n; ++i) {
+              double v;
+              tok = next_token(row);
+              if (!parse_double(tok, v)) malformed(path, body.line_no, fmt::format("list of {} items has fewer (truncated?)", n));
+              lst[k]->items.push_back(v);
+            }
+            lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
+          } else {
+            double v;
+            if (!parse_double(tok, v))
+              malformed(path, body.line_no, tok.empty() ? "row has too few values (truncated?)" : fmt::format("'{}' is not a number", tok));
+            scal[k]->push_back(v);
+          }
+        }
+      }
+      pos = body.pos;
+      lr.line_no = body.line_no;
+    } else {
+      for (size_t r = 0; r < d.count; ++r) {
+        for (size_t k = 0; k < d.props.size(); ++k) {
+          const auto& p = d.props[k];
+          if (p.is_list) {
+            const size_t cs = type_size(p.count_type);
+            if (pos + cs > data.size()) truncated(r);
+            const double nd = load_as_double(data.data() + pos, p.count_type, swap);
+            pos += cs;
+            if (!(nd >= 0) || nd > static_cast<double>(data.size()))
+              malformed(path, 0, fmt::format("bad list length {} in element '{}' row {}", nd, d.name, r));
+            const size_t n = static_cast<size_t>(nd);
+            const size_t is = type_size(p.type);
+            if (pos + n * is > data.size()) truncated(r);
+            for (size_t i = 0; i < n; ++i, pos += is)
+              lst[k]->items.push_back(load_as_double(data.data() + pos, p.type, swap));
+            lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
+          } else {
+            const size_t is = type_size(p.type);
+            if (pos + is > data.size()) truncated(r);
+            scal[k]->push_back(load_as_double(data.data() + pos, p.type, swap));
+            pos += is;
+          }
+        }
+      }
+    }
+    out.elements.push_back(std::move(el));
+  }
+  return out;
+}
+
+Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
+  const PlyElement* vert = ply.find("vertex");
+  if (!vert) throw IoError(fmt::format("{}: PLY file has no 'vertex' element", path.string()));
+  for (const char* c : {"x", "y", "z"})
+    if (!vert->scalars.count(c))
+      throw IoError(fmt::format("{}: PLY vertex element has no '{}' property", path.string(), c));
+  Soup soup;
+  const auto &X = vert->scalars.at("x"), &Y = vert->scalars.at("y"), &Z = vert->scalars.at("z");
+  soup.xyz.resize(3 * vert->count);
+  for (size_t i = 0; i < vert->count; ++i) {
+    soup.xyz[3 * i] = X[i];
+    soup.xyz[3 * i + 1] = Y[i];
+    soup.xyz[3 * i + 2] = Z[i];
+  }
+  rep.file_vertices = vert->count;
+  auto index_list = [&](const PlyElement& e) -> const PlyList* {
+    for (const char* n : {"vertex_indices", "vertex_index"})
+      if (e.lists.count(n)) return &e.lists.at(n);
+    return nullptr;
+  };
+  if (const PlyElement* face = ply.find("face")) {
+    const PlyList* L = index_list(*face);
+    if (!L) throw IoError(fmt::format("{}: PLY face element has no vertex_indices list", path.string()));
+    std::vector<int64_t> poly;
+    for (size_t f = 0; f < L->rows(); ++f) {
+      poly.assign(L->items.begin() + L->offsets[f], L->items.begin() + L->offsets[f + 1]);
+      soup.add_polygon(poly.data(), poly.size());
+    }
+    rep.file_polygons += face->count;
+  }
+  if (const PlyElement* strips = ply.find("tristrips")) {
+    // Triangle strips: consecutive triples, orientation alternating; -1 restarts a strip.
+    const PlyList* L = index_list(*strips);
+    if (!L) throw IoError(fmt::format("{}: PLY tristrips element has no vertex_indices list", path.string()));
+    for (size_t s = 0; s < L->rows(); ++s) {
+      std::vector<int64_t> run;
+      auto flush = [&]() {
+        for (size_t k = 0; k + 2 < run.size(); ++k) {
+          int64_t t[3] = {run[k], run[k + 1], run[k + 2]};
+          if (k % 2 == 1) std::swap(t[0], t[1]);
+          if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;  // strip padding, not a face
+          soup.add_polygon(t, 3);
+          ++rep.strip_triangles;
+        }
+        run.clear();
+      };
+      for (int64_t i = L->offsets[s]; i < L->offsets[s + 1]; ++i) {
+        const int64_t v = static_cast<int64_t>(L->items[i]);
+        if (v < 0) flush();
+        else run.push_back(v);
+      }
+      flush();
+    }
+    rep.file_polygons += strips->count;
+    rep.notes.push_back(fmt::format("decoded {} triangle(s) from {} triangle strip(s)",
+                                       rep.strip_triangles, strips->count));
+  }
+  rep.format = "ply (" + ply.format + ")";
+  return soup;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+void append_double(std::string& s, double v) {
+  char buf[32];
+  auto [p, ec] = std::to_chars(buf, buf + sizeof(buf), v);  // shortest text that reads back exactly
+  s.append(buf, p);
+}
+
+void append_int(std::string& s, int64_t v) {
+  char buf[24];
+  auto [p, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  s.append(buf, p);
+}
+
+template <class T>
+void append_bin(std::string& s, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+void write_bytes_atomic(const fs::path& path, const std::string& bytes) {
+  if (path.empty()) throw IoError("empty output path");
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path.string()));
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec)) throw IoError(fmt::format("{}: folder {} does not exist", path.string(), dir.string()));
+  const fs::path tmp = dir / fmt::format(".{}.tmp-{}", path.filename().string(), ::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(fmt::format("{}: cannot write in {}", path.string(), dir.string()));
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      fs::remove(tmp, ec);
+      throw IoError(fmt::format("{}: write failed (disk full?)", path.string()));
+    }
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw IoError(fmt::format("{}: cannot move the written file into place", path.string()));
+  }
+}
+
+std::string obj_text(const Mesh& mesh) {
+  std::string s;
+  s.reserve(mesh.n_vertices() * 60 + mesh.n_faces() * 30);
+  s += "# written by geotex\n";
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    s += "v ";
+    append_double(s, p[0]); s += ' ';
+    append_double(s, p[1]); s += ' ';
+    append_double(s, p[2]); s += '\n';
+  }
+  for (auto f : mesh.faces()) {
+    s += 'f';
+    for (auto v : f.vertices()) { s += ' '; append_int(s, v.idx() + 1); }
+    s += '\n';
+  }
+  return s;
+}
+
+std::string off_text(const Mesh& mesh) {
+  std::string s = fmt::format("OFF\n{} {} 0\n", mesh.n_vertices(), mesh.n_faces());
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    append_double(s, p[0]); s += ' ';
+    append_double(s, p[1]); s += ' ';
+    append_double(s, p[2]); s += '\n';
+  }
+  for (auto f : mesh.faces()) {
+    s += '3';
+    for (auto v : f.vertices()) { s += ' '; append_int(s, v.idx()); }
+    s += '\n';
+  }
+  return s;
+}
+
+std::string stl_bytes(const Mesh& mesh, bool binary) {
+  std::string s;
+  auto tri = [&](Mesh::FaceHandle f, Vec3 (&c)[3], Vec3& n) {
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) c[k++] = to_eigen(mesh.point(v));
+    n = (c[1] - c[0]).cross(c[2] - c[0]);
+    const double len = n.norm();
+    if (len > 0) n /= len;
+  };
+  Vec3 c[3], n;
+  if (binary) {
+    s.assign(80, '\0');
+    const char* head = "geotex binary STL";
+    std::memcpy(s.data(), head, std::strlen(head));
+    append_bin<uint32_t>(s, static_cast<uint32_t>(mesh.n_faces()));
+    for (auto f : mesh.faces()) {
+      tri(f, c, n);
+      for (int k = 0; k < 3; ++k) append_bin<float>(s, static_cast<float>(n[k]));
+      for (auto& p : c)
+        for (int k = 0; k < 3; ++k) append_bin<float>(s, static_cast<float>(p[k]));
+      append_bin<uint16_t>(s, 0);
+    }
+  } else {
+    s = "solid geotex\n";
+    for (auto f : mesh.faces()) {
+      tri(f, c, n);
+      s += fmt::format("facet normal {} {} {}\nouter loop\n", float(n[0]), float(n[1]), float(n[2]));
+      for (auto& p : c) {
+        s += "vertex ";
+        for (int k = 0; k < 3; ++k) { append_double(s, static_cast<float>(p[k])); s += k < 2 ? ' ' : '\n'; }
+      }
+      s += "endloop\nendfacet\n";
+    }
+    s += "endsolid geotex\n";
+  }
+  return s;
+}
+
+std::string ply_bytes(const Mesh& mesh, const PlyExtras& extras, bool binary) {
+  const size_t nv = mesh.n_vertices();
+  for (const auto& [name, vals] : extras.vertex_scalars)
+    if (vals.size() != nv)
+      throw InvalidInput(fmt::format("PLY vertex property '{}' has {} values for {} vertices", name, vals.size(), nv));
+  std::string s = "ply\n";
+  s += binary ? (std::endian::native == std::endian::little ? "format binary_little_endian 1.0\n"
+                                                            : "format binary_big_endian 1.0\n")
+              : "format ascii 1.0\n";
+  s += "comment written by geotex\n";
+  s += fmt::format("element vertex {}\nproperty double x\nproperty double y\nproperty double z\n", nv);
+  for (const auto& [name, vals] : extras.vertex_scalars) s += fmt::format("property double {}\n", name);
+  s += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", mesh.n_faces());
+  std::vector<size_t> counts;
+  for (const auto& e : extras.elements) {
+    size_t n = std::string::npos;
+    for (const auto& [name, v] : e.int_props) n = std::min(n, v.size());
+    for (const auto& [name, v] : e.double_props) n = std::min(n, v.size());
+    if (n == std::string::npos) n = 0;
+    for (const auto& [name, v] : e.int_props)
+      if (v.size() != n) throw InvalidInput(fmt::format("PLY element '{}': property '{}' has a different length", e.name, name));
+    for (const auto& [name, v] : e.double_props)
+      if (v.size() != n) throw InvalidInput(fmt::format("PLY element '{}': property '{}' has a different length", e.name, name));
+    counts.push_back(n);
+    s += fmt::format("element {} {}\n", e.name, n);
+    for (const auto& [name, v] : e.int_props) s += fmt::format("property int {}\n", name);
+    for (const auto& [name, v] : e.double_props) s += fmt::format("property double {}\n", name);
+  }
+  s += "end_header\n";
+  s.reserve(s.size() + nv * (24 + 8 * extras.vertex_scalars.size()) + mesh.n_faces() * 13);
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (binary) {
+      for (int k = 0; k < 3; ++k) append_bin<double>(s, p[k]);
+      for (const auto& [name, vals] : extras.vertex_scalars) append_bin<double>(s, vals[v.idx()]);
+    } else {
+      append_double(s, p[0]); s += ' ';
+      append_double(s, p[1]); s += ' ';
+      append_double(s, p[2]);
+      for (const auto& [name, vals] : extras.vertex_scalars) { s += ' '; append_double(s, vals[v.idx()]); }
+      s += '\n';
+    }
+  }
+  for (auto f : mesh.faces()) {
+    if (binary) {
+      append_bin<uint8_t>(s, 3);
+      for (auto v : f.vertices()) append_bin<int32_t>(s, v.idx());
+    } else {
+      s += '3';
+      for (auto v : f.vertices()) { s += ' '; append_int(s, v.idx()); }
+      s += '\n';
+    }
+  }
+  for (size_t ei = 0; ei < extras.elements.size(); ++ei) {
+    const auto& e = extras.elements[ei];
+    for (size_t r = 0; r < counts[ei]; ++r) {
+      bool first = true;
+      for (const auto& [name, v] : e.int_props) {
+        if (binary) append_bin<int32_t>(s, v[r]);
+        else { if (!first) s += ' '; append_int(s, v[r]); }
+        first = false;
+      }
+      for (const auto& [name, v] : e.double_props) {
+        if (binary) append_bin<double>(s, v[r]);
+        else { if (!first) s += ' '; append_double(s, v[r]); }
+        first = false;
+      }
+      if (!binary) s += '\n';
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+const PlyElement* PlyData::find(const std::string& name) const {
+  for (const auto& e : elements)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+MeshFormat format_from_path(const fs::path& path) {
+  const std::string ext = lower(path.extension().string());
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".ply") return MeshFormat::Ply;
+  if (ext == ".off") return MeshFormat::Off;
+  if (ext == ".stl") return MeshFormat::Stl;
+  throw IoError(fmt::format("{}: unknown mesh format '{}' (use .obj, .ply, .off or .stl)", path.string(),
+                            ext.empty() ? "no extension" : ext));
+}
+
+PlyData read_ply_data(const fs::path& path) {
+  const std::string data = read_file_bytes(path);
+  return parse_ply(path, data);
+}
+
+Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOptions& options,
+                          ReadReport* report, const std::string& name) {
+  const fs::path path(name);
+  if (data.empty()) throw IoError(fmt::format("{}: the file is empty", name));
+  ReadReport rep;
+  Soup soup;
+  switch (format) {
+    case MeshFormat::Obj: soup = parse_obj(path, data, rep); break;
+    case MeshFormat::Off: soup = parse_off(path, data, rep); break;
+    case MeshFormat::Stl: soup = parse_stl(path, data, rep); break;
+    case MeshFormat::Ply: soup = soup_from_ply(path, parse_ply(path, data), rep); break;
+  }
+  rep.file_vertices = soup.n_vertices();
+  if (rep.file_polygons == 0) rep.file_polygons = soup.n_polygons();
+  // Text formats without counts (OBJ) or with numbers that may lose digits at a cut (any text format)
+  // cannot always tell a truncated file from a complete one; a missing final newline is the one sign.
+  // (ASCII STL has its 'endsolid' for that.) A comment as the last line is no sign.
+  const bool text = format == MeshFormat::Obj || format == MeshFormat::Off || rep.format == "ply (ascii)";
+  if (text && data.back() != '\n') {
+    const size_t nl = data.rfind('\n');
+    std::string_view last = data.substr(nl == std::string_view::npos ? 0 : nl + 1);
+    const std::string_view key = next_token(last);
+    if (!key.empty() && key.front() != '#')
+      rep.warnings.push_back("the last line has no end-of-line: the file may be truncated");
+  }
+  Mesh mesh = build_from_soup(path, soup, options, rep);
+  if (report) *report = std::move(rep);
+  return mesh;
+}
+
+Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* report) {
+  const MeshFormat format = format_from_path(path);
+  const std::string data = read_file_bytes(path);
+  return read_mesh_from_bytes(data, format, options, report, path.string());
+}
+
+PlyData parse_ply_bytes(std::string_view data, const std::string& name) { return parse_ply(fs::path(name), data); }
+
+void write_mesh(const Mesh& mesh, const fs::path& path, const WriteOptions& options) {
+  const MeshFormat f = format_from_path(path);
+  switch (f) {
+    case MeshFormat::Obj: write_bytes_atomic(path, obj_text(mesh)); break;
+    case MeshFormat::Off: write_bytes_atomic(path, off_text(mesh)); break;
+    case MeshFormat::Stl: write_bytes_atomic(path, stl_bytes(mesh, options.binary)); break;
+    case MeshFormat::Ply: write_bytes_atomic(path, ply_bytes(mesh, {}, options.binary)); break;
+  }
+}
+
+void write_ply(const Mesh& mesh, const fs::path& path, const PlyExtras& extras, bool binary) {
+  write_bytes_atomic(path, ply_bytes(mesh, extras, binary));
+}
+
+void write_text_atomic(const fs::path& path, const std::string& text) { write_bytes_atomic(path, text); }
+
+EdgeValues read_edge_values(const fs::path& path, const std::string& property) {
+  const PlyData d = read_ply_data(path);
+  const PlyElement* e = d.find("edge");
+  if (!e) throw IoError(fmt::format("{}: no 'edge' element", path.string()));
+  for (const std::string p : {"vertex1", "vertex2"})
+    if (!e->scalars.count(p)) throw IoError(fmt::format("{}: edge element has no '{}'", path.string(), p));
+  if (!e->scalars.count(property))
+    throw IoError(fmt::format("{}: edge element has no '{}' property", path.string(), property));
+  const auto &v1 = e->scalars.at("vertex1"), &v2 = e->scalars.at("vertex2"), &values = e->scalars.at(property);
+  if (v1.size() != e->count || v2.size() != e->count || values.size() != e->count)
+    throw IoError(fmt::format("{}: edge element declares a property twice", path.string()));
+  // Vertex indices are stored as numbers of any PLY type: only non-negative integers that fit an int
+  // are indices (a cast of anything else to int is undefined behaviour).
+  auto index = [&](double v, size_t row) {
+    if (!(v >= 0 && v <= std::numeric_limits<int>::max() && v == std::floor(v)))
+      throw IoError(fmt::format("{}: edge {} has vertex index {}, not a non-negative integer", path.string(), row, v));
+    return static_cast<int>(v);
+  };
+  EdgeValues out;
+  out.edges.resize(e->count, 2);
+  out.values.resize(e->count);
+  for (size_t i = 0; i < e->count; ++i) {
+    out.edges(i, 0) = index(v1[i], i);
+    out.edges(i, 1) = index(v2[i], i);
+    out.values[i] = values[i];
+  }
+  return out;
+}
+
+void write_edge_values(const Mesh& mesh, const Eigen::VectorXd& values, const std::string& property,
+                       const fs::path& path, bool binary) {
+  if (static_cast<size_t>(values.size()) != mesh.n_edges())
+    throw InvalidInput(fmt::format("{} edge values for a mesh of {} edges", values.size(), mesh.n_edges()));
+  PlyExtras x;
+  PlyExtras::Element e{"edge", {}, {}};
+  const MatrixX2i E = edges(mesh);
+  e.int_props["vertex1"].assign(E.col(0).data(), E.col(0).data() + E.rows());
+  e.int_props["vertex2"].assign(E.col(1).data(), E.col(1).data() + E.rows());
+  e.double_props[property].assign(values.data(), values.data() + values.size());
+  x.elements.push_back(std::move(e));
+  write_ply(mesh, path, x, binary);
+}
+
+void write_polylines_obj(const MatrixX3d& V, const MatrixX2i& segments, const fs::path& path) {
+  // Only the vertices the segments use, renumbered.
+  std::vector<int> remap(V.rows(), -1);
+  std::string s = "# line segments written by geotex\n";
+  int next = 0;
+  for (Eigen::Index i = 0; i < segments.rows(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const int v = segments(i, k);
+      if (v < 0 || v >= V.rows()) throw InvalidInput("write_polylines_obj: segment index out of range");
+      if (remap[v] >= 0) continue;
+      remap[v] = next++;
+      s += "v ";
+      append_double(s, V(v, 0)); s += ' ';
+      append_double(s, V(v, 1)); s += ' ';
+      append_double(s, V(v, 2)); s += '\n';
+    }
+  for (Eigen::Index i = 0; i < segments.rows(); ++i)
+    s += fmt::format("l {} {}\n", remap[segments(i, 0)] + 1, remap[segments(i, 1)] + 1);
+  write_bytes_atomic(path, s);
+}
+
+}  // namespace geotex

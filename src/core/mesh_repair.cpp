@@ -1,0 +1,169 @@
+// Repairs of a triangle soup before it becomes a halfedge mesh (make_mesh with BuildOptions):
+// non-manifold edges (more than two faces), inconsistent orientation and non-manifold vertices
+// (several fans meeting at one vertex). OpenMesh's add_face refuses a face that would make an edge
+// or a vertex non-manifold, and a face whose orientation disagrees with a neighbour's looks to it
+// like a third face on an edge; so without these repairs a single flipped triangle is dropped and
+// leaves a hole, and a second fan at a vertex loses its faces. Here the faces keep their geometry:
+// flipped faces are turned round, extra fans get their own copy of the vertex.
+
+#include "geotex/core/mesh_repair.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace geotex::detail {
+
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+}  // namespace
+
+SoupRepair repair_soup(int n_vertices, std::vector<std::array<int, 3>> tris, const BuildOptions& options) {
+  SoupRepair out;
+  const size_t nf = tris.size();
+
+  // Undirected edges of every face corner k: (tris[f][k], tris[f][k+1]); ids by sorting the keys.
+  std::vector<std::pair<uint64_t, uint32_t>> keys(3 * nf);
+  for (size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = tris[f][k], b = tris[f][(k + 1) % 3];
+      keys[3 * f + k] = {(uint64_t(std::min(a, b)) << 32) | std::max(a, b), uint32_t(3 * f + k)};
+    }
+  std::sort(keys.begin(), keys.end());
+  std::vector<int> edge_of(3 * nf);
+  int n_edges = 0;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (i > 0 && keys[i].first != keys[i - 1].first) ++n_edges;
+    edge_of[keys[i].second] = n_edges;
+  }
+  if (!keys.empty()) ++n_edges;
+  keys = {};
+
+  // Non-manifold edges: in file order, a face that would be the third on one of its edges is dropped.
+  std::vector<uint8_t> edge_faces(n_edges, 0);
+  std::vector<char> keep(nf, 1);
+  for (size_t f = 0; f < nf; ++f) {
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) ok &= edge_faces[edge_of[3 * f + k]] < 2;
+    if (!ok) {
+      keep[f] = 0;
+      ++out.dropped_faces;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) ++edge_faces[edge_of[3 * f + k]];
+  }
+  // The two kept faces of every manifold edge (as corner ids 3f + k).
+  std::vector<std::array<int, 2>> edge_corners(n_edges, {-1, -1});
+  for (size_t f = 0; f < nf; ++f) {
+    if (!keep[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      auto& ec = edge_corners[edge_of[3 * f + k]];
+      (ec[0] < 0 ? ec[0] : ec[1]) = int(3 * f + k);
+    }
+  }
+  // +1 if face f runs along its corner-k edge from the smaller to the larger index.
+  auto dir = [&](int corner) {
+    const auto& t = tris[corner / 3];
+    return t[corner % 3] < t[(corner % 3 + 1) % 3] ? 1 : -1;
+  };
+
+  if (options.fix_orientation) {
+    // Breadth-first over faces joined by manifold edges: a neighbour must run along the shared edge in
+    // the opposite direction. Then, per component, the orientation most faces already had wins.
+    std::vector<int8_t> sign(nf, 0);
+    std::vector<int> queue;
+    for (size_t seed = 0; seed < nf; ++seed) {
+      if (!keep[seed] || sign[seed] != 0) continue;
+      queue.assign(1, int(seed));
+      sign[seed] = 1;
+      size_t flipped = 0;
+      for (size_t q = 0; q < queue.size(); ++q) {
+        const int f = queue[q];
+        flipped += sign[f] < 0;
+        for (int k = 0; k < 3; ++k) {
+          const auto& ec = edge_corners[edge_of[3 * f + k]];
+          if (ec[1] < 0) continue;  // boundary edge
+          const int other = ec[0] == 3 * f + k ? ec[1] : ec[0];
+          const int g = other / 3;
+          const int8_t want = static_cast<int8_t>(-sign[f] * dir(3 * f + k) * dir(other));
+          if (sign[g] == 0) {
+            sign[g] = want;
+            queue.push_back(g);
+          }  // else: a conflict means a non-orientable component; OpenMesh refuses one face later
+        }
+      }
+      if (2 * flipped > queue.size())
+        for (int f : queue) sign[f] = static_cast<int8_t>(-sign[f]);
+    }
+    for (size_t f = 0; f < nf; ++f)
+      if (keep[f] && sign[f] < 0) {
+        std::swap(tris[f][1], tris[f][2]);
+        ++out.flipped_faces;
+      }
+    // Flipping (a, b, c) to (a, c, b) turns its corner edges (ab, bc, ca) into (ac, cb, ba).
+    for (size_t f = 0; f < nf; ++f)
+      if (keep[f] && sign[f] < 0) std::swap(edge_of[3 * f], edge_of[3 * f + 2]);
+    // Rebuild the corner lists with the new corner numbering.
+    std::fill(edge_corners.begin(), edge_corners.end(), std::array<int, 2>{-1, -1});
+    for (size_t f = 0; f < nf; ++f) {
+      if (!keep[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        auto& ec = edge_corners[edge_of[3 * f + k]];
+        (ec[0] < 0 ? ec[0] : ec[1]) = int(3 * f + k);
+      }
+    }
+  }
+
+  out.n_vertices = n_vertices;
+  if (options.split_nonmanifold_vertices) {
+    // Corners (f, k) at the same vertex are in one fan when their faces share a manifold edge
+    // through that vertex. A vertex with several fans keeps the first; each other fan gets a copy.
+    UnionFind uf(3 * nf);
+    for (int e = 0; e < n_edges; ++e) {
+      const auto& ec = edge_corners[e];
+      if (ec[1] < 0) continue;
+      const int f = ec[0] / 3, g = ec[1] / 3;
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+          if (tris[f][k] == tris[g][l]) uf.unite(3 * f + k, 3 * g + l);  // the edge's two ends
+    }
+    std::vector<int> fan_root(n_vertices, -1);  // root of the fan that keeps the original vertex
+    std::vector<int> root_vertex(3 * nf, -1);   // vertex id of the copy made for a fan (by root)
+    for (size_t f = 0; f < nf; ++f) {
+      if (!keep[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int c = int(3 * f + k), v = tris[f][k], r = uf.find(c);
+        if (fan_root[v] < 0) fan_root[v] = r;
+        if (fan_root[v] == r) continue;
+        if (root_vertex[r] < 0) {
+          root_vertex[r] = out.n_vertices++;
+          out.copy_of.push_back(v);
+        }
+        tris[f][k] = root_vertex[r];
+      }
+    }
+    std::vector<char> split(n_vertices, 0);
+    for (int v : out.copy_of) split[v] = 1;
+    out.split_vertices = static_cast<size_t>(std::count(split.begin(), split.end(), 1));
+  }
+
+  out.faces.reserve(nf - out.dropped_faces);
+  for (size_t f = 0; f < nf; ++f)
+    if (keep[f]) out.faces.push_back(tris[f]);
+  return out;
+}
+
+}  // namespace geotex::detail

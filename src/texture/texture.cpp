@@ -1,0 +1,379 @@
+// Height-and-tilt geometric texture: base shape, extraction, reconstruction, editing, file I/O
+// (thesis Sec. 8.3–8.4). Transfer is in texture_transfer.cpp.
+
+#include "geotex/texture/texture.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geotex/core/error.h"
+#include "geotex/core/io.h"
+#include "geotex/toolkit/phong_projection.h"
+#include "geotex/toolkit/smoothing.h"
+
+namespace geotex {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+double nonzero_sign(double x) { return x < 0 ? -1.0 : 1.0; }  // Sec. 8.3.2.2: sign(0) = +1
+
+OneFormFitOptions fit_options(const TextureOptions& o) {
+  OneFormFitOptions f;
+  f.tangential = o.tangential_fit;
+  f.bound_by_edge_length = o.bound_tilt;
+  f.regularization = o.regularization;
+  return f;
+}
+
+// Unit tangent direction of d at a vertex with normal n (zero if d is normal).
+Vec3 tangent_direction(const Vec3& d, const Vec3& n) {
+  const Vec3 t = d - d.dot(n) * n;
+  const double l = t.norm();
+  return l > 1e-12 ? Vec3(t / l) : Vec3::Zero();
+}
+
+// Rotate unit vector x towards tangent direction m (a plane spanned with the normal n) by angle θ:
+// about the axis n × m, which turns n into cos θ n + sin θ m.
+Vec3 turn_towards(const Vec3& x, const Vec3& n, const Vec3& m, double theta) {
+  if (m.isZero()) return x;
+  const Vec3 axis = n.cross(m).normalized();
+  return Eigen::AngleAxisd(theta, axis) * x;
+}
+
+// A texture whose directions are \p D (#V by 3 unit) with the heights' magnitudes of \p texture.
+Texture from_directions(TextureCodec& codec, const Texture& texture, const MatrixX3d& D) {
+  const MatrixX3d& N = codec.normals();
+  Texture out;
+  out.height.resize(texture.height.size());
+  MatrixX3d T(D.rows(), 3);
+  for (Eigen::Index i = 0; i < D.rows(); ++i) {
+    const Vec3 d = D.row(i), n = N.row(i);
+    out.height[i] = nonzero_sign(d.dot(n)) * std::abs(texture.height[i]);  // Eq. (8.5)
+    T.row(i) = d.cross(n).transpose();                                      // Eq. (8.6)
+  }
+  out.tilt = codec.encode_tilt(T, out.height);
+  return out;
+}
+
+// Unit displacement direction from a vertex tilt t (made tangent, clamped to length ≤ 1) and the
+// normal n: d̂ = cos α n + n × t with sin α = ‖t‖, cos α = sign √(1 − ‖t‖²) (Eq. 8.8, DESIGN.md).
+Vec3 direction_from_tilt(Vec3 t, const Vec3& n, double sign) {
+  t -= t.dot(n) * n;
+  const double l = t.norm();
+  if (l > 1) t /= l;
+  const double s = std::min(1.0, l);
+  return sign * std::sqrt(std::max(0.0, 1 - s * s)) * n + n.cross(t);
+}
+
+double max_abs_height(const Texture& t) { return t.height.size() ? t.height.cwiseAbs().maxCoeff() : 0.0; }
+
+Vec3 unit_or_throw(const Vec3& v, const char* what) {
+  if (!(v.norm() > 0) || !v.allFinite()) throw InvalidInput(std::string(what) + ": direction must be a non-zero vector");
+  return v.normalized();
+}
+
+}  // namespace
+
+MatrixX3d extract_base_shape(const Mesh& textured, const BaseShapeOptions& o) {
+  require_valid(textured, "base shape: textured mesh");
+  if (!(o.lambda > 0) || o.steps < 0 || o.max_steps < 1 || !(o.stop_tolerance > 0))
+    throw InvalidInput("base shape: lambda and tolerance must be positive, steps non-negative");
+  SmoothingOptions s;
+  s.laplacian = o.laplacian;
+  s.implicit = true;
+  s.lambda = o.lambda;
+  if (o.steps > 0) {
+    s.steps = o.steps;
+    s.progress = o.progress;
+    return smooth(textured, s);
+  }
+  // Automatic (Sec. 8.3.1): step until the shape stops changing; one factorization for all steps.
+  s.steps = o.max_steps;
+  s.stop_tolerance = o.stop_tolerance;
+  s.progress = o.progress;
+  return smooth(textured, s);
+}
+
+Mesh project_onto_base(const Mesh& textured, const Mesh& base, size_t* missed) {
+  require_valid(textured, "projection: textured mesh");
+  const PhongProjector proj(base);
+  const std::vector<PhongHit> hits = proj.project(positions(textured));
+  MatrixX3d X(hits.size(), 3);
+  size_t miss = 0;
+  for (size_t i = 0; i < hits.size(); ++i) {
+    X.row(i) = hits[i].point.transpose();
+    miss += !hits[i].found;
+  }
+  if (missed) *missed = miss;
+  Mesh out = textured;
+  set_positions(out, X);
+  return out;
+}
+
+TextureCodec::TextureCodec(const Mesh& base, const TextureOptions& options)
+    : base_(base),
+      X_(positions(base)),
+      N_(vertex_normals(base, options.normals)),
+      options_(options),
+      fitter_(base_, fit_options(options), N_),
+      mean_edge_(mean_edge_length(base)) {
+  if (!(options.fit_tolerance > 0) || options.max_iterations < 0 || options.stall_iterations < 1)
+    throw InvalidInput("texture: fit tolerance and stall iterations must be positive, max iterations non-negative");
+}
+
+Texture TextureCodec::extract(const MatrixX3d& textured) {
+  if (textured.rows() != X_.rows())
+    throw InvalidInput("texture extraction: the textured surface has " + std::to_string(textured.rows()) +
+                       " vertices, the base " + std::to_string(X_.rows()) + " (same connectivity needed)");
+  if (!textured.allFinite()) throw InvalidInput("texture extraction: non-finite coordinates");
+  const Eigen::Index n = X_.rows();
+  Texture tex;
+  tex.height.resize(n);
+  MatrixX3d T(n, 3);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 d = (textured.row(i) - X_.row(i)).transpose();  // Eq. (8.4)
+    const Vec3 nrm = N_.row(i);
+    const double len = d.norm();
+    tex.height[i] = nonzero_sign(d.dot(nrm)) * len;                                // Eq. (8.5)
+    T.row(i) = len > 0 ? Eigen::RowVector3d((d / len).cross(nrm).transpose()) : Eigen::RowVector3d::Zero();  // Eq. (8.6)
+  }
+  tex.tilt = encode_tilt(T, tex.height);  // Eq. (8.2)
+  return tex;
+}
+
+MatrixX3d TextureCodec::tilt_vectors(const Eigen::VectorXd& tilt) const {
+  if (tilt.size() != static_cast<Eigen::Index>(base_.n_edges()))
+    throw InvalidInput("texture: expected one tilt per base edge (" + std::to_string(base_.n_edges()) + "), got " +
+                       std::to_string(tilt.size()));
+  const SparseMatrix& P = fitter_.matrix();
+  const Eigen::VectorXd t = P * tilt;  // Eq. (5.79)
+  const Eigen::Index n = X_.rows();
+  MatrixX3d T(n, 3);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 nrm = N_.row(i);
+    Vec3 v(t[i], t[n + i], t[2 * n + i]);
+    v -= v.dot(nrm) * nrm;  // the tilt is tangent (Eq. 8.6)
+    const double l = v.norm();
+    if (l > 1) v /= l;      // ‖t‖ = sin α ≤ 1
+    T.row(i) = v.transpose();
+  }
+  return T;
+}
+
+Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::VectorXd& heights) {
+  if (T.rows() != X_.rows()) throw InvalidInput("texture: expected one tilt vector per vertex");
+  if (heights.size() != 0 && heights.size() != T.rows()) throw InvalidInput("texture: expected one height per vertex");
+  const double hmax = heights.size() ? heights.cwiseAbs().maxCoeff() : 0.0;
+  Eigen::VectorXd w;  // empty: unweighted
+  if (options_.height_weighted && hmax > 0) {
+    // Full fit: h² (a vertex's position error is |h_i| × its direction error, Eq. 8.8). Tangential fit:
+    // |h|; the system is consistent, so the weights only steer CGLS (|h| needs the fewest iterations
+    // on both the spiky shapes and igea; bench/texture.md).
+    const Eigen::ArrayXd r = (heights / hmax).array().abs();
+    w = (options_.tangential_fit ? r : r.square()) + 1e-4;
+  }
+  last_fit_ = TiltFitReport();
+  if (options_.solver == TiltSolver::Direct || options_.bound_tilt) return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);
+
+  // Iterative: stop once the displacement directions the fitted tilt gives (Eq. 8.8) put every vertex
+  // within fit_tolerance mean edges of where the target tilt puts it (|h_i| × direction error; with
+  // no heights, the direction error itself). The normal part of P c, dropped when decoding, is not
+  // driven to zero as tightly as by the exact minimiser (texture_test: TiltFieldIsTangentToTheBase).
+  const Eigen::Index n = X_.rows();
+  MatrixX3d D(n, 3);
+  Eigen::VectorXd scale(n);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double sign = heights.size() ? nonzero_sign(heights[i]) : 1.0;
+    D.row(i) = direction_from_tilt(T.row(i).transpose(), N_.row(i).transpose(), sign).transpose();
+    scale[i] = heights.size() ? std::abs(heights[i]) / mean_edge_ : 1.0;
+  }
+  const int window = std::max(1, options_.stall_iterations / 10);  // in checks (one every 10 iterations)
+  std::vector<double> history;
+  bool met = false;
+  auto monitor = [&](const Eigen::VectorXd&, const Eigen::VectorXd& Pc) {
+    double err = 0;
+#pragma omp parallel for schedule(static) reduction(max : err) if (n > 30000)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double sign = heights.size() ? nonzero_sign(heights[i]) : 1.0;
+      const Vec3 d = direction_from_tilt(Vec3(Pc[i], Pc[n + i], Pc[2 * n + i]), N_.row(i).transpose(), sign);
+      err = std::max(err, scale[i] * (d - Vec3(D.row(i).transpose())).norm());
+    }
+    history.push_back(err);
+    met = err <= options_.fit_tolerance;
+    const size_t k = history.size();
+    if (met || k <= static_cast<size_t>(window)) return met;
+    // Give up (and solve directly) when the error shrank by less than 10 % over the window, or when
+    // the rate over the window says the tolerance lies beyond max_iterations.
+    const double ratio = err / history[k - 1 - window];
+    if (!(ratio < 0.9)) return true;
+    const double windows_left = std::log(options_.fit_tolerance / err) / std::log(ratio);
+    return 10.0 * (k - 1) + windows_left * options_.stall_iterations > options_.max_iterations;
+  };
+  IterativeFitOptions io;
+  io.max_iterations = options_.max_iterations;
+  io.check_every = 10;
+  IterativeFitResult r = fitter_.fit_iterative(T, w, monitor, io);
+  last_fit_.iterations = r.iterations;
+  last_fit_.error = history.empty() ? 0.0 : history.back();
+  if (met) {
+    last_fit_.iterative = true;
+    return r.c;
+  }
+  return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);  // stalled or out of iterations: the exact minimiser
+}
+
+MatrixX3d TextureCodec::directions(const Texture& tex) const {
+  if (tex.height.size() != X_.rows())
+    throw InvalidInput("texture: expected one height per base vertex (" + std::to_string(X_.rows()) + "), got " +
+                       std::to_string(tex.height.size()));
+  const MatrixX3d T = tilt_vectors(tex.tilt);
+  const Eigen::Index n = X_.rows();
+  MatrixX3d D(n, 3);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 nrm = N_.row(i), t = T.row(i);
+    const double s = std::min(1.0, t.norm());
+    const double c = nonzero_sign(tex.height[i]) * std::sqrt(std::max(0.0, 1 - s * s));  // Eq. (8.8)
+    // With t = d̂ × n, d̂ = cos α n + n × t: the rotation of n is about t, not about n × t as printed in
+    // Sec. 8.3.3 (see DESIGN.md; the round-trip test settles it).
+    D.row(i) = (c * nrm + nrm.cross(t)).transpose();
+  }
+  return D;
+}
+
+MatrixX3d TextureCodec::apply(const Texture& tex) const {
+  const MatrixX3d D = directions(tex);
+  MatrixX3d Y = X_;
+  for (Eigen::Index i = 0; i < Y.rows(); ++i) Y.row(i) += std::abs(tex.height[i]) * D.row(i);
+  return Y;
+}
+
+Texture extract_texture(const Mesh& base, const MatrixX3d& textured, const TextureOptions& options) {
+  TextureCodec codec(base, options);
+  return codec.extract(textured);
+}
+
+MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureOptions& options) {
+  TextureOptions o = options;
+  o.bound_tilt = false;  // nothing is fitted when only applying
+  return TextureCodec(base, o).apply(texture);
+}
+
+Texture height_field_only(const Texture& texture) {
+  Texture t = texture;
+  t.tilt.setZero();
+  return t;
+}
+
+Texture set_tilt(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
+  const Vec3 dir = unit_or_throw(direction, "set tilt");
+  const MatrixX3d& N = codec.normals();
+  MatrixX3d D(N.rows(), 3);
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const Vec3 n = N.row(i);
+    const Vec3 base = nonzero_sign(texture.height[i]) * n;
+    // Turning −n towards m by θ leans it away from m; lean the tangential part towards m either way.
+    const double theta = angle_deg * kDeg * nonzero_sign(texture.height[i]);
+    D.row(i) = turn_towards(base, n, tangent_direction(dir, n), theta).transpose();
+  }
+  return from_directions(codec, texture, D);
+}
+
+Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
+  const Vec3 dir = unit_or_throw(direction, "wrap");
+  const double hmax = max_abs_height(texture);
+  MatrixX3d D = codec.directions(texture);
+  const MatrixX3d& N = codec.normals();
+  if (hmax > 0)
+    for (Eigen::Index i = 0; i < N.rows(); ++i) {
+      const Vec3 n = N.row(i);
+      const double theta = angle_deg * kDeg * std::abs(texture.height[i]) / hmax;
+      D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta).transpose();
+    }
+  return from_directions(codec, texture, D);
+}
+
+Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& direction, double amplitude_deg,
+               double wavelength, double phase) {
+  const Vec3 dir = unit_or_throw(direction, "wiggle");
+  if (!(wavelength > 0)) throw InvalidInput("wiggle: wavelength must be positive");
+  const double hmax = max_abs_height(texture);
+  MatrixX3d D = codec.directions(texture);
+  const MatrixX3d& N = codec.normals();
+  const MatrixX3d X = positions(codec.base());
+  if (hmax > 0)
+    for (Eigen::Index i = 0; i < N.rows(); ++i) {
+      const Vec3 n = N.row(i);
+      const double wave = std::sin(2 * M_PI * (X.row(i).dot(dir) / wavelength - phase));
+      const double theta = amplitude_deg * kDeg * wave * std::abs(texture.height[i]) / hmax;
+      D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta).transpose();
+    }
+  return from_directions(codec, texture, D);
+}
+
+Texture scale_height(const Texture& texture, double factor) {
+  if (!std::isfinite(factor)) throw InvalidInput("scale height: factor must be finite");
+  Texture t = texture;
+  t.height *= factor;
+  return t;
+}
+
+void write_texture(const std::filesystem::path& path, const Mesh& base, const Texture& texture, bool binary) {
+  if (texture.height.size() != static_cast<Eigen::Index>(base.n_vertices()) ||
+      texture.tilt.size() != static_cast<Eigen::Index>(base.n_edges()))
+    throw InvalidInput("write texture: sizes do not match the base mesh");
+  PlyExtras ex;
+  ex.vertex_scalars["height"] = std::vector<double>(texture.height.data(), texture.height.data() + texture.height.size());
+  PlyExtras::Element e;
+  e.name = "edge";
+  const MatrixX2i E = edges(base);
+  e.int_props["vertex1"] = std::vector<int>(E.rows());
+  e.int_props["vertex2"] = std::vector<int>(E.rows());
+  for (Eigen::Index k = 0; k < E.rows(); ++k) {
+    e.int_props["vertex1"][k] = E(k, 0);
+    e.int_props["vertex2"][k] = E(k, 1);
+  }
+  e.double_props["tilt"] = std::vector<double>(texture.tilt.data(), texture.tilt.data() + texture.tilt.size());
+  ex.elements.push_back(std::move(e));
+  write_ply(base, path, ex, binary);
+}
+
+TextureFile read_texture(const std::filesystem::path& path) {
+  TextureFile out;
+  ReadOptions ro;
+  ro.strict = true;  // a dropped face would shift the edges the tilt refers to
+  out.base = read_mesh(path, ro);
+  const PlyData data = read_ply_data(path);
+  const PlyElement* v = data.find("vertex");
+  if (!v || !v->scalars.count("height"))
+    throw IoError(path.string() + ": not a texture file (no vertex property 'height')");
+  const auto& h = v->scalars.at("height");
+  if (h.size() != out.base.n_vertices()) throw IoError(path.string() + ": height count does not match the vertices");
+  out.texture.height = Eigen::Map<const Eigen::VectorXd>(h.data(), h.size());
+  const EdgeValues ev = read_edge_values(path, "tilt");
+  if (ev.values.size() != static_cast<Eigen::Index>(out.base.n_edges()))
+    throw IoError(path.string() + ": " + std::to_string(ev.values.size()) + " tilt values for " +
+                  std::to_string(out.base.n_edges()) + " edges");
+  // Match each stored edge to the rebuilt mesh's edge (and orientation): edge order is not promised.
+  out.texture.tilt.setZero(out.base.n_edges());
+  std::vector<char> seen(out.base.n_edges(), 0);
+  const int nv = static_cast<int>(out.base.n_vertices());
+  for (Eigen::Index k = 0; k < ev.edges.rows(); ++k) {
+    const int a = ev.edges(k, 0), b = ev.edges(k, 1);
+    if (a < 0 || b < 0 || a >= nv || b >= nv) throw IoError(path.string() + ": edge vertex index out of range");
+    const auto hh = out.base.find_halfedge(out.base.vertex_handle(a), out.base.vertex_handle(b));
+    if (!hh.is_valid()) throw IoError(path.string() + ": edge " + std::to_string(k) + " is not an edge of the mesh");
+    const auto eh = out.base.edge_handle(hh);
+    seen[eh.idx()] = 1;
+    out.texture.tilt[eh.idx()] = out.base.halfedge_handle(eh, 0) == hh ? ev.values[k] : -ev.values[k];
+  }
+  if (std::find(seen.begin(), seen.end(), 0) != seen.end())
+    throw IoError(path.string() + ": the edge element does not cover every mesh edge");
+  return out;
+}
+
+}  // namespace geotex

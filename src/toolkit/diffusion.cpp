@@ -1,0 +1,87 @@
+#include "geotex/toolkit/diffusion.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <Spectra/SymEigsShiftSolver.h>
+
+#include "geotex/core/error.h"
+#include "geotex/toolkit/linear_solver.h"
+
+namespace geotex {
+
+namespace {
+
+// Shift-invert operator of the symmetric standard problem A y = λ y with A = M^{-1/2} K M^{-1/2},
+// K = −C: (A − σI)⁻¹ x = M^{1/2} (K − σM)⁻¹ M^{1/2} x, with one Cholesky factor of K − σM.
+class ShiftInvertOp {
+ public:
+  using Scalar = double;
+  ShiftInvertOp(const SparseMatrix& K, const Eigen::VectorXd& m) : K_(K), sqrt_m_(m.cwiseSqrt()), m_(m) {}
+  Eigen::Index rows() const { return K_.rows(); }
+  Eigen::Index cols() const { return K_.cols(); }
+  void set_shift(double sigma) {
+    SparseMatrix A = K_;
+    for (Eigen::Index i = 0; i < A.rows(); ++i) A.coeffRef(i, i) -= sigma * m_[i];
+    solver_.compute(A);
+  }
+  void perform_op(const double* x_in, double* y_out) const {
+    Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
+    Eigen::Map<Eigen::VectorXd> y(y_out, rows());
+    const Eigen::VectorXd b = sqrt_m_.cwiseProduct(x);
+    y = sqrt_m_.cwiseProduct(solver_.solve(b).col(0));
+  }
+
+ private:
+  const SparseMatrix& K_;
+  Eigen::VectorXd sqrt_m_, m_;
+  SpdSolver solver_;
+};
+
+}  // namespace
+
+LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
+  require_valid(mesh, "spectrum input");
+  const int n = static_cast<int>(mesh.n_vertices());
+  if (count < 2 || count >= n)
+    throw InvalidInput(fmt::format("eigenpair count {} must lie in [2, {})", count, n));
+  const SparseMatrix K = -cotan_matrix(mesh);
+  const Eigen::VectorXd m = mass_diagonal(mesh, MassType::Voronoi);
+  // All λ ≥ 0: a small negative shift makes K − σM positive definite and picks the smallest λ.
+  const double sigma = -1e-6 * (K.diagonal().array() / m.array()).mean();
+  ShiftInvertOp op(K, m);
+  const int ncv = std::min(n, std::max(3 * count, count + 40));  // room for multiple eigenvalues (spheres)
+  Spectra::SymEigsShiftSolver<ShiftInvertOp> eigs(op, count, ncv, sigma);
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw SolverError(fmt::format("Laplace eigenproblem: Lanczos did not converge for {} eigenpairs", count));
+  LaplaceSpectrum s;
+  s.values = eigs.eigenvalues();
+  s.vectors = eigs.eigenvectors();                          // y, orthonormal
+  s.vectors = m.cwiseSqrt().cwiseInverse().asDiagonal() * s.vectors;  // φ = M^{-1/2} y, M-orthonormal
+  return s;
+}
+
+Eigen::VectorXd auto_diffusion_function(const LaplaceSpectrum& s, double t) {
+  if (!(t > 0)) throw InvalidInput("diffusion time t must be positive");
+  const Eigen::Index k = s.values.size();
+  if (k == 0) throw InvalidInput("empty spectrum");
+  const double tiny = 1e-8 * s.values.cwiseAbs().maxCoeff();
+  Eigen::Index first = 0;
+  while (first < k && s.values[first] <= tiny) ++first;
+  if (first == k) throw InvalidInput("the spectrum holds no non-zero eigenvalue");
+  const double lambda1 = s.values[first];
+  Eigen::VectorXd adf = Eigen::VectorXd::Zero(s.vectors.rows());
+  for (Eigen::Index i = first; i < k; ++i)
+    adf += std::exp(-s.values[i] * t / lambda1) * s.vectors.col(i).cwiseAbs2();  // Gębal et al. Eq. (2)
+  return adf;
+}
+
+Eigen::VectorXd auto_diffusion_function(const Mesh& mesh, const DiffusionOptions& options) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  return auto_diffusion_function(laplace_spectrum(mesh, std::min(options.eigenpairs, n - 1)), options.t);
+}
+
+}  // namespace geotex

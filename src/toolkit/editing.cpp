@@ -1,0 +1,250 @@
+#include "geotex/toolkit/editing.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <Eigen/SVD>
+
+#include "geotex/core/error.h"
+
+namespace geotex {
+
+namespace {
+
+// Closed 1-ring {i} ∪ N_i of every vertex, flat (CSR).
+struct Rings {
+  std::vector<int> offset{0}, ids;
+  explicit Rings(const Mesh& mesh) {
+    offset.reserve(mesh.n_vertices() + 1);
+    ids.reserve(mesh.n_vertices() + 2 * mesh.n_edges());
+    for (auto v : mesh.vertices()) {
+      ids.push_back(v.idx());
+      for (auto w : mesh.vv_range(v)) ids.push_back(w.idx());
+      offset.push_back(static_cast<int>(ids.size()));
+    }
+  }
+  int size(int i) const { return offset[i + 1] - offset[i]; }
+  const int* begin(int i) const { return ids.data() + offset[i]; }
+};
+
+Eigen::MatrixX3d gather(const MatrixX3d& X, const int* ids, int k) {
+  Eigen::MatrixX3d P(k, 3);
+  for (int r = 0; r < k; ++r) P.row(r) = X.row(ids[r]);
+  return P;
+}
+
+}  // namespace
+
+Similarity fit_similarity(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q, bool allow_scale) {
+  if (P.rows() != Q.rows() || P.rows() == 0) throw InvalidInput("fit_similarity: P and Q need the same, non-zero row count");
+  const Eigen::RowVector3d cp = P.colwise().mean(), cq = Q.colwise().mean();
+  const Eigen::MatrixX3d Pc = P.rowwise() - cp, Qc = Q.rowwise() - cq;
+  const double var = Pc.squaredNorm();
+  Similarity T;
+  if (!(var > 0)) {
+    T.t = (cq - cp).transpose();
+    return T;
+  }
+  // Umeyama (1991): H = Σ q pᵀ = U Σ Vᵀ, R = U S Vᵀ with S = diag(1, 1, det(U Vᵀ)), s = tr(Σ S) / Σ|p|².
+  const Eigen::Matrix3d H = Qc.transpose() * Pc;
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Vector3d S(1, 1, (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1);
+  T.R = svd.matrixU() * S.asDiagonal() * svd.matrixV().transpose();
+  T.s = allow_scale ? svd.singularValues().dot(S) / var : 1.0;
+  T.t = cq.transpose() - T.s * (T.R * cp.transpose());
+  return T;
+}
+
+std::vector<Similarity> one_ring_similarities(const Mesh& mesh, const MatrixX3d& X0, const MatrixX3d& X1,
+                                              bool allow_scale) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  if (X0.rows() != n || X1.rows() != n) throw InvalidInput("one_ring_similarities: positions must be #V by 3");
+  const Rings rings(mesh);
+  std::vector<Similarity> T(n);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) {
+    const int k = rings.size(i);
+    T[i] = fit_similarity(gather(X0, rings.begin(i), k), gather(X1, rings.begin(i), k), allow_scale);
+  }
+  return T;
+}
+
+SparseMatrix editing_laplacian(const Mesh& mesh, LaplacianType type) {
+  if (type == LaplacianType::Umbrella) return umbrella_laplacian(mesh);
+  // Cotangent weights normalised per row: (L x)_i = Σ_j w_ij x_j / Σ_j w_ij − x_i.
+  const SparseMatrix C = cotan_matrix(mesh);
+  Eigen::VectorXd d = -C.diagonal();
+  const double scale = d.size() ? d.cwiseAbs().mean() : 1.0;
+  for (Eigen::Index i = 0; i < d.size(); ++i)
+    if (!(std::abs(d[i]) > 1e-12 * scale)) d[i] = 0;  // isolated vertex: zero row
+  Eigen::VectorXd inv = d.unaryExpr([](double x) { return x != 0 ? 1.0 / x : 0.0; });
+  SparseMatrix L = inv.asDiagonal() * C;
+  return L;
+}
+
+LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std::vector<double> weights,
+                                 const EditOptions& options)
+    : mesh_(&mesh), handles_(std::move(handles)), options_(options) {
+  require_valid(mesh, "editing input");
+  const int n = static_cast<int>(mesh.n_vertices());
+  if (handles_.empty()) throw InvalidInput("Laplacian editing needs at least one handle vertex");
+  if (!weights.empty() && weights.size() != handles_.size())
+    throw InvalidInput(fmt::format("{} handle weights for {} handle vertices", weights.size(), handles_.size()));
+  std::vector<char> seen(n, 0);
+  w2_.resize(handles_.size());
+  for (size_t h = 0; h < handles_.size(); ++h) {
+    const int v = handles_[h];
+    if (v < 0 || v >= n) throw InvalidInput(fmt::format("handle vertex {} is out of range [0, {})", v, n));
+    if (seen[v]++) throw InvalidInput(fmt::format("handle vertex {} is given twice", v));
+    const double w = weights.empty() ? options.handle_weight : weights[h];
+    if (!(w > 0) || !std::isfinite(w)) throw InvalidInput(fmt::format("handle weight {} must be positive", w));
+    w2_[h] = w * w;
+  }
+
+  X_ = positions(mesh);
+  L_ = editing_laplacian(mesh, options.laplacian);
+  D_ = L_ * X_;  // Eq. (5.16)
+  const std::string pin_msg =
+      "the handles do not pin the mesh: every connected component needs a handle"
+      " (and, for the linear method, three non-collinear handle vertices)";
+
+  SparseMatrix Wd(n, n);  // W² on the handle rows
+  {
+    std::vector<Triplet> t;
+    for (size_t h = 0; h < handles_.size(); ++h) t.emplace_back(handles_[h], handles_[h], w2_[h]);
+    Wd.setFromTriplets(t.begin(), t.end());
+  }
+
+  if (options.method != EditMethod::Linear) {
+    // Normal equations of Eq. (5.20): (LᵀL + W²) X = Lᵀ D + W² C.
+    const SparseMatrix A = SparseMatrix(L_.transpose() * L_) + Wd;
+    try {
+      solver_.compute(A);
+    } catch (const SolverError&) {
+      throw SolverError(pin_msg);
+    }
+    if (options.method == EditMethod::MembraneFit && options.fit_to_rest_membrane) {
+      MatrixX3d C(handles_.size(), 3);
+      for (size_t h = 0; h < handles_.size(); ++h) C.row(h) = X_.row(handles_[h]);
+      membrane_rest_ = membrane(C);
+    }
+    return;
+  }
+
+  // Eq. (5.22) with T_i linear in X' (Sorkine et al. 2004): T_i = [[s, −h3, h2], [h3, s, −h1], [−h2, h1, s]]
+  // plus a translation, with (s, h, t) = (A_iᵀ A_i)⁻¹ A_iᵀ b_i the least-squares fit (Eq. 5.24) of the
+  // rest 1-ring A_i to the unknown one b_i. Each row block is L_i X' − T_i(X') δ_i = 0; unknowns are
+  // ordered x-block, y-block, z-block.
+  const Rings rings(mesh);
+  std::vector<std::vector<Triplet>> local(n);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int i = 0; i < n; ++i) {
+    const int k = rings.size(i);
+    const int* ids = rings.begin(i);
+    std::vector<Triplet>& t = local[i];
+    Eigen::MatrixXd A(3 * k, 7);
+    for (int r = 0; r < k; ++r) {
+      const double x = X_(ids[r], 0), y = X_(ids[r], 1), z = X_(ids[r], 2);
+      A.row(3 * r + 0) << x, 0, z, -y, 1, 0, 0;
+      A.row(3 * r + 1) << y, -z, 0, x, 0, 1, 0;
+      A.row(3 * r + 2) << z, y, -x, 0, 0, 0, 1;
+    }
+    const Eigen::MatrixXd Pinv = (A.transpose() * A).ldlt().solve(A.transpose());  // 7 by 3k
+    const double dx = D_(i, 0), dy = D_(i, 1), dz = D_(i, 2);
+    Eigen::Matrix<double, 3, 7> Dm;
+    Dm << dx, 0, dz, -dy, 0, 0, 0,
+          dy, -dz, 0, dx, 0, 0, 0,
+          dz, dy, -dx, 0, 0, 0, 0;
+    const Eigen::MatrixXd Td = Dm * Pinv;  // 3 by 3k: T_i(X') δ_i as a function of the ring's coordinates
+    t.reserve(9 * k);
+    for (int d = 0; d < 3; ++d)
+      for (int r = 0; r < k; ++r)
+        for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + ids[r], -Td(d, 3 * r + e));
+  }
+  std::vector<Triplet> all;
+  for (int d = 0; d < 3; ++d)
+    for (int col = 0; col < L_.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(L_, col); it; ++it)
+        all.emplace_back(d * n + it.row(), d * n + it.col(), it.value());
+  for (auto& t : local) all.insert(all.end(), t.begin(), t.end());
+  SparseMatrix G(3 * n, 3 * n);
+  G.setFromTriplets(all.begin(), all.end());
+  std::vector<Triplet> wt;
+  for (size_t h = 0; h < handles_.size(); ++h)
+    for (int d = 0; d < 3; ++d) wt.emplace_back(d * n + handles_[h], d * n + handles_[h], w2_[h]);
+  SparseMatrix W3(3 * n, 3 * n);
+  W3.setFromTriplets(wt.begin(), wt.end());
+  const SparseMatrix A = SparseMatrix(G.transpose() * G) + W3;
+  try {
+    linear_solver_.compute(A);
+  } catch (const SolverError&) {
+    throw SolverError(pin_msg);
+  }
+}
+
+MatrixX3d LaplacianEditor::handle_rhs(const MatrixX3d& C) const {
+  if (C.rows() != static_cast<Eigen::Index>(handles_.size()))
+    throw InvalidInput(fmt::format("{} handle targets for {} handle vertices", C.rows(), handles_.size()));
+  if (!C.allFinite()) throw InvalidInput("handle targets must be finite");
+  MatrixX3d B = MatrixX3d::Zero(X_.rows(), 3);
+  for (size_t h = 0; h < handles_.size(); ++h) B.row(handles_[h]) = w2_[h] * C.row(h);
+  return B;
+}
+
+MatrixX3d LaplacianEditor::membrane(const MatrixX3d& C) const {
+  if (options_.method == EditMethod::Linear) {
+    // The membrane needs the LᵀL + W² factor; the linear editor does not keep one.
+    EditOptions o = options_;
+    o.method = EditMethod::Plain;
+    std::vector<double> w(w2_.size());
+    for (size_t h = 0; h < w.size(); ++h) w[h] = std::sqrt(w2_[h]);
+    return LaplacianEditor(*mesh_, handles_, w, o).membrane(C);
+  }
+  return solver_.solve(handle_rhs(C));  // Eq. (5.23): L X̃ = 0 with the handle rows
+}
+
+MatrixX3d LaplacianEditor::solve(const MatrixX3d& C) const {
+  const MatrixX3d B = handle_rhs(C);
+  const int n = static_cast<int>(X_.rows());
+  switch (options_.method) {
+    case EditMethod::Plain:
+      return solver_.solve(L_.transpose() * D_ + B);
+    case EditMethod::MembraneFit: {
+      const MatrixX3d M = solver_.solve(B);  // Eq. (5.23)
+      const MatrixX3d& rest = options_.fit_to_rest_membrane ? membrane_rest_ : X_;
+      const std::vector<Similarity> T = one_ring_similarities(*mesh_, rest, M, options_.allow_scale);  // Eq. (5.24)
+      MatrixX3d Dt(n, 3);
+#pragma omp parallel for schedule(static)
+      for (int i = 0; i < n; ++i) Dt.row(i) = (T[i].linear() * D_.row(i).transpose()).transpose();
+      return solver_.solve(L_.transpose() * Dt + B);  // Eq. (5.22) with the fitted T_i
+    }
+    case EditMethod::Linear: {
+      Eigen::VectorXd b(3 * n);
+      for (int d = 0; d < 3; ++d) b.segment(d * n, n) = B.col(d);
+      const Eigen::VectorXd x = linear_solver_.solve(b);
+      MatrixX3d X(n, 3);
+      for (int d = 0; d < 3; ++d) X.col(d) = x.segment(d * n, n);
+      return X;
+    }
+  }
+  return X_;
+}
+
+MatrixX3d laplacian_edit(const Mesh& mesh, const std::vector<int>& handles, const MatrixX3d& targets,
+                         const EditOptions& options) {
+  return LaplacianEditor(mesh, handles, {}, options).solve(targets);
+}
+
+Eigen::VectorXd detail_error(const Mesh& mesh, const MatrixX3d& X0, const MatrixX3d& X1, LaplacianType type) {
+  const SparseMatrix L = editing_laplacian(mesh, type);
+  const MatrixX3d D0 = L * X0, D1 = L * X1;
+  const std::vector<Similarity> T = one_ring_similarities(mesh, X0, X1, true);
+  const double mean = D0.rowwise().norm().mean();
+  Eigen::VectorXd e(X0.rows());
+  for (Eigen::Index i = 0; i < e.size(); ++i)
+    e[i] = (D1.row(i).transpose() - T[i].linear() * D0.row(i).transpose()).norm() / (mean > 0 ? mean : 1.0);
+  return e;
+}
+
+}  // namespace geotex

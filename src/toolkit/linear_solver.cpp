@@ -1,0 +1,151 @@
+#include "geotex/toolkit/linear_solver.h"
+
+#include <fmt/format.h>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#ifdef GEOTEX_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+#include "geotex/core/error.h"
+
+namespace geotex {
+
+struct SpdSolver::Impl {
+#ifdef GEOTEX_HAVE_CHOLMOD
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> chol;
+#else
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> chol;
+#endif
+  bool analyzed = false;
+  bool factorized = false;
+  Eigen::Index n = 0;
+  //! Blocked analysis: the unknowns' permutation (old index → new index); empty otherwise.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+  bool permuted() const { return perm.size() > 0; }
+  SparseMatrix permute(const SparseMatrix& A) const {
+    SparseMatrix Ap;
+    Ap = A.selfadjointView<Eigen::Lower>().twistedBy(perm);
+    return Ap;
+  }
+};
+
+namespace {
+
+constexpr int kNestedDissectionVertices = 300000;
+
+// Fill-reducing ordering of a coordinate-stacked system by its vertex graph: vertex i's unknowns
+// d·n + i (d < k) get the consecutive new indices k·pos(i) + d, pos from AMD (METIS for large graphs) on
+// the n-vertex graph.
+Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(const SparseMatrix& A, int k,
+                                                                                BlockOrdering ordering) {
+  const int n = static_cast<int>(A.rows() / k);
+  std::vector<Triplet> t;
+  t.reserve(A.nonZeros() / (k * k) + n);
+  for (int c = 0; c < A.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(A, c); it; ++it)
+      if (it.row() % n != c % n) t.emplace_back(it.row() % n, c % n, 1.0);
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, 1.0);
+  // Vertex order → unknowns' permutation (old index → new index).
+  auto expand = [&](const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>& order) {
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm(static_cast<int>(A.rows()));
+    for (int p = 0; p < n; ++p)
+      for (int d = 0; d < k; ++d) perm.indices()[d * n + order.indices()[p]] = k * p + d;
+    return perm;
+  };
+  SparseMatrix G(n, n);
+  G.setFromTriplets(t.begin(), t.end(), [](double a, double) { return a; });
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;  // new position → old vertex
+#ifdef GEOTEX_HAVE_CHOLMOD
+  // Large graphs: METIS nested dissection, whose fill is far smaller than AMD's on big surface meshes
+  // (655k vertices, 2×2 blocks: 1.6e11 against 5.2e11 flops, factorization 7.0 s against 14.2 s).
+  if (ordering == BlockOrdering::NestedDissection ||
+      (ordering == BlockOrdering::Auto && n >= kNestedDissectionVertices)) {
+    cholmod_common cc;
+    cholmod_start(&cc);
+    SparseMatrix lower = G.triangularView<Eigen::Lower>();
+    cholmod_sparse view = Eigen::viewAsCholmod(lower);
+    view.stype = -1;
+    order.resize(n);
+    const bool ok = cholmod_metis(&view, nullptr, 0, 1, order.indices().data(), &cc);
+    cholmod_finish(&cc);
+    if (ok) return expand(order);
+  }
+#endif
+  Eigen::AMDOrdering<int>()(G, order);
+  return expand(order);
+}
+
+}  // namespace
+
+SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {}
+SpdSolver::~SpdSolver() = default;
+SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
+SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
+
+void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ordering) {
+  if (A.rows() != A.cols()) throw SolverError("SpdSolver: matrix is not square");
+  if (block_size < 1 || A.rows() % block_size != 0)
+    throw SolverError(fmt::format("SpdSolver: {} unknowns are not {} blocks", A.rows(), block_size));
+  impl_->perm.resize(0);
+#ifdef GEOTEX_HAVE_CHOLMOD
+  cholmod_common& c = impl_->chol.cholmod();
+  if (block_size > 1 && A.rows() > 0) {
+    impl_->perm = blocked_ordering(A, block_size, ordering);
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_NATURAL;  // the matrix comes ordered
+    impl_->chol.analyzePattern(impl_->permute(A));
+  } else {
+    c.nmethods = 0;  // CHOLMOD's default: AMD, and METIS where AMD fills badly
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    impl_->chol.analyzePattern(A);
+  }
+#else
+  impl_->chol.analyzePattern(A);
+#endif
+  impl_->analyzed = true;
+  impl_->factorized = false;
+  impl_->n = A.rows();
+}
+
+void SpdSolver::factorize(const SparseMatrix& A) {
+  if (!impl_->analyzed || A.rows() != impl_->n) analyze(A);
+  if (impl_->permuted())
+    impl_->chol.factorize(impl_->permute(A));
+  else
+    impl_->chol.factorize(A);
+  bool ok = impl_->chol.info() == Eigen::Success;
+#ifndef GEOTEX_HAVE_CHOLMOD
+  // LDLᵀ succeeds on indefinite and singular matrices; a non-positive pivot is where Cholesky (CHOLMOD) fails.
+  if (ok && A.rows() > 0) ok = impl_->chol.vectorD().minCoeff() > 0;
+#endif
+  if (!ok)
+    throw SolverError(fmt::format("sparse Cholesky failed on a {}x{} system (not positive definite?)",
+                                  A.rows(), A.cols()));
+  impl_->factorized = true;
+}
+
+Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
+  if (!impl_->factorized) throw SolverError("SpdSolver: solve() before factorize()");
+  if (B.rows() != impl_->n) throw SolverError("SpdSolver: right-hand side has the wrong size");
+  Eigen::MatrixXd X;
+  if (impl_->permuted())
+    X = impl_->perm.transpose() * Eigen::MatrixXd(impl_->chol.solve(impl_->perm * B));
+  else
+    X = impl_->chol.solve(B);
+  if (impl_->chol.info() != Eigen::Success || !X.allFinite())
+    throw SolverError("sparse solve failed (non-finite result)");
+  return X;
+}
+
+bool SpdSolver::analyzed() const { return impl_->analyzed; }
+
+const char* SpdSolver::backend() {
+#ifdef GEOTEX_HAVE_CHOLMOD
+  return "cholmod-supernodal";
+#else
+  return "eigen-simplicial-ldlt";
+#endif
+}
+
+}  // namespace geotex

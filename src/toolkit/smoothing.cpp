@@ -1,0 +1,158 @@
+#include "geotex/toolkit/smoothing.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+
+namespace geotex {
+
+namespace {
+
+// Restore size and position after a smoothing step that shrank the surface.
+void rescale_to(Mesh& mesh, bool closed, double target_size, const Vec3& target_centroid) {
+  const Vec3 c = surface_centroid(mesh);
+  const double size = closed ? std::abs(signed_volume(mesh)) : surface_area(mesh);
+  if (!(size > 0)) return;
+  const double s = closed ? std::cbrt(target_size / size) : std::sqrt(target_size / size);
+  for (auto v : mesh.vertices()) {
+    const Vec3 p = to_eigen(mesh.point(v));
+    mesh.set_point(v, to_point(target_centroid + s * (p - c)));
+  }
+}
+
+// Solve A_ff X_f = B_f − A_fc X_c for the free rows (Dirichlet elimination), A symmetric.
+class ConstrainedSystem {
+ public:
+  ConstrainedSystem(const std::vector<char>& fixed) : fixed_(fixed) {
+    const int n = static_cast<int>(fixed.size());
+    index_.assign(n, -1);
+    for (int i = 0; i < n; ++i)
+      if (!fixed[i]) index_[i] = n_free_++;
+  }
+  int n_free() const { return n_free_; }
+
+  void factorize(const SparseMatrix& A) {
+    SparseMatrix Aff(n_free_, n_free_);
+    std::vector<Triplet> t;
+    t.reserve(A.nonZeros());
+    couple_.clear();
+    for (int k = 0; k < A.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(A, k); it; ++it) {
+        const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
+        if (index_[r] < 0) continue;
+        if (index_[c] >= 0) t.emplace_back(index_[r], index_[c], it.value());
+        else couple_.emplace_back(index_[r], c, it.value());
+      }
+    Aff.setFromTriplets(t.begin(), t.end());
+    if (!solver_.analyzed()) solver_.analyze(Aff);
+    solver_.factorize(Aff);
+  }
+
+  // Returns full X with fixed rows copied from X_fixed.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B, const Eigen::MatrixXd& X_fixed) const {
+    Eigen::MatrixXd Bf(n_free_, B.cols());
+    for (size_t i = 0; i < index_.size(); ++i)
+      if (index_[i] >= 0) Bf.row(index_[i]) = B.row(i);
+    for (const auto& t : couple_) Bf.row(t.row()) -= t.value() * X_fixed.row(t.col());
+    const Eigen::MatrixXd Xf = solver_.solve(Bf);
+    Eigen::MatrixXd X = X_fixed;
+    for (size_t i = 0; i < index_.size(); ++i)
+      if (index_[i] >= 0) X.row(i) = Xf.row(index_[i]);
+    return X;
+  }
+
+ private:
+  std::vector<char> fixed_;
+  std::vector<int> index_;
+  int n_free_ = 0;
+  std::vector<Triplet> couple_;
+  SpdSolver solver_;
+};
+
+}  // namespace
+
+void rescale_like(const Mesh& reference, Mesh& mesh) {
+  const bool closed = boundary_loops(reference).empty();
+  const double size = closed ? std::abs(signed_volume(reference)) : surface_area(reference);
+  rescale_to(mesh, closed, size, surface_centroid(reference));
+}
+
+MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
+  require_valid(input, "smooth: input mesh");
+  if (opt.steps < 0) throw InvalidInput("smooth: steps must be >= 0");
+  if (!(opt.lambda > 0) || !std::isfinite(opt.lambda)) throw InvalidInput("smooth: lambda must be > 0");
+  if (!(opt.stop_tolerance >= 0)) throw InvalidInput("smooth: stop tolerance must be >= 0");
+
+  Mesh mesh = input;
+  const bool closed = boundary_loops(mesh).empty();
+  const double size0 = closed ? std::abs(signed_volume(mesh)) : surface_area(mesh);
+  const Vec3 centroid0 = surface_centroid(mesh);
+  const double h = mean_edge_length(mesh);
+  const double lambda = opt.laplacian == LaplacianType::Cotangent ? opt.lambda * h * h : opt.lambda;
+
+  std::vector<char> fixed(mesh.n_vertices(), 0);
+  for (auto v : mesh.vertices())
+    if ((opt.fix_boundary && mesh.is_boundary(v)) || mesh.is_isolated(v)) fixed[v.idx()] = 1;
+
+  MatrixX3d X = positions(mesh);
+  ConstrainedSystem system(fixed);
+  if (system.n_free() == 0) return X;
+
+  // Umbrella: L = D⁻¹A − I. Symmetrized implicit system ((1+λ)D − λA) X' = D X (5.14 times D),
+  // constant across steps, so it is factored once.
+  SparseMatrix D, A;
+  if (opt.laplacian == LaplacianType::Umbrella) {
+    A = adjacency_matrix(mesh);
+    Eigen::VectorXd d = A * Eigen::VectorXd::Ones(A.cols());
+    for (Eigen::Index i = 0; i < d.size(); ++i)
+      if (d[i] == 0) d[i] = 1;
+    D = SparseMatrix(d.asDiagonal());
+    if (opt.implicit) system.factorize((1 + lambda) * D - lambda * A);
+  }
+
+  SparseMatrix C;     // cotangent matrix, kept across steps when weights are frozen
+  Eigen::VectorXd m;  // mass diagonal
+  for (int step = 0; step < opt.steps; ++step) {
+    const MatrixX3d X_before = opt.stop_tolerance > 0 ? X : MatrixX3d();
+    if (opt.laplacian == LaplacianType::Umbrella) {
+      if (opt.implicit) {
+        X = system.solve(D * X, X);
+      } else {
+        const MatrixX3d LX = umbrella_laplacian(mesh) * X;  // (5.13)
+        for (Eigen::Index i = 0; i < X.rows(); ++i)
+          if (!fixed[i]) X.row(i) += lambda * LX.row(i);
+      }
+    } else {
+      const bool rebuild = opt.update_weights || step == 0 || !opt.implicit;
+      if (rebuild) {
+        C = cotan_matrix(mesh);
+        m = mass_diagonal(mesh, opt.mass);
+      }
+      if (opt.implicit) {
+        // (M − λC) X' = M X: Eq. (5.14) multiplied by M, symmetric positive definite.
+        if (rebuild) system.factorize(SparseMatrix(m.asDiagonal()) - lambda * C);
+        X = system.solve(m.asDiagonal() * X, X);
+      } else {
+        const MatrixX3d LX = m.cwiseInverse().asDiagonal() * (C * X);  // (5.12)
+        for (Eigen::Index i = 0; i < X.rows(); ++i)
+          if (!fixed[i]) X.row(i) += lambda * LX.row(i);
+      }
+    }
+    if (!X.allFinite())
+      throw SolverError(fmt::format("smoothing diverged at step {} (explicit step too large? try "
+                                    "--implicit or a smaller --lambda)", step + 1));
+    set_positions(mesh, X);
+    if (opt.rescale) {
+      rescale_to(mesh, closed, size0, centroid0);
+      X = positions(mesh);
+    }
+    report(opt.progress, double(step + 1) / opt.steps, "smoothing");
+    if (opt.stop_tolerance > 0 && (X - X_before).rowwise().norm().maxCoeff() < opt.stop_tolerance * h) break;
+  }
+  return X;
+}
+
+}  // namespace geotex

@@ -1,0 +1,554 @@
+// Software rendering of meshes and a self-contained PNG writer (see render.h).
+
+#include "geotex/tools/render.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/core/spatial.h"
+
+namespace geotex {
+namespace {
+
+// ------------------------------------------------------------------------------------------------
+// Camera
+
+void view_axes(ViewDirection view, const Vec3& model_up, Vec3& right, Vec3& up, Vec3& forward) {
+  Vec3 world_up = Vec3::UnitZ();
+  switch (view) {
+    case ViewDirection::Iso: forward = -Vec3(1, -1, 1).normalized(); break;
+    case ViewDirection::Front: forward = Vec3::UnitY(); break;
+    case ViewDirection::Top:
+      forward = -Vec3::UnitZ();
+      world_up = Vec3::UnitY();
+      break;
+  }
+  // Directions are defined for z-up models; rotate them onto the model's up axis.
+  if (model_up.norm() < 1e-12) throw InvalidInput("the up axis must not be zero");
+  const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), model_up.normalized()).toRotationMatrix();
+  forward = R * forward;
+  world_up = R * world_up;
+  right = forward.cross(world_up).normalized();
+  up = right.cross(forward);
+}
+
+struct Projected {
+  double x, y, depth;
+};
+
+Projected project(const Camera& c, const Vec3& p, double cx, double cy, double scale) {
+  const Vec3 d = p - c.centre;
+  return {cx + scale * d.dot(c.right), cy - scale * d.dot(c.up), d.dot(c.forward)};
+}
+
+// ------------------------------------------------------------------------------------------------
+// A 5×7 bitmap font for the legend's numbers (each row: 5 bits, most significant = leftmost).
+
+const std::array<uint8_t, 7>* glyph(char ch) {
+  static const std::array<uint8_t, 7> digits[10] = {
+      {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}, {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E},
+      {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}, {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E},
+      {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}, {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E},
+      {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}, {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08},
+      {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}, {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}};
+  static const std::array<uint8_t, 7> dot{0, 0, 0, 0, 0, 0x0C, 0x0C}, minus{0, 0, 0, 0x1F, 0, 0, 0},
+      plus{0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0}, e{0, 0, 0x0E, 0x11, 0x1F, 0x10, 0x0E};
+  if (ch >= '0' && ch <= '9') return &digits[ch - '0'];
+  switch (ch) {
+    case '.': return &dot;
+    case '-': return &minus;
+    case '+': return &plus;
+    case 'e': return &e;
+    default: return nullptr;
+  }
+}
+
+void draw_text(Image& img, int x, int y, const std::string& s, int px, const Vec3& colour) {
+  for (char ch : s) {
+    if (const auto* g = glyph(ch))
+      for (int r = 0; r < 7; ++r)
+        for (int c = 0; c < 5; ++c)
+          if ((*g)[r] & (0x10 >> c))
+            for (int dy = 0; dy < px; ++dy)
+              for (int dx = 0; dx < px; ++dx) {
+                const int X = x + c * px + dx, Y = y + r * px + dy;
+                if (X < 0 || Y < 0 || X >= img.width || Y >= img.height) continue;
+                uint8_t* p = img.pixel(X, Y);
+                for (int k = 0; k < 3; ++k) p[k] = static_cast<uint8_t>(std::lround(255 * colour[k]));
+              }
+    x += 6 * px;
+  }
+}
+
+uint8_t to_byte(double v) { return static_cast<uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0))); }
+
+// ------------------------------------------------------------------------------------------------
+// Deflate (RFC 1951) with LZ77 over a 32 KiB window and the fixed Huffman codes, wrapped in zlib
+// (RFC 1950). Fixed codes need no code tables in the stream and compress rendered pictures (large
+// uniform areas, filtered rows) well enough.
+
+class BitWriter {
+ public:
+  explicit BitWriter(std::string& out) : out_(out) {}
+  void bits(uint32_t value, int n) {  // LSB first
+    acc_ |= static_cast<uint64_t>(value) << nbits_;
+    nbits_ += n;
+    while (nbits_ >= 8) {
+      out_.push_back(static_cast<char>(acc_ & 0xFF));
+      acc_ >>= 8;
+      nbits_ -= 8;
+    }
+  }
+  void huffman(uint32_t code, int n) {  // Huffman codes are packed most significant bit first
+    uint32_t rev = 0;
+    for (int i = 0; i < n; ++i) rev |= ((code >> i) & 1u) << (n - 1 - i);
+    bits(rev, n);
+  }
+  void flush() {
+    if (nbits_ > 0) out_.push_back(static_cast<char>(acc_ & 0xFF));
+    acc_ = 0;
+    nbits_ = 0;
+  }
+
+ private:
+  std::string& out_;
+  uint64_t acc_ = 0;
+  int nbits_ = 0;
+};
+
+void fixed_literal(BitWriter& w, int sym) {
+  if (sym < 144) w.huffman(0x30 + sym, 8);
+  else if (sym < 256) w.huffman(0x190 + sym - 144, 9);
+  else if (sym < 280) w.huffman(sym - 256, 7);
+  else w.huffman(0xC0 + sym - 280, 8);
+}
+
+constexpr int kLenBase[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
+                              31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
+constexpr int kLenExtra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
+constexpr int kDistBase[30] = {1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
+                               193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
+constexpr int kDistExtra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
+
+void write_match(BitWriter& w, int length, int distance) {
+  int li = 28;
+  while (kLenBase[li] > length) --li;
+  fixed_literal(w, 257 + li);
+  if (kLenExtra[li]) w.bits(length - kLenBase[li], kLenExtra[li]);
+  int di = 29;
+  while (kDistBase[di] > distance) --di;
+  w.huffman(di, 5);
+  if (kDistExtra[di]) w.bits(distance - kDistBase[di], kDistExtra[di]);
+}
+
+std::string deflate_fixed(const std::string& in) {
+  constexpr int kWindow = 32768, kHashBits = 15, kMaxChain = 32, kMinMatch = 3, kMaxMatch = 258;
+  std::string out;
+  out.reserve(in.size() / 4 + 64);
+  BitWriter w(out);
+  w.bits(1, 1);  // BFINAL: one block
+  w.bits(1, 2);  // BTYPE 01: fixed Huffman codes
+  const auto* s = reinterpret_cast<const uint8_t*>(in.data());
+  const int n = static_cast<int>(in.size());
+  std::vector<int> head(1 << kHashBits, -1), prev(kWindow, -1);
+  auto hash = [&](int i) {
+    return ((s[i] << 10) ^ (s[i + 1] << 5) ^ s[i + 2]) & ((1 << kHashBits) - 1);
+  };
+  auto insert = [&](int i) {
+    if (i + kMinMatch > n) return;
+    const int h = hash(i);
+    prev[i % kWindow] = head[h];
+    head[h] = i;
+  };
+  int i = 0;
+  while (i < n) {
+    int best_len = 0, best_dist = 0;
+    if (i + kMinMatch <= n) {
+      int cand = head[hash(i)];
+      const int max_len = std::min(kMaxMatch, n - i);
+      for (int chain = 0; cand >= 0 && i - cand <= kWindow - 1 && chain < kMaxChain; ++chain) {
+        if (s[cand + best_len] == s[i + best_len]) {
+          int len = 0;
+          while (len < max_len && s[cand + len] == s[i + len]) ++len;
+          if (len > best_len) {
+            best_len = len;
+            best_dist = i - cand;
+            if (len == max_len) break;
+          }
+        }
+        const int next = prev[cand % kWindow];
+        if (next >= cand) break;  // slot reused by a newer position: the chain ends here
+        cand = next;
+      }
+    }
+    if (best_len >= kMinMatch) {
+      write_match(w, best_len, best_dist);
+      for (int k = 0; k < best_len; ++k) insert(i + k);
+      i += best_len;
+    } else {
+      fixed_literal(w, s[i]);
+      insert(i);
+      ++i;
+    }
+  }
+  fixed_literal(w, 256);  // end of block
+  w.flush();
+  return out;
+}
+
+uint32_t adler32(const std::string& data) {
+  uint32_t a = 1, b = 0;
+  for (unsigned char c : data) {
+    a = (a + c) % 65521;
+    b = (b + a) % 65521;
+  }
+  return (b << 16) | a;
+}
+
+void put_be32(std::string& out, uint32_t v) {
+  for (int k = 3; k >= 0; --k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFF));
+}
+
+void put_chunk(std::string& out, const char* type, const std::string& data) {
+  put_be32(out, static_cast<uint32_t>(data.size()));
+  std::string body(type, 4);
+  body += data;
+  out += body;
+  put_be32(out, png_crc32(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
+}
+
+}  // namespace
+
+// --------------------------------------------------------------------------------------------------
+
+ViewDirection view_direction_from_name(const std::string& name) {
+  if (name == "iso") return ViewDirection::Iso;
+  if (name == "front") return ViewDirection::Front;
+  if (name == "top") return ViewDirection::Top;
+  throw InvalidInput(fmt::format("unknown view '{}' (expected iso, front or top)", name));
+}
+
+Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin, const Vec3& up) {
+  if (V.rows() == 0) throw InvalidInput("fit_camera: no vertices");
+  if (width <= 0 || height <= 0) throw InvalidInput(fmt::format("bad picture size {}x{}", width, height));
+  Camera c;
+  view_axes(view, up, c.right, c.up, c.forward);
+  const Vec3 c0 = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff()).transpose();
+  double r0 = std::numeric_limits<double>::max(), r1 = -r0, u0 = r0, u1 = -r0;
+  for (Eigen::Index i = 0; i < V.rows(); ++i) {
+    const Vec3 d = V.row(i).transpose() - c0;
+    r0 = std::min(r0, d.dot(c.right));
+    r1 = std::max(r1, d.dot(c.right));
+    u0 = std::min(u0, d.dot(c.up));
+    u1 = std::max(u1, d.dot(c.up));
+  }
+  c.centre = c0 + 0.5 * (r0 + r1) * c.right + 0.5 * (u0 + u1) * c.up;
+  const double free = 2.0 * margin * std::min(width, height);
+  const double extent_r = std::max(r1 - r0, 1e-12), extent_u = std::max(u1 - u0, 1e-12);
+  c.scale = std::max(1e-12, std::min((width - free) / extent_r, (height - free) / extent_u));
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+Vec3 colour_map(double t) {
+  // Viridis sampled at 9 stops, linearly interpolated.
+  static const double stops[9][3] = {{0.267, 0.005, 0.329}, {0.283, 0.141, 0.458}, {0.254, 0.265, 0.530},
+                                     {0.207, 0.372, 0.553}, {0.164, 0.471, 0.558}, {0.128, 0.567, 0.551},
+                                     {0.135, 0.659, 0.518}, {0.478, 0.821, 0.318}, {0.993, 0.906, 0.144}};
+  if (!std::isfinite(t)) t = 0;
+  t = std::clamp(t, 0.0, 1.0) * 8.0;
+  const int k = std::min(7, static_cast<int>(t));
+  const double f = t - k;
+  return {(1 - f) * stops[k][0] + f * stops[k + 1][0], (1 - f) * stops[k][1] + f * stops[k + 1][1],
+          (1 - f) * stops[k][2] + f * stops[k + 1][2]};
+}
+
+Vec3 label_colour(int label) {
+  static const Vec3 palette[] = {{0.86, 0.10, 0.12}, {0.12, 0.35, 0.85}, {0.10, 0.65, 0.20},
+                                 {0.95, 0.55, 0.05}, {0.60, 0.20, 0.70}, {0.05, 0.70, 0.75}};
+  const int n = static_cast<int>(std::size(palette));
+  return palette[((std::max(label, 1) - 1) % n + n) % n];
+}
+
+Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLayers& layers) {
+  require_valid(mesh, "mesh to render");
+  if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
+    throw InvalidInput(fmt::format("bad picture size {}x{}", o.width, o.height));
+  if (o.supersampling < 1 || o.supersampling > 8) throw InvalidInput("supersampling must be in 1..8");
+  const MatrixX3d V = positions(mesh);
+  const MatrixX3i F = faces(mesh);
+  const Eigen::Index nv = V.rows();
+  const bool has_field = layers.field.size() > 0;
+  if (has_field && layers.field.size() != nv)
+    throw InvalidInput(fmt::format("field has {} values for a mesh of {} vertices", layers.field.size(), nv));
+  if (layers.segments.rows() > 0 && (layers.segments.minCoeff() < 0 || layers.segments.maxCoeff() >= nv))
+    throw InvalidInput("edge segment refers to a vertex outside the mesh");
+  if (layers.segment_labels.size() > 0 && layers.segment_labels.size() != layers.segments.rows())
+    throw InvalidInput("segment labels and segments differ in number");
+
+  Rendering out;
+  const bool show_legend = has_field && o.legend;
+  const int legend_w = show_legend ? std::min(110, o.width / 4) : 0;
+  out.camera = o.camera ? *o.camera : fit_camera(V, o.view, o.width - legend_w, o.height, o.margin, o.up);
+  const Camera& cam = out.camera;
+
+  // Colour-map range.
+  double lo = layers.field_lo, hi = layers.field_hi;
+  if (has_field && !(lo < hi)) {
+    lo = std::numeric_limits<double>::max();
+    hi = -lo;
+    for (Eigen::Index i = 0; i < nv; ++i)
+      if (std::isfinite(layers.field[i])) lo = std::min(lo, layers.field[i]), hi = std::max(hi, layers.field[i]);
+    if (!(lo <= hi)) lo = hi = 0;
+    if (hi - lo < 1e-300) hi = lo + 1.0;
+  }
+  out.field_lo = lo;
+  out.field_hi = hi;
+
+  // Rasterize at k× resolution into a depth buffer and a face-index buffer.
+  const int k = o.supersampling;
+  const int W = o.width * k, H = o.height * k;
+  const double scale = cam.scale * k;
+  const double cx = 0.5 * cam.width * k, cy = 0.5 * cam.height * k;
+  std::vector<Projected> P(nv);
+  for (Eigen::Index i = 0; i < nv; ++i) P[i] = project(cam, V.row(i).transpose(), cx, cy, scale);
+  std::vector<float> depth(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
+  std::vector<int> face_at(static_cast<size_t>(W) * H, -1);
+  const int bands = std::max(1, std::min(H, 64));
+#pragma omp parallel for schedule(dynamic)
+  for (int b = 0; b < bands; ++b) {
+    const int y_begin = static_cast<int>(static_cast<int64_t>(H) * b / bands);
+    const int y_end = static_cast<int>(static_cast<int64_t>(H) * (b + 1) / bands);
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      const Projected &a = P[F(f, 0)], &bb = P[F(f, 1)], &c = P[F(f, 2)];
+      const double ymin = std::min({a.y, bb.y, c.y}), ymax = std::max({a.y, bb.y, c.y});
+      int y0 = std::max(y_begin, static_cast<int>(std::ceil(ymin - 0.5)));
+      int y1 = std::min(y_end - 1, static_cast<int>(std::floor(ymax - 0.5)));
+      if (y0 > y1) continue;
+      const double xmin = std::min({a.x, bb.x, c.x}), xmax = std::max({a.x, bb.x, c.x});
+      const int x0 = std::max(0, static_cast<int>(std::ceil(xmin - 0.5)));
+      const int x1 = std::min(W - 1, static_cast<int>(std::floor(xmax - 0.5)));
+      if (x0 > x1) continue;
+      const double area = (bb.x - a.x) * (c.y - a.y) - (bb.y - a.y) * (c.x - a.x);
+      if (std::abs(area) < 1e-18) continue;
+      const double inv = 1.0 / area;
+      for (int y = y0; y <= y1; ++y) {
+        const double py = y + 0.5;
+        for (int x = x0; x <= x1; ++x) {
+          const double px = x + 0.5;
+          // Barycentric coordinates from edge functions; both orientations are drawn (two-sided).
+          const double w0 = ((bb.x - px) * (c.y - py) - (bb.y - py) * (c.x - px)) * inv;
+          const double w1 = ((c.x - px) * (a.y - py) - (c.y - py) * (a.x - px)) * inv;
+          const double w2 = 1.0 - w0 - w1;
+          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+          const float z = static_cast<float>(w0 * a.depth + w1 * bb.depth + w2 * c.depth);
+          const size_t idx = static_cast<size_t>(y) * W + x;
+          if (z < depth[idx]) {
+            depth[idx] = z;
+            face_at[idx] = static_cast<int>(f);
+          }
+        }
+      }
+    }
+  }
+
+  // Shade every covered sample: Lambert + Blinn-Phong, one key light above-left of the camera.
+  const MatrixX3d N = o.smooth ? vertex_normals(mesh) : face_normals(mesh);
+  const Vec3 view_dir = -cam.forward;
+  const Vec3 light = (view_dir + 0.55 * cam.up - 0.35 * cam.right).normalized();
+  const Vec3 half = (light + view_dir).normalized();
+  std::vector<float> colour(static_cast<size_t>(W) * H * 3);
+  size_t covered = 0;
+#pragma omp parallel for reduction(+ : covered) schedule(static)
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t idx = static_cast<size_t>(y) * W + x;
+      const int f = face_at[idx];
+      Vec3 c = o.background;
+      if (f >= 0) {
+        ++covered;
+        const Projected &a = P[F(f, 0)], &b = P[F(f, 1)], &cc = P[F(f, 2)];
+        const double px = x + 0.5, py = y + 0.5;
+        const double area = (b.x - a.x) * (cc.y - a.y) - (b.y - a.y) * (cc.x - a.x);
+        double w0 = ((b.x - px) * (cc.y - py) - (b.y - py) * (cc.x - px)) / area;
+        double w1 = ((cc.x - px) * (a.y - py) - (cc.y - py) * (a.x - px)) / area;
+        double w2 = 1.0 - w0 - w1;
+        Vec3 n = o.smooth ? Vec3(w0 * N.row(F(f, 0)) + w1 * N.row(F(f, 1)) + w2 * N.row(F(f, 2)))
+                          : Vec3(N.row(f).transpose());
+        if (n.norm() < 1e-12) n = view_dir;
+        n.normalize();
+        if (n.dot(view_dir) < 0) n = -n;  // back faces of open surfaces are lit like front faces
+        Vec3 base = o.base_colour;
+        if (has_field) {
+          const double v = w0 * layers.field[F(f, 0)] + w1 * layers.field[F(f, 1)] + w2 * layers.field[F(f, 2)];
+          base = colour_map((v - lo) / (hi - lo));
+        }
+        const double diffuse = std::max(0.0, n.dot(light));
+        const double spec = o.specular * std::pow(std::max(0.0, n.dot(half)), o.shininess);
+        c = base * (o.ambient + (1.0 - o.ambient) * diffuse) + Vec3::Constant(spec);
+      }
+      for (int j = 0; j < 3; ++j) colour[3 * idx + j] = static_cast<float>(c[j]);
+    }
+  out.covered_pixels = static_cast<size_t>(std::llround(static_cast<double>(covered) / (k * k)));
+
+  // Edge lines: disks stamped along each segment, hidden where the surface lies in front.
+  if (layers.segments.rows() > 0) {
+    const double extent = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+    const double bias = 0.01 * extent;
+    const double radius = 0.5 * o.line_width * k;
+    const int r = static_cast<int>(std::ceil(radius));
+    for (Eigen::Index s = 0; s < layers.segments.rows(); ++s) {
+      const Projected &a = P[layers.segments(s, 0)], &b = P[layers.segments(s, 1)];
+      const Vec3 lc = label_colour(layers.segment_labels.size() ? layers.segment_labels[s] : 1);
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      const int steps = std::max(1, static_cast<int>(std::ceil(len / 0.5)));
+      for (int t = 0; t <= steps; ++t) {
+        const double u = static_cast<double>(t) / steps;
+        const double px = a.x + u * (b.x - a.x), py = a.y + u * (b.y - a.y);
+        const double pz = a.depth + u * (b.depth - a.depth);
+        for (int dy = -r; dy <= r; ++dy)
+          for (int dx = -r; dx <= r; ++dx) {
+            const int X = static_cast<int>(std::floor(px)) + dx, Y = static_cast<int>(std::floor(py)) + dy;
+            if (X < 0 || Y < 0 || X >= W || Y >= H) continue;
+            if (std::hypot(X + 0.5 - px, Y + 0.5 - py) > radius) continue;
+            const size_t idx = static_cast<size_t>(Y) * W + X;
+            if (pz > depth[idx] + bias) continue;
+            for (int j = 0; j < 3; ++j) colour[3 * idx + j] = static_cast<float>(lc[j]);
+          }
+      }
+    }
+  }
+
+  // Box-filter the samples down to the picture.
+  Image& img = out.image;
+  img.width = o.width;
+  img.height = o.height;
+  img.rgb.assign(static_cast<size_t>(o.width) * o.height * 3, 0);
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < o.height; ++y)
+    for (int x = 0; x < o.width; ++x)
+      for (int j = 0; j < 3; ++j) {
+        double sum = 0;
+        for (int sy = 0; sy < k; ++sy)
+          for (int sx = 0; sx < k; ++sx) sum += colour[3 * ((static_cast<size_t>(y) * k + sy) * W + x * k + sx) + j];
+        img.pixel(x, y)[j] = to_byte(sum / (k * k));
+      }
+
+  // Legend: a vertical colour bar with the range's ends.
+  if (show_legend) {
+    const int bar_w = std::max(8, legend_w / 7);
+    const int bx = o.width - legend_w + 8, by0 = o.height / 8, by1 = o.height - o.height / 8;
+    for (int y = by0; y <= by1; ++y) {
+      const Vec3 c = colour_map(1.0 - static_cast<double>(y - by0) / std::max(1, by1 - by0));
+      for (int x = bx; x < bx + bar_w && x < o.width; ++x)
+        for (int j = 0; j < 3; ++j) img.pixel(x, y)[j] = to_byte(c[j]);
+    }
+    // "1.37e-06" → "1.37e-6": short labels fit beside the bar.
+    auto label = [](double v) {
+      std::string s = fmt::format("{:.3g}", v);
+      const size_t e = s.find('e');
+      if (e != std::string::npos) {
+        size_t d = e + 2;
+        while (d + 1 < s.size() && s[d] == '0') s.erase(d, 1);
+        if (s[e + 1] == '+') s.erase(e + 1, 1);
+      }
+      return s;
+    };
+    const Vec3 ink(0.1, 0.1, 0.1);
+    const int room = o.width - (bx + bar_w + 4) - 2;
+    for (const auto& [value, y] : {std::pair{hi, by0}, std::pair{lo, by1}}) {
+      const std::string s = label(value);
+      const int px = o.height >= 400 && 12 * static_cast<int>(s.size()) <= room ? 2 : 1;
+      draw_text(img, bx + bar_w + 4, px == 2 ? y - (y == by1 ? 14 : 0) : y - (y == by1 ? 7 : 0), s, px, ink);
+    }
+  }
+  return out;
+}
+
+uint32_t png_crc32(const uint8_t* data, size_t n, uint32_t crc) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  crc = ~crc;
+  for (size_t i = 0; i < n; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
+  return ~crc;
+}
+
+std::string encode_png(const Image& img) {
+  if (img.width <= 0 || img.height <= 0 || img.rgb.size() != static_cast<size_t>(img.width) * img.height * 3)
+    throw InvalidInput("encode_png: image size and pixel data disagree");
+  // Per row, the filter (None, Sub or Up) with the smallest sum of |signed residuals|, the usual
+  // heuristic of the PNG specification (section 12.8).
+  const size_t stride = static_cast<size_t>(img.width) * 3;
+  std::string raw;
+  raw.reserve((stride + 1) * img.height);
+  std::string candidate[3];
+  for (int y = 0; y < img.height; ++y) {
+    const uint8_t* row = img.rgb.data() + y * stride;
+    const uint8_t* above = y > 0 ? row - stride : nullptr;
+    long best_cost = -1;
+    int best = 0;
+    for (int filter = 0; filter < 3; ++filter) {
+      std::string& c = candidate[filter];
+      c.resize(stride);
+      long cost = 0;
+      for (size_t i = 0; i < stride; ++i) {
+        const uint8_t pred = filter == 1 ? (i >= 3 ? row[i - 3] : 0) : filter == 2 ? (above ? above[i] : 0) : 0;
+        const uint8_t v = static_cast<uint8_t>(row[i] - pred);
+        c[i] = static_cast<char>(v);
+        cost += std::abs(static_cast<int8_t>(v));
+      }
+      if (best_cost < 0 || cost < best_cost) best_cost = cost, best = filter;
+    }
+    raw.push_back(static_cast<char>(best));
+    raw += candidate[best];
+  }
+  std::string z;
+  z.push_back(static_cast<char>(0x78));  // zlib: deflate, 32 KiB window
+  z.push_back(static_cast<char>(0x01));  // no dictionary; (0x78 << 8 | 0x01) % 31 == 0
+  z += deflate_fixed(raw);
+  put_be32(z, adler32(raw));
+
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  std::string ihdr;
+  put_be32(ihdr, static_cast<uint32_t>(img.width));
+  put_be32(ihdr, static_cast<uint32_t>(img.height));
+  ihdr += std::string("\x08\x02\x00\x00\x00", 5);  // 8 bits, RGB, deflate, adaptive filters, no interlace
+  put_chunk(png, "IHDR", ihdr);
+  put_chunk(png, "IDAT", z);
+  put_chunk(png, "IEND", "");
+  return png;
+}
+
+void write_png(const Image& image, const std::filesystem::path& path) {
+  if (path.extension() != ".png" && path.extension() != ".PNG")
+    throw IoError(fmt::format("{}: a picture's name must end in .png", path.string()));
+  write_text_atomic(path, encode_png(image));
+}
+
+Eigen::VectorXd distance_to_surface(const Mesh& mesh, const Mesh& reference) {
+  require_valid(reference, "reference mesh");
+  const TriangleTree tree(reference);
+  const MatrixX3d V = positions(mesh);
+  Eigen::VectorXd d(V.rows());
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < V.rows(); ++i) d[i] = std::sqrt(tree.closest(V.row(i).transpose()).sq_distance);
+  return d;
+}
+
+}  // namespace geotex
