@@ -5,6 +5,18 @@
 
 namespace geotex {
 
+const EnumNames<LaplacianType>& laplacian_names() {
+  static const EnumNames<LaplacianType> n = {
+      {"umbrella", LaplacianType::Umbrella}, {"cotan", LaplacianType::Cotangent}, {"cotangent", LaplacianType::Cotangent}};
+  return n;
+}
+
+const EnumNames<MassType>& mass_names() {
+  static const EnumNames<MassType> n = {
+      {"voronoi", MassType::Voronoi}, {"barycentric", MassType::Barycentric}, {"thesis", MassType::Thesis}};
+  return n;
+}
+
 namespace {
 inline Vec3 P(const Mesh& m, Mesh::VertexHandle v) { return to_eigen(m.point(v)); }
 

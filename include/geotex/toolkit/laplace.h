@@ -12,12 +12,15 @@
 //! natural (Neumann) discretization: on a flat patch, boundary rows do not vanish. Smoothing fixes
 //! boundary vertices by default (SmoothingOptions::fix_boundary). Isolated vertices get a zero row.
 
-#include "geotex/toolkit/linear_solver.h"
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
+#include "geotex/toolkit/linear_solver.h"
 
 namespace geotex {
 
 enum class LaplacianType { Umbrella, Cotangent };
+//! "umbrella", "cotan" (also "cotangent").
+const EnumNames<LaplacianType>& laplacian_names();
 
 //! Umbrella operator, Eq. (5.7–5.8): (L x)_i = (1/d_i) Σ_{j∈N_i} x_j − x_i. Not symmetric.
 SparseMatrix umbrella_laplacian(const Mesh& mesh);
@@ -41,6 +44,8 @@ enum class MassType {
   Barycentric,  //!< one third of the 1-ring area; sums to the surface area
   Thesis        //!< 2 × 1-ring area A_i, so that M⁻¹C is exactly Eq. (5.11)'s 1/(4A_i) Σ (cot α + cot β)
 };
+//! "voronoi", "barycentric", "thesis".
+const EnumNames<MassType>& mass_names();
 
 //! Diagonal of the mass matrix (#V). Isolated vertices get 1, so M stays invertible.
 Eigen::VectorXd mass_diagonal(const Mesh& mesh, MassType type = MassType::Voronoi);

@@ -28,6 +28,7 @@ struct SmoothingOptions {
   //! (0: always run every step). The system is factored once either way (umbrella, or frozen weights).
   double stop_tolerance = 0;
   ProgressFn progress;  //!< called after each step
+  static const OptionTable<SmoothingOptions>& table();
 };
 
 //! Smooth a mesh. \return #V by 3 new positions (vertex order and connectivity unchanged).
