@@ -22,6 +22,12 @@ std::vector<DemoStep>& demo_steps() {
   return s;
 }
 
+MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
+  app.add_option("IN", input, "input mesh")->required()->check(ExistingMeshFile);
+  app.add_option("-o,--output", output, output_help)->required();
+  app.add_flag("--ascii", ascii, "ascii PLY/STL output");
+}
+
 void info(const std::string& line) {
   if (!globals().quiet) std::fprintf(stderr, "%s\n", line.c_str());
 }

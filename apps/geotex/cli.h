@@ -51,6 +51,13 @@ struct DemoRegistrar {
   }
 };
 
+// IN, -o/--output OUT and --ascii: the arguments of every mesh-to-mesh command.
+struct MeshIo {
+  std::string input, output;
+  bool ascii = false;
+  explicit MeshIo(CLI::App& app, const std::string& output_help = "output mesh");
+};
+
 // Read a mesh, printing the reader's warnings (what was dropped, strips decoded, …) unless quiet.
 Mesh load_mesh(const std::string& path, ReadReport* report = nullptr, bool strict = false);
 // Write a mesh (atomically) and say where it went unless quiet.

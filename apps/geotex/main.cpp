@@ -11,6 +11,7 @@
 
 #include "cli.h"
 #include "geotex/core/error.h"
+#include "geotex/core/options.h"
 #include "geotex/core/resources.h"
 
 namespace {
@@ -73,6 +74,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
+    return 2;
+  } catch (const geotex::InvalidOption& e) {
     std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
     return 2;
   } catch (const geotex::InvalidInput& e) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -21,6 +22,8 @@ struct SurfelArgs {
   std::string weights = "lagged", preset = "thesis";
   DualOptions dual;
   CLI::Option *t_start_opt = nullptr, *retrieval_opt = nullptr, *weights_opt = nullptr;
+  std::optional<double> alpha;
+  std::optional<int> iterations;
 };
 
 
@@ -73,7 +76,13 @@ void add_options(CLI::App& app) {
   app.add_option("--polygons", a.polygons, "dual retrieval: also write the dual polygon mesh as OBJ")->group(g);
 }
 
-DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
+struct DenoiseCommon {  // interim, until the surfel pipeline has its library entry point and option table
+  std::optional<double> alpha;
+  std::optional<int> iterations;
+  ProgressFn progress;
+};
+
+DenoiseOutput run(const Mesh& input, const DenoiseCommon& common) {
   const SurfelArgs& a = args();
   require_valid(input, "denoise input");
   const MatrixX3d X = positions(input);
@@ -111,7 +120,7 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
                      median_neighbor_angle_deg(S0, N), o.t_start_deg, o.t_end_deg));
   }
   const SurfelResult r = optimize_surfels(X, N, S0, o);
-  DenoiseResult out;
+  DenoiseOutput out;
   if (retrieval == "primal" || retrieval == "fit") {
     out.mesh = retrieval == "fit" ? surfel_fitted_mesh(input, X, r.surfels, a.fit_iterations) : surfel_primal_mesh(input, X, r.surfels);
     // Edge label: 1 − w at the last threshold (w = 1/2 at the threshold angle, Eq. 7.12).
@@ -145,7 +154,21 @@ DenoiseResult run(const Mesh& input, const DenoiseCommon& common) {
 
 DenoiseRegistrar reg{"surfel",
                      "surfels (thesis ch. 7): ICM on planes per vertex, dual-mesh retrieval at plane intersections",
-                     add_options, run};
+                     [](FlagSet& f) {
+                       add_options(f.app());
+                       CLI::App& app = f.app();
+                       app.add_option("--surfel-alpha", args().alpha, "data weight alpha (Eq. 7.16); default 0.1")->group("surfel");
+                       app.add_option("--surfel-iterations", args().iterations, "number of thresholds; default 10")->group("surfel");
+                     },
+                     [](const FlagSet&) -> DenoiseRun {
+                       return [](const Mesh& mesh, const ProgressFn& progress) {
+                         DenoiseCommon c;
+                         c.alpha = args().alpha;
+                         c.iterations = args().iterations;
+                         c.progress = progress;
+                         return run(mesh, c);
+                       };
+                     }};
 
 }  // namespace
 }  // namespace geotex::cli
