@@ -10,6 +10,15 @@
 #include "geotex/core/geometry.h"
 
 namespace geotex {
+
+const OptionTable<PhongProjectionOptions>& PhongProjectionOptions::table() {
+  using O = PhongProjectionOptions;
+  static const auto t = OptionTable<O>()
+      .add("search_factor", &O::search_factor, "candidate triangles within this x the closest distance (+ margin)", positive())
+      .add("search_margin", &O::search_margin, "candidate search margin, in mean edge lengths", non_negative())
+      .add("inside_tol", &O::inside_tol, "barycentric tolerance for a point inside a triangle", non_negative(), "Sec. 5.2");
+  return t;
+}
 namespace {
 
 double triple(const Vec3& x, const Vec3& y, const Vec3& z) { return x.dot(y.cross(z)); }  // Eq. (5.55)
