@@ -19,41 +19,6 @@
 
 namespace geotex {
 
-// ---------------------------------------------------------------------------------------------
-// Names
-
-SmoothnessPotential parse_potential(const std::string& s) {
-  if (s == "quadratic") return SmoothnessPotential::Quadratic;
-  if (s == "sqrt") return SmoothnessPotential::SquareRoot;
-  throw InvalidInput("unknown smoothness potential '" + s + "' (quadratic, sqrt)");
-}
-RidgeSign parse_ridges(const std::string& s) {
-  if (s == "all") return RidgeSign::All;
-  if (s == "convex") return RidgeSign::Convex;
-  if (s == "concave") return RidgeSign::Concave;
-  throw InvalidInput("unknown ridge selection '" + s + "' (all, convex, concave)");
-}
-MrfOptimizer parse_optimizer(const std::string& s) {
-  if (s == "metropolis") return MrfOptimizer::Metropolis;
-  if (s == "icm") return MrfOptimizer::Icm;
-  if (s == "cg") return MrfOptimizer::Cg;
-  if (s == "lbfgs") return MrfOptimizer::Lbfgs;
-  throw InvalidInput("unknown optimizer '" + s + "' (metropolis, icm, cg, lbfgs)");
-}
-std::string to_string(SmoothnessPotential p) { return p == SmoothnessPotential::Quadratic ? "quadratic" : "sqrt"; }
-std::string to_string(RidgeSign r) {
-  return r == RidgeSign::All ? "all" : r == RidgeSign::Convex ? "convex" : "concave";
-}
-std::string to_string(MrfOptimizer o) {
-  switch (o) {
-    case MrfOptimizer::Metropolis: return "metropolis";
-    case MrfOptimizer::Icm: return "icm";
-    case MrfOptimizer::Cg: return "cg";
-    case MrfOptimizer::Lbfgs: return "lbfgs";
-  }
-  return "?";
-}
-
 namespace detail {
 
 // ---------------------------------------------------------------------------------------------

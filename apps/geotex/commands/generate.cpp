@@ -20,7 +20,7 @@ void run(const Args& a) {
   if (!a.base_output.empty()) save_mesh(s.base, a.base_output);
 }
 
-Registrar reg{20, "generate", "Write a procedural test shape (cube, cylinder, sphere, torus, plane, spiky-sphere, spiky-plane)",
+Registrar reg{20, "generate", "Write a procedural test shape (see SHAPE for the names)",
               [](CLI::App& app) {
                 auto a = std::make_shared<Args>();
                 app.add_option("SHAPE", a->shape, "shape name")->required()->check(CLI::IsMember(shape_names()));

@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
 #include "geotex/core/progress.h"
 
 namespace geotex {
@@ -49,7 +50,11 @@ enum class MrfOptimizer {
   Lbfgs        //!< vertex process only: L-BFGS on U_V
 };
 
-//! Parse "quadratic|sqrt", "all|convex|concave", "metropolis|icm|cg|lbfgs". \throw InvalidInput.
+//! Names: "quadratic|sqrt", "all|convex|concave", "metropolis|icm|cg|lbfgs".
+const EnumNames<SmoothnessPotential>& potential_names();
+const EnumNames<RidgeSign>& ridge_names();
+const EnumNames<MrfOptimizer>& optimizer_names();
+//! Parse a name (see the tables above). \throw InvalidInput.
 SmoothnessPotential parse_potential(const std::string& name);
 RidgeSign parse_ridges(const std::string& name);
 MrfOptimizer parse_optimizer(const std::string& name);
@@ -75,6 +80,7 @@ struct EdgeProcessOptions {
   //! falls linearly to φ0 over the first half of the outer iterations, so that noise-sharp edges of
   //! the input are not frozen as ridges before the geometry has been smoothed.
   double phi0_start_deg = 0.0;
+  static const OptionTable<EdgeProcessOptions>& table();
 };
 
 //! The vertex process and the alternation (Sec. 6.3.1–6.3.5).
@@ -103,6 +109,9 @@ struct MrfOptions {
   bool initial_labels_from_angles = true;  //!< start with ε_e = [φ_e > φ0] (Fig. 6.3), else ε = 0
   uint64_t seed = 1;                //!< random seed: same seed, same result (any thread count)
   ProgressFn progress;              //!< called after each outer iteration
+  //! Presets: "thesis" (Fig. 6.3's run: Metropolis vertex and edge processes, T_E 0.05 cooled by 0.9,
+  //! 20 iterations, no extras).
+  static const OptionTable<MrfOptions>& table();
 };
 
 //! What one run produced.
@@ -138,6 +147,7 @@ struct MrfNormalOptions {
   bool initial_labels_from_angles = true;  //!< start with ε_e = [φ_e > φ0]
   uint64_t seed = 1;                //!< random seed
   ProgressFn progress;              //!< called after each outer iteration
+  static const OptionTable<MrfNormalOptions>& table();
 };
 
 //! Denoise with the face-normal MRF and the edge process, then fit positions to the normals.
