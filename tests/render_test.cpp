@@ -14,6 +14,7 @@
 #include "geotex/core/io.h"
 #include "geotex/tools/render.h"
 #include "geotex/tools/shapes.h"
+#include "geotex/tools/viewer.h"
 #include "test_util.h"
 
 using namespace geotex;
@@ -366,7 +367,6 @@ TEST(RenderCli, BadArgumentsFailWithOneLine) {
 TEST(RenderCli, FramingFlags) {
   TempDir dir;
   write_mesh(off_centre_torus(Vec3(10, 20, 30)), dir / "t.ply");
-  write_edge_values(icosphere(1, 1.0), Eigen::VectorXd::Ones(icosphere(1, 1.0).n_edges()), "label", dir / "e.ply");
   for (const std::string& args : std::vector<std::string>{
            "--zoom 0.5 --frame sphere --up y --margin 0.1", "--centre 10,20,30 --zoom 3", "--center 10,20,30",
            "--up auto --view top", "--up -z"}) {
@@ -477,6 +477,34 @@ TEST(RenderFraming, CentreAndSphereFraming) {
   // Bad values are refused.
   o.zoom = 0;
   EXPECT_THROW(fit_camera(m, o), InvalidInput);
+}
+
+// Every option of the render and viewer tables: its default is valid and survives text and back.
+template <class O>
+void expect_defaults_round_trip() {
+  const O defaults{};
+  for (const auto& f : O::table().fields()) {
+    const OptionValue v = f.get(defaults);
+    O o;
+    f.set(o, parse_option_value(f.info, format_option_value(v)));
+    EXPECT_EQ(format_option_value(f.get(o)), format_option_value(v)) << f.info.name;
+  }
+  EXPECT_NO_THROW(O::table().check(defaults));
+}
+
+TEST(RenderOptionsTable, DefaultsRoundTripAndBadValuesAreRefused) {
+  expect_defaults_round_trip<RenderOptions>();
+  expect_defaults_round_trip<ViewerOptions>();
+  RenderOptions o;
+  const auto& t = RenderOptions::table();
+  t.set(o, "centre", parse_option_value(t.find("centre")->info, "1,2,3"));
+  EXPECT_EQ(*o.centre, Vec3(1, 2, 3));
+  t.set(o, "up", std::string("-y"));
+  EXPECT_EQ(o.up, UpAxis::NegY);
+  EXPECT_THROW(t.set(o, "zoom", 0.0), InvalidOption);
+  EXPECT_THROW(t.set(o, "frame", std::string("wide")), InvalidOption);
+  ViewerOptions v;
+  EXPECT_THROW(ViewerOptions::table().set(v, "position_bits", int64_t{30}), InvalidOption);
 }
 
 TEST(DemoReport, IndexShowsEveryMeshWithItsPicture) {
