@@ -10,7 +10,7 @@ namespace geotex::cli {
 namespace {
 
 struct Args {
-  std::string input, output, size = "800x600", view = "iso", up = "z";
+  std::string input, output, size = "800x600", view, up, frame, zoom, centre, margin;
   bool flat = false;
   int supersampling = 2;
   double lo = 0, hi = 0;
@@ -34,16 +34,19 @@ void parse_size(const std::string& s, int& w, int& h) {
 void run(const Args& a) {
   RenderOptions o;
   parse_size(a.size, o.width, o.height);
-  o.view = view_direction_from_name(a.view);
-  o.up = up_axis(a.up);
+  for (const auto& [name, text] : {std::pair{"view", a.view}, {"up", a.up}, {"frame", a.frame}, {"zoom", a.zoom},
+                                   {"centre", a.centre}, {"margin", a.margin}})
+    set_from_text(o, name, text);
   o.smooth = !a.flat;
   o.supersampling = a.supersampling;
   if (std::filesystem::path(a.output).extension() != ".png")
     throw IoError(fmt::format("{}: the output must be a .png file", a.output));
+  const std::vector<std::string> inputs{a.input};
+  const std::string edges = bind_to_meshes(a.layers.edges, inputs, "--edges").front();
+  const std::string field_file = bind_to_meshes(a.layers.field_files, inputs, "--field-file").front();
   const Mesh mesh = load_mesh(a.input);
   MeshLayers layers;
-  const std::string field =
-      load_layers(a.input, mesh, a.layers, a.layers.edges.empty() ? "" : a.layers.edges.front(), layers);
+  const std::string field = load_layers(a.input, mesh, a.layers, edges, field_file, true, layers);
   RenderLayers rl;
   if (!field.empty()) rl.field = layers.fields.at(field);
   rl.field_lo = a.lo;
@@ -63,10 +66,12 @@ Registrar reg{910, "render", "Render a mesh to a PNG picture (fixed camera, shad
   app.add_option("MESH", a->input, "mesh to render")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", a->output, "output picture (.png)")->required();
   app.add_option("--size", a->size, "picture size WIDTHxHEIGHT in pixels")->capture_default_str();
-  app.add_option("--view", a->view, "camera direction: iso, front (from -y for up z) or top (from above)")
-      ->check(CLI::IsMember({"iso", "front", "top"}))
-      ->capture_default_str();
-  add_up_option(app, a->up);
+  add_table_option<RenderOptions>(app, "--view", "view", a->view);
+  add_table_option<RenderOptions>(app, "--up", "up", a->up);
+  add_table_option<RenderOptions>(app, "--frame", "frame", a->frame);
+  add_table_option<RenderOptions>(app, "--zoom", "zoom", a->zoom);
+  add_table_option<RenderOptions>(app, "--centre,--center", "centre", a->centre);
+  add_table_option<RenderOptions>(app, "--margin", "margin", a->margin);
   app.add_flag("--flat", a->flat, "flat shading (one normal per face) instead of smooth");
   app.add_option("--supersampling", a->supersampling, "anti-aliasing: k x k samples per pixel")
       ->check(CLI::Range(1, 8))

@@ -141,13 +141,13 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     // Results share their clean input's camera, so that they line up with it; the legend's room is
     // kept free whenever a picture of the set may show one.
     const std::string key = e.vs_truth ? e.truth : is_truth(e.stem) ? e.stem : "";
-    const int legend_room = key.empty() && e.field.empty() ? 0 : std::min(110, o.width / 4);
+    const int legend_room = key.empty() && e.field.empty() ? 0 : legend_width(o.width);
     if (auto it = truth_camera.find(key); !key.empty() && it != truth_camera.end()) o.camera = it->second;
     else {
       const Entry* framed = &e;
       for (const Entry* t : truths)
         if (t->stem == key) framed = t;
-      o.camera = fit_camera(positions(framed->mesh), ViewDirection::Iso, o.width - legend_room, o.height);
+      o.camera = fit_camera(framed->mesh, o, legend_room);
       if (!key.empty()) truth_camera[key] = *o.camera;
     }
     const Rendering pic = render_mesh(e.mesh, o, rl);
