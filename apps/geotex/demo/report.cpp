@@ -133,6 +133,7 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     RenderOptions o;
     o.width = 480;
     o.height = 360;
+    o.up = UpAxis::Z;  // the demo's shapes are generated z-up
     RenderLayers rl;
     e.field = e.vs_truth ? "error" : picture_field(e.layers);
     if (!e.field.empty()) rl.field = e.layers.fields.at(e.field);
@@ -157,6 +158,7 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     if (!script.empty()) {
       ++pages;
       ViewerOptions v;
+      v.up = UpAxis::Z;
       v.title = e.file.filename().string();
       v.initial_field = e.field;
       v.script_src = "geotex-viewer.js";
@@ -178,6 +180,7 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
         }
       if (ms.size() < 2) continue;
       ViewerOptions v;
+      v.up = UpAxis::Z;
       v.title = "geotex demo: " + g;
       v.initial_field = field;
       v.script_src = "geotex-viewer.js";
