@@ -228,6 +228,7 @@ const OptionTable<ViewerOptions>& ViewerOptions::table() {
   static const auto t = OptionTable<O>()
       .add("title", &O::title, "page title")
       .add("initial_field", &O::initial_field, "field shown when the page opens (empty: plain colour)")
+      .alias("field")
       .add("flat", &O::flat, "start in flat shading")
       .add("wireframe", &O::wireframe, "start with the wireframe shown")
       .choice("up", &O::up, up_axis_names(),

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "cli.h"
+#include "option_flags.h"
 #include "view_common.h"
 
 namespace geotex::cli {
@@ -13,25 +14,21 @@ namespace {
 
 struct Args {
   std::vector<std::string> inputs;
-  std::string output, title, up, position_bits;
-  bool flat = false, wireframe = false;
+  std::string output;
   LayerArgs layers;
 };
 
-void run(const Args& a) {
+void run(Args a, ViewerOptions o, bool title_given) {
   if (std::filesystem::path(a.output).extension() != ".html")
     throw IoError(fmt::format("{}: the output must be an .html file", a.output));
-  ViewerOptions o;
-  set_from_text(o, "up", a.up);
-  set_from_text(o, "position_bits", a.position_bits);
+  a.layers.field = o.initial_field;  // --field: the table's name for it is initial_field
+  o.initial_field.clear();
   const std::vector<std::string> edges = bind_to_meshes(a.layers.edges, a.inputs, "--edges");
   const std::vector<std::string> field_files = bind_to_meshes(a.layers.field_files, a.inputs, "--field-file");
   const std::string script = viewer_script();  // fail early when the viewer was not built
-  o.title = a.title.empty() ? "geotex: " + std::filesystem::path(a.inputs.front()).filename().string() +
-                                  (a.inputs.size() > 1 ? fmt::format(" and {} more", a.inputs.size() - 1) : "")
-                            : a.title;
-  o.flat = a.flat;
-  o.wireframe = a.wireframe;
+  if (!title_given)
+    o.title = "geotex: " + std::filesystem::path(a.inputs.front()).filename().string() +
+              (a.inputs.size() > 1 ? fmt::format(" and {} more", a.inputs.size() - 1) : "");
   std::vector<ViewerMesh> meshes;
   bool field_found = false;
   for (size_t i = 0; i < a.inputs.size(); ++i) {
@@ -55,13 +52,10 @@ Registrar reg{920, "view", "Write a self-contained HTML page showing meshes side
   auto a = std::make_shared<Args>();
   app.add_option("MESH", a->inputs, "meshes to show side by side")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", a->output, "output page (.html)")->required();
-  app.add_option("--title", a->title, "page title (default: the file names)");
-  add_table_option<ViewerOptions>(app, "--up", "up", a->up);
-  add_table_option<ViewerOptions>(app, "--position-bits", "position_bits", a->position_bits);
-  app.add_flag("--flat", a->flat, "start in flat shading");
-  app.add_flag("--wireframe", a->wireframe, "start with the wireframe shown");
-  add_layer_options(app, a->layers, true);
-  app.callback([a] { run(*a); });
+  auto flags = std::make_shared<FlagSet>(app);
+  flags->add("view", ViewerOptions::table());
+  add_layer_options(app, a->layers, true, false);
+  app.callback([a, flags] { run(*a, flags->resolve<ViewerOptions>("view"), flags->given("title")); });
 }};
 
 }  // namespace

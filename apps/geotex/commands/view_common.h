@@ -15,29 +15,6 @@
 
 namespace geotex::cli {
 
-// Flags whose values come from an options table (parsed, checked and defaulted by it).
-template <class O>
-std::string default_text(const std::string& name) {
-  return format_option_value(O::table().find(name)->get(O{}));
-}
-template <class O>
-void set_from_text(O& o, const std::string& name, const std::string& text) {
-  const auto* f = O::table().find(name);
-  f->set(o, parse_option_value(f->info, text));
-}
-template <class O>
-CLI::Option* add_table_option(CLI::App& app, const std::string& flags, const std::string& name, std::string& text) {
-  const auto* f = O::table().find(name);
-  text = default_text<O>(name);
-  std::string help = f->info.help;
-  if (!f->info.choices.empty()) {
-    std::string names;
-    for (const auto& c : f->info.choices) names += (names.empty() ? "" : "|") + c;
-    help += " (" + names + ")";
-  }
-  return app.add_option(flags, text, help)->capture_default_str();
-}
-
 struct LayerArgs {
   std::string field;                     // a per-vertex PLY property of the mesh files
   std::vector<std::string> field_files;  // [MESH:]FILE, text files of #V numbers
@@ -45,19 +22,21 @@ struct LayerArgs {
   std::vector<std::string> edges;        // [MESH:]FILE, PLY files with an "edge" element carrying "label"
 };
 
-inline void add_layer_options(CLI::App& app, LayerArgs& a, bool several_meshes) {
+// --field (unless the options table has it), --field-file, --reference, --edges.
+inline void add_layer_options(CLI::App& app, LayerArgs& a, bool several_meshes, bool field_flag = true) {
   const std::string bound = several_meshes ? " With several meshes, say which: MESH:FILE, MESH being the mesh's "
                                              "file name or its position (1, 2, ...); repeat for other meshes."
                                            : "";
-  auto* f = app.add_option("--field", a.field, "colour by this per-vertex PLY property (e.g. height, feature)");
+  CLI::Option* f = field_flag ? app.add_option("--field", a.field, "colour by this per-vertex PLY property (e.g. height, feature)")
+                              : nullptr;
   auto* ff = app.add_option("--field-file", a.field_files,
                             "colour by the values in this text file (#V numbers)." + bound)
                  ->expected(1, several_meshes ? -1 : 1);
   auto* r = app.add_option("--reference", a.reference,
                            "colour by the error against this mesh: each vertex's distance to its surface")
                 ->check(ExistingMeshFile);
-  ff->excludes(f);
-  r->excludes(f)->excludes(ff);
+  if (f) ff->excludes(f), r->excludes(f);
+  r->excludes(ff);
   app.add_option("--edges", a.edges, "labelled edges (PLY 'edge' element with 'label') drawn as coloured lines." + bound)
       ->expected(1, several_meshes ? -1 : 1);
 }
