@@ -685,7 +685,7 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
             const double nd = load_as_double(data.data() + pos, p.count_type, swap);
             pos += cs;
             if (!(nd >= 0) || nd > static_cast<double>(data.size()) || nd != std::floor(nd))
-              malformed(path, 0, fmt::format("bad list length {} in element '{}' row {}", nd, d.name, r));
+              throw IoError(fmt::format("{}: bad list length {} in element '{}' row {}", path.string(), nd, d.name, r));
             const size_t n = static_cast<size_t>(nd);
             const size_t is = type_size(p.type);
             if (pos + n * is > data.size()) truncated(r);

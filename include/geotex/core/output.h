@@ -41,6 +41,9 @@
 //! between its link and its rename; on a file system without O_TMPFILE it leaves the
 //! `.geotex-XXXXXX` files of the outputs written so far.
 //!
+//! Temporaries are not fsync()ed before they are put in place (as before this class): a power cut
+//! right after a run may, on some file systems, leave an output empty, never a mix of old and new.
+//!
 //! commit() renames the outputs one after the other; each rename is atomic, the group is not: if a
 //! rename fails after every check passed (an I/O error), the outputs renamed before it stay replaced
 //! and the error names them.
