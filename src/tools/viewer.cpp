@@ -174,11 +174,9 @@ void read_edge_labels(const fs::path& path, size_t n_vertices, MeshLayers& layer
 }
 
 Eigen::VectorXd read_field_file(const fs::path& path, size_t n_vertices) {
-  std::ifstream in(path);
-  if (!in) throw IoError(fmt::format("{}: cannot read", path.string()));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
+  // Only a regular file, up to a limit: a FIFO or /dev/zero is refused at once. A UTF-8 BOM is skipped.
+  std::string text = read_regular_file(path, kMaxTextFileBytes, "a field file");
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
   for (char& c : text)
     if (c == ',' || c == ';') c = ' ';
   std::istringstream tokens(text);
