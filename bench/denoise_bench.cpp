@@ -9,6 +9,8 @@
 // Output: one line "key value ..." per run (normal error, Ev, label precision/recall, CPU seconds).
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -148,11 +150,55 @@ int cmd_run(int argc, char** argv) {
   return 0;
 }
 
+// A closed double cone ("spindle"): a rim of n vertices on the unit circle and two apexes of valence n.
+Mesh spindle(int n, double height) {
+  MatrixX3d V(n + 2, 3);
+  MatrixX3i F(2 * n, 3);
+  for (int i = 0; i < n; ++i) V.row(i) << std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0.0;
+  V.row(n) << 0, 0, height;
+  V.row(n + 1) << 0, 0, -height;
+  for (int i = 0; i < n; ++i) {
+    F.row(i) << i, (i + 1) % n, n;
+    F.row(n + i) << (i + 1) % n, i, n + 1;
+  }
+  return make_mesh(V, F);
+}
+
+// The valence test: every method on a noisy spindle whose two apexes have valence n.
+int cmd_fan(int argc, char** argv) {
+  const int n = argc >= 3 ? std::atoi(argv[2]) : 8000;
+  const Mesh clean = spindle(n, 0.5);
+  Mesh noisy = clean;
+  NoiseOptions no;
+  no.sigma = 0.1;
+  set_positions(noisy, add_noise(clean, no));
+  std::vector<std::string> methods = {"mrf", "mrf-normal", "surfel"};
+  for (int i = 3; i < argc; ++i) methods.assign(argv + 3, argv + argc);
+  for (const std::string& spec : methods) {
+    // METHOD or METHOD:name=value,name=value
+    const std::string m = spec.substr(0, spec.find(':'));
+    std::vector<std::string> args;
+    if (spec.find(':') != std::string::npos) {
+      std::string rest = spec.substr(spec.find(':') + 1);
+      for (size_t at = 0; at <= rest.size();) {
+        const size_t comma = std::min(rest.find(',', at), rest.size());
+        args.push_back(rest.substr(at, comma - at));
+        at = comma + 1;
+      }
+    }
+    const Outcome r = run_method(m, noisy, args, "");
+    fmt::print("fan valence {} {}: cpu {:.3f} s, wall {:.3f} s, normal error {:.2f} deg\n", n, spec, r.cpu, r.wall,
+               compare_meshes(r.mesh, clean).mean_normal_error_deg);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
     if (argc >= 2 && std::strcmp(argv[1], "run") == 0) return cmd_run(argc, argv);
+    if (argc >= 2 && std::strcmp(argv[1], "fan") == 0) return cmd_fan(argc, argv);
     fmt::print(stderr, "usage: denoise_bench run METHOD IN [--out OUT] [--edges E] [--truth T] [--preset P] [k=v ...]\n");
     return 2;
   } catch (const std::exception& e) {

@@ -34,6 +34,33 @@ double annealed_phi0(const EdgeProcessOptions& o, int it, int iterations) {
 EdgeField::EdgeField(const Topology& topology, const EdgeProcessOptions& o) : T(topology), opt(o) {
   phi.resize(T.nE);
   u.resize(3 * T.nE);
+  heavy.assign(T.nV, -1);
+  int slots = 0;
+  for (int v = 0; v < T.nV; ++v)
+    if (T.ve_off[v + 1] - T.ve_off[v] > kHeavyValence) heavy[v] = slots++;
+  heavy_sum.assign(3 * slots, 0.0);
+}
+
+void EdgeField::gather(const double* eps) const {
+  for (int v = 0; v < T.nV; ++v) {
+    if (heavy[v] < 0) continue;
+    Vec3 S = Vec3::Zero();
+    for (int k = T.ve_off[v]; k < T.ve_off[v + 1]; ++k) {
+      const int e = T.ve[k];
+      if (eps[e] != 0) S += (T.E[2 * e] == v ? 1.0 : -1.0) * eps[e] * vec(&u[3 * e]);
+    }
+    put(&heavy_sum[3 * heavy[v]], S);
+  }
+}
+
+void EdgeField::changed(int e, double delta) const {
+  for (int s = 0; s < 2; ++s) {
+    const int v = T.E[2 * e + s];
+    if (heavy[v] < 0) continue;
+    double* S = &heavy_sum[3 * heavy[v]];
+    const double sign = s == 0 ? delta : -delta;  // e is directed out of its first vertex
+    for (int d = 0; d < 3; ++d) S[d] += sign * u[3 * e + d];
+  }
 }
 
 void EdgeField::update(const double* x, const double* n) {
@@ -72,6 +99,12 @@ double EdgeField::field(int e, const double* eps) const {
   double support = 0;
   for (int s = 0; s < 2; ++s) {
     const int v = T.E[2 * e + s];
+    if (heavy[v] >= 0) {
+      // Σ_{e' ≠ e} cos θ ε_e' = s1 u_e·S_v + |u_e|² ε_e, with s1 = +1 when e is directed into v (cos_theta()).
+      const Vec3 ue = vec(&u[3 * e]);
+      support += (s == 1 ? 1.0 : -1.0) * ue.dot(vec(&heavy_sum[3 * heavy[v]])) + ue.squaredNorm() * eps[e];
+      continue;
+    }
     for (int k = T.ve_off[v]; k < T.ve_off[v + 1]; ++k) {
       const int e2 = T.ve[k];
       if (e2 == e || eps[e2] == 0) continue;
@@ -82,6 +115,7 @@ double EdgeField::field(int e, const double* eps) const {
 }
 
 double EdgeField::energy(const double* eps) const {
+  gather(eps);
   const double phi0 = opt.phi0_deg * M_PI / 180.0;
   double U = 0;
 #pragma omp parallel for schedule(static) reduction(+ : U) if (T.nE >= min_parallel)
@@ -101,6 +135,7 @@ void EdgeField::initial_labels(double* eps) const {
 }
 
 double EdgeField::metropolis(double* eps, double temperature, uint64_t seed, int sweep) const {
+  gather(eps);
   for (const auto& cls : T.edge_colours()) {
 #pragma omp parallel for schedule(static) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
@@ -109,7 +144,10 @@ double EdgeField::metropolis(double* eps, double temperature, uint64_t seed, int
       Rng rng(site_seed(seed, sweep, static_cast<uint64_t>(e) + (1ull << 40)));
       const double proposal = rng.uniform();
       const double dU = (proposal - eps[e]) * field(e, eps);  // U_E is linear in ε_e
-      if (dU <= 0 || (temperature > 0 && rng.uniform() < std::exp(-dU / temperature))) eps[e] = proposal;
+      if (dU <= 0 || (temperature > 0 && rng.uniform() < std::exp(-dU / temperature))) {
+        changed(e, proposal - eps[e]);
+        eps[e] = proposal;
+      }
     }
   }
   return energy(eps);
@@ -129,13 +167,16 @@ double EdgeField::icm(double* eps) const {
     std::copy(next.begin(), next.end(), eps);
     return U;
   }
+  gather(eps);
   for (const auto& cls : T.edge_colours()) {
 #pragma omp parallel for schedule(static) if (cls.size() >= size_t(min_parallel / 10))
     for (size_t k = 0; k < cls.size(); ++k) {
       const int e = cls[k];
       if (fixed(e)) continue;
       const double h = field(e, eps);
-      eps[e] = h < 0 ? 1.0 : h > 0 ? 0.0 : eps[e];
+      const double mode = h < 0 ? 1.0 : h > 0 ? 0.0 : eps[e];
+      changed(e, mode - eps[e]);
+      eps[e] = mode;
     }
   }
   return energy(eps);

@@ -27,6 +27,10 @@ namespace geotex::detail {
 //! with other processes. Tests lower it to check that results do not depend on the thread count.
 inline int min_parallel = 50000;
 
+//! Vertices with more edges than this keep sums over their edges instead of visiting all of them for
+//! each (edge colouring, edge support): per-vertex work stays linear in the valence.
+constexpr int kHeavyValence = 32;
+
 inline Vec3 vec(const double* p) { return {p[0], p[1], p[2]}; }
 inline void put(double* p, const Vec3& v) { p[0] = v[0], p[1] = v[1], p[2] = v[2]; }
 
@@ -42,6 +46,7 @@ struct Topology {
   std::vector<int> E;             //!< 2 nE: from, to of the edge's halfedge 0
   std::vector<int> ef;            //!< 2 nE: face of halfedge 0 (holds from → to), of halfedge 1; −1 on a boundary
   std::vector<int> vf_off, vf;    //!< vertex → incident corners (3 f + m), CSR
+  std::vector<int> vf_pos;        //!< 3 nF: position of corner c in its vertex's list: vf[vf_off[F[c]] + vf_pos[c]] == c
   std::vector<int> ve_off, ve;    //!< vertex → incident edges, CSR
   //! Colour classes: sites of one class are not MRF neighbours (built on first use).
   const std::vector<std::vector<int>>& vertex_colours() const;
@@ -172,10 +177,16 @@ struct EdgeField {
   double metropolis(double* eps, double temperature, uint64_t seed, int sweep) const;
   double icm(double* eps) const;
   double sweep(double* eps, MrfOptimizer optimizer, double temperature, uint64_t seed, int sweep_index) const;
+  //! The sums S_v = Σ_{e at v} (±u_e) ε_e (edges directed out of v) at the vertices of high valence, for \p eps.
+  void gather(const double* eps) const;
+  //! ε_e changed by \p delta: update the sums at its ends (edges of one colour share no vertex).
+  void changed(int e, double delta) const;
 
   const Topology& T;
   EdgeProcessOptions opt;
   std::vector<double> phi, u;
+  std::vector<int> heavy;                 //!< vertex → its slot in heavy_sum, −1 below kHeavyValence
+  mutable std::vector<double> heavy_sum;  //!< 3 per slot: S_v (Eq. 6.10's support in O(1) per edge)
 };
 
 //! One alternation's edge step (Sec. 6.3.5) in outer iteration \p it of \p iterations: the (annealed)

@@ -43,6 +43,9 @@ Topology::Topology(const Mesh& mesh) {
     std::vector<int> fill(vf_off.begin(), vf_off.end() - 1);
     for (int c = 0; c < 3 * nF; ++c) vf[fill[F[c]]++] = c;  // corner id: 3 f + m
   }
+  vf_pos.resize(3 * nF);
+  for (int v = 0; v < nV; ++v)
+    for (int k = vf_off[v]; k < vf_off[v + 1]; ++k) vf_pos[vf[k]] = k - vf_off[v];
   ve_off.assign(nV + 1, 0);
   for (int e = 0; e < nE; ++e) {
     ++ve_off[E[2 * e] + 1];
@@ -105,12 +108,52 @@ const std::vector<std::vector<int>>& Topology::vertex_colours() const {
 
 const std::vector<std::vector<int>>& Topology::edge_colours() const {
   if (edge_colours_.empty() && nE > 0) {
-    edge_colours_ = greedy_colouring(nE, [&](int e, std::vector<int>& nb) {
+    // Greedy, as greedy_colouring(): each edge in turn takes the smallest colour that no coloured edge at
+    // either end has. At a vertex of high valence the colours taken there are kept in a table, with the
+    // lowest free one, instead of being collected from all its edges for each of them: the colouring
+    // costs O(#E) whatever the valences (a vertex of valence d would cost O(d²)).
+    std::vector<int> colour(nE, -1), stamp, slot(nV, -1), lowest_free;
+    std::vector<std::vector<char>> taken;
+    for (int v = 0; v < nV; ++v)
+      if (ve_off[v + 1] - ve_off[v] > kHeavyValence) {
+        slot[v] = static_cast<int>(taken.size());
+        taken.emplace_back();
+        lowest_free.push_back(0);
+      }
+    int n_colours = 0;
+    for (int e = 0; e < nE; ++e) {
+      if (static_cast<int>(stamp.size()) < n_colours + 1) stamp.resize(n_colours + 1, -1);
+      int c = 0;
       for (int s = 0; s < 2; ++s) {
         const int v = E[2 * e + s];
-        for (int k = ve_off[v]; k < ve_off[v + 1]; ++k) nb.push_back(ve[k]);
+        if (slot[v] >= 0) {
+          c = std::max(c, lowest_free[slot[v]]);
+          continue;
+        }
+        for (int k = ve_off[v]; k < ve_off[v + 1]; ++k)
+          if (colour[ve[k]] >= 0) stamp[colour[ve[k]]] = e;
       }
-    });
+      auto is_free = [&](int c) {
+        if (c < n_colours && stamp[c] == e) return false;
+        for (int s = 0; s < 2; ++s) {
+          const int h = slot[E[2 * e + s]];
+          if (h >= 0 && c < static_cast<int>(taken[h].size()) && taken[h][c]) return false;
+        }
+        return true;
+      };
+      while (!is_free(c)) ++c;
+      colour[e] = c;
+      n_colours = std::max(n_colours, c + 1);
+      for (int s = 0; s < 2; ++s) {
+        const int h = slot[E[2 * e + s]];
+        if (h < 0) continue;
+        if (static_cast<int>(taken[h].size()) <= c) taken[h].resize(c + 1, 0);
+        taken[h][c] = 1;
+        while (lowest_free[h] < static_cast<int>(taken[h].size()) && taken[h][lowest_free[h]]) ++lowest_free[h];
+      }
+    }
+    edge_colours_.assign(n_colours, {});
+    for (int e = 0; e < nE; ++e) edge_colours_[colour[e]].push_back(e);
   }
   return edge_colours_;
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "geotex/core/error.h"
 #include "geotex/core/random.h"
@@ -231,30 +232,40 @@ double VertexProblem::value_grad(const double* x, double* g) const {
 
 // Energy terms that change with x_a, evaluated with x_a = p (others from x, their normals from `n`).
 double VertexProblem::local(int a, const Vec3& p, const double* x, const double* nrm, Vec3* grad) const {
-  constexpr int kMax = 64;
-  int faces[kMax];
-  Vec3 ln[kMax], lN[kMax];
-  double linv[kMax];
-  const int deg = std::min(T.vf_off[a + 1] - T.vf_off[a], kMax);
+  // The normals of the faces around a with x_a = p: on the stack, or in a per-thread buffer at high valence.
+  constexpr int kStack = 32;
+  Vec3 ln_stack[kStack], lN_stack[kStack];
+  double linv_stack[kStack];
+  thread_local std::vector<Vec3> ln_heap, lN_heap;
+  thread_local std::vector<double> linv_heap;
+  const int deg = T.vf_off[a + 1] - T.vf_off[a];
+  Vec3 *ln = ln_stack, *lN = lN_stack;
+  double* linv = linv_stack;
+  if (deg > kStack) {
+    ln_heap.resize(deg);
+    lN_heap.resize(deg);
+    linv_heap.resize(deg);
+    ln = ln_heap.data(), lN = lN_heap.data(), linv = linv_heap.data();
+  }
+  const int* faces_corner = T.vf.data() + T.vf_off[a];
   for (int k = 0; k < deg; ++k) {
-    const int corner = T.vf[T.vf_off[a] + k], f = corner / 3, m = corner % 3;
-    faces[k] = f;
+    const int corner = faces_corner[k], f = corner / 3, m = corner % 3;
     const Vec3 q1 = vec(x + 3 * T.F[3 * f + (m + 1) % 3]), q2 = vec(x + 3 * T.F[3 * f + (m + 2) % 3]);
     lN[k] = (q1 - p).cross(q2 - p);
     const double len = lN[k].norm();
     linv[k] = len > 1e-300 ? 1.0 / len : 0.0;
     ln[k] = lN[k] * linv[k];
   }
-  auto normal = [&](int f) -> Vec3 {
-    for (int k = 0; k < deg; ++k)
-      if (faces[k] == f) return ln[k];
+  auto normal = [&](int f) -> Vec3 {  // a face around a is found by its corner at a, in O(1)
+    for (int m = 0; m < 3; ++m)
+      if (T.F[3 * f + m] == a) return ln[T.vf_pos[3 * f + m]];
     return vec(nrm + 3 * f);
   };
   auto first_face = [&](int e) { return T.ef[2 * e] >= 0 ? T.ef[2 * e] : T.ef[2 * e + 1]; };
   double U = alpha * (p - vec(x0 + 3 * a)).squaredNorm();
   if (grad) *grad = 2.0 * alpha * (p - vec(x0 + 3 * a));
   for (int k = 0; k < deg; ++k) {
-    const int f = faces[k];
+    const int f = faces_corner[k] / 3;
     Vec3 c = Vec3::Zero();
     for (int m = 0; m < 3; ++m) {
       const int e = T.fe[3 * f + m];
@@ -268,7 +279,7 @@ double VertexProblem::local(int a, const Vec3& p, const double* x, const double*
       if (grad) c += (f0 == f ? 1.0 : -1.0) * w[e] * dd;
     }
     if (grad) {
-      const int m = T.vf[T.vf_off[a] + k] % 3;
+      const int m = faces_corner[k] % 3;
       const Vec3 cp = (c - ln[k] * ln[k].dot(c)) * linv[k];
       const Vec3 q1 = vec(x + 3 * T.F[3 * f + (m + 1) % 3]), q2 = vec(x + 3 * T.F[3 * f + (m + 2) % 3]);
       *grad += (q1 - q2).cross(cp);

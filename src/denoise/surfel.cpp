@@ -604,7 +604,9 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
             starts.clear();
             starts.push_back(w.s.n[i]);
             const double distinct = 0.5 * chord;
-            for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k) {
+            // At most kMaxStarts orientations (a one-ring rarely has more): linear cost at any valence.
+            constexpr size_t kMaxStarts = 16;
+            for (int k = N.offsets[i]; k < N.offsets[i + 1] && starts.size() < kMaxStarts; ++k) {
               const Vec3& m = w.s.n[N.indices[k]];
               bool seen = false;
               for (const Vec3& q : starts) seen = seen || (q - m).norm() < distinct;
