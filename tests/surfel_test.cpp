@@ -659,3 +659,108 @@ TEST(SurfelCli, SurfelsRejectsBadInput) {
   }
   EXPECT_EQ(test::run_cli("surfels --help").exit_code, 0);
 }
+
+// ---------------------------------------------------------------------------------------------
+// surfel_denoise(): the pipeline as one library call
+
+TEST(SurfelDenoise, ThesisPresetHoldsTheThesisSettings) {
+  SurfelDenoiseOptions o;
+  SurfelDenoiseOptions::table().apply_preset(o, "thesis");
+  EXPECT_EQ(o.alpha, 0.1);   // Sec. 7.4.3.4
+  EXPECT_EQ(o.beta, 100.0);  // Sec. 7.4.3.4
+  ASSERT_TRUE(o.t_start_deg.has_value());
+  EXPECT_EQ(*o.t_start_deg, 45.0);  // Sec. 7.4.3.4, Fig. 7.4
+  EXPECT_EQ(o.t_end_deg, 10.0);
+  EXPECT_EQ(o.iterations, 10);  // Sec. 7.4.3.5
+  EXPECT_EQ(o.per_threshold, 1);
+  EXPECT_EQ(o.weights, SurfelWeights::Lagged);
+  EXPECT_FALSE(o.candidates);
+  EXPECT_FALSE(o.guided);
+  EXPECT_FALSE(o.cluster_moves);
+  EXPECT_EQ(o.retrieval, SurfelRetrieval::Dual);  // Sec. 7.4.4
+  EXPECT_EQ(o.neighborhood, SurfelNeighborhood::OneRing);
+  // The low-level optimizer's defaults are the same thesis settings.
+  const SurfelOptions low;
+  EXPECT_EQ(low.alpha, o.alpha);
+  EXPECT_EQ(low.beta, o.beta);
+  EXPECT_EQ(low.t_start_deg, *o.t_start_deg);
+  EXPECT_EQ(low.t_end_deg, o.t_end_deg);
+  EXPECT_EQ(low.iterations, o.iterations);
+  EXPECT_FALSE(low.irls_weights || low.cluster_moves || low.candidates || low.guided);
+}
+
+TEST(SurfelDenoise, DefaultIsTheTunedPipelineAssembledByHand) {
+  const Mesh noisy = noisy_copy(subdivided_cube(8), 0.3);
+  const SurfelDenoiseResult r = surfel_denoise(noisy);
+  // The same steps by hand: one-ring, area-weighted initial surfels, automatic threshold, fit retrieval.
+  const MatrixX3d X = positions(noisy);
+  const Neighborhoods N = one_ring_neighborhoods(noisy);
+  const Surfels S0 = initial_surfels(noisy);
+  SurfelOptions o = tuned_surfel_options(S0, N);
+  o.unit_length = mean_edge_length(noisy);
+  const SurfelResult s = optimize_surfels(X, N, S0, o);
+  EXPECT_EQ(r.t_start_deg, o.t_start_deg);
+  EXPECT_EQ(r.median_angle_deg, median_neighbor_angle_deg(S0, N));
+  EXPECT_EQ(r.t_start_deg, automatic_t_start_deg(S0, N, 10));
+  EXPECT_TRUE(r.surfels.surfels.normals == s.surfels.normals);
+  EXPECT_TRUE(positions(r.mesh) == positions(surfel_fitted_mesh(noisy, X, s.surfels)));
+  ASSERT_EQ(r.edge_labels.size(), static_cast<Eigen::Index>(noisy.n_edges()));
+  EXPECT_GE(r.edge_labels.minCoeff(), 0.0);
+  EXPECT_LE(r.edge_labels.maxCoeff(), 1.0);
+  EXPECT_TRUE(r.polygons.faces.empty());
+  // The cube's edges carry the labels: every mesh edge on a cube edge is labelled, most others are not.
+  const Mesh clean = subdivided_cube(8);
+  const Eigen::VectorXd D = dihedral_angles(clean);
+  int sharp_labelled = 0, sharp = 0, flat_labelled = 0;
+  for (Eigen::Index e = 0; e < D.size(); ++e) {
+    const bool s_e = std::abs(D[e]) > 1.0;
+    sharp += s_e;
+    sharp_labelled += s_e && r.edge_labels[e] > 0.5;
+    flat_labelled += !s_e && r.edge_labels[e] > 0.5;
+  }
+  EXPECT_EQ(sharp_labelled, sharp);
+  EXPECT_LT(flat_labelled, sharp);
+}
+
+TEST(SurfelDenoise, DualRetrievalReturnsPolygonsAndLabelsOnTheDualEdges) {
+  const Mesh clean = subdivided_cube(6);
+  SurfelDenoiseOptions o;
+  o.retrieval = SurfelRetrieval::Dual;
+  o.t_start_deg = 10;
+  const SurfelDenoiseResult r = surfel_denoise(noisy_copy(clean, 0.1), o);
+  ASSERT_EQ(r.polygons.faces.size(), clean.n_vertices());  // one polygon per input vertex
+  ASSERT_EQ(r.polygons.sites.size(), r.polygons.faces.size());
+  EXPECT_EQ(r.mesh.n_vertices(), clean.n_faces());         // one dual vertex per input face
+  ASSERT_EQ(r.edge_labels.size(), static_cast<Eigen::Index>(r.mesh.n_edges()));
+  // Labelled dual edges lie on the cube's edges: both their dual vertices are near two cube faces.
+  const MatrixX3d P = positions(r.mesh);
+  int labelled = 0;
+  for (auto e : r.mesh.edges()) {
+    if (r.edge_labels[e.idx()] <= 0.5) continue;
+    ++labelled;
+    for (int s = 0; s < 2; ++s) {
+      const Vec3 p = P.row(s ? r.mesh.to_vertex_handle(r.mesh.halfedge_handle(e, 0)).idx()
+                             : r.mesh.from_vertex_handle(r.mesh.halfedge_handle(e, 0)).idx()).transpose();
+      int near_faces = 0;
+      for (int d = 0; d < 3; ++d) near_faces += std::abs(std::abs(p[d]) - 0.5) < 0.1;
+      EXPECT_GE(near_faces, 2) << p.transpose();
+    }
+  }
+  EXPECT_GE(labelled, 12 * 6);  // at least one dual edge along each of the 12 · 6 cube-edge segments
+}
+
+TEST(SurfelDenoise, RejectsBadOptionsByName) {
+  const Mesh m = subdivided_cube(3);
+  SurfelDenoiseOptions o;
+  o.beta = -1;
+  try {
+    surfel_denoise(m, o);
+    FAIL();
+  } catch (const InvalidOption& e) {
+    EXPECT_NE(std::string(e.what()).find("beta"), std::string::npos) << e.what();
+  }
+  o = {};
+  o.t_start_deg = 0;
+  EXPECT_THROW(surfel_denoise(m, o), InvalidOption);
+  EXPECT_THROW(surfel_denoise(Mesh(), {}), InvalidInput);
+}

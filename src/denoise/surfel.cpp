@@ -522,15 +522,18 @@ double median_neighbor_angle_deg(const Surfels& S, const Neighborhoods& N) {
   return angle[angle.size() / 2];
 }
 
+double automatic_t_start_deg(const Surfels& initial, const Neighborhoods& N, double t_end_deg) {
+  // 0.85 × the median angle: 18.2° on Block0.4 (σ = 0.4), 15.0° on Fandisk0.3 (σ = 0.3) (bench/surfel.md).
+  constexpr double kThresholdFactor = 0.85, kHighest = 60.0;
+  return std::clamp(kThresholdFactor * median_neighbor_angle_deg(initial, N), t_end_deg, std::max(t_end_deg, kHighest));
+}
+
 SurfelOptions tuned_surfel_options(const Surfels& initial, const Neighborhoods& N, SurfelOptions o) {
-  // 0.85 × the median angle: 18.2° on Block0.4 (σ = 0.4), 15.0° on Fandisk0.3 (σ = 0.3); Block wants
-  // more sweeps and a higher start, Fandisk (20–25° ridges) fewer and lower (bench/surfel.md).
-  constexpr double kThresholdFactor = 0.85;
-  constexpr int kIterations = 30;
-  o.irls_weights = true;
-  o.cluster_moves = true;
-  o.iterations = kIterations;
-  o.t_start_deg = std::clamp(kThresholdFactor * median_neighbor_angle_deg(initial, N), o.t_end_deg, 60.0);
+  const SurfelDenoiseOptions d;  // the surfel pipeline's defaults are the tuned settings
+  o.irls_weights = d.weights == SurfelWeights::Irls;
+  o.cluster_moves = d.cluster_moves;
+  o.iterations = d.iterations;
+  o.t_start_deg = automatic_t_start_deg(initial, N, o.t_end_deg);
   return o;
 }
 
@@ -601,7 +604,9 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
             starts.clear();
             starts.push_back(w.s.n[i]);
             const double distinct = 0.5 * chord;
-            for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k) {
+            // At most kMaxStarts orientations (a one-ring rarely has more): linear cost at any valence.
+            constexpr size_t kMaxStarts = 16;
+            for (int k = N.offsets[i]; k < N.offsets[i + 1] && starts.size() < kMaxStarts; ++k) {
               const Vec3& m = w.s.n[N.indices[k]];
               bool seen = false;
               for (const Vec3& q : starts) seen = seen || (q - m).norm() < distinct;

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <limits>
+#include <map>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -88,6 +90,7 @@ PolygonMesh surfel_dual_polygons(const Mesh& mesh, const MatrixX3d& X, const Sur
     if (vertex_dual[v.idx()] >= 0) out.vertices.row(vertex_dual[v.idx()]) = C.row(v.idx());
 
   out.faces.reserve(nv);
+  out.sites.reserve(nv);
   for (auto v : mesh.vertices()) {
     std::vector<int> poly;
     if (!mesh.is_boundary(v)) {
@@ -99,8 +102,9 @@ PolygonMesh surfel_dual_polygons(const Mesh& mesh, const MatrixX3d& X, const Sur
       poly.push_back(vertex_dual[v.idx()]);
       poly.push_back(edge_dual[mesh.edge_handle(hb).idx()]);
       auto hh = mesh.cw_rotated_halfedge_handle(hb);
+      const int valence = static_cast<int>(mesh.valence(v));
       int guard = 0;
-      while (hh != hb && guard++ < 1000) {
+      while (hh != hb && guard++ <= valence) {
         if (mesh.is_boundary(hh)) break;
         const auto f = mesh.face_handle(hh);
         if (f.is_valid()) poly.push_back(f.idx());
@@ -121,28 +125,37 @@ PolygonMesh surfel_dual_polygons(const Mesh& mesh, const MatrixX3d& X, const Sur
       if (newell.dot(S.normals.row(v.idx()).transpose()) < 0) std::reverse(poly.begin(), poly.end());
     }
     poly.erase(std::remove(poly.begin(), poly.end(), -1), poly.end());
-    if (poly.size() >= 3) out.faces.push_back(std::move(poly));
+    if (poly.size() >= 3) {
+      out.faces.push_back(std::move(poly));
+      out.sites.push_back(v.idx());
+    }
   }
   return out;
 }
 
-Mesh triangulate_polygons(const PolygonMesh& poly) {
+Mesh triangulate_polygons(const PolygonMesh& poly, std::vector<int>* face_polygon) {
   std::vector<Eigen::Vector3i> tris;
-  for (const auto& f : poly.faces) {
+  if (face_polygon) face_polygon->clear();
+  for (size_t p = 0; p < poly.faces.size(); ++p) {
+    const auto& f = poly.faces[p];
     const int k = static_cast<int>(f.size());
     if (k < 3) continue;
     if (k == 3) {
       tris.emplace_back(f[0], f[1], f[2]);
+      if (face_polygon) face_polygon->push_back(static_cast<int>(p));
       continue;
     }
     auto P = [&](int i) -> Vec3 { return poly.vertices.row(f[((i % k) + k) % k]).transpose(); };
     Vec3 mean = Vec3::Zero();  // Newell normal
     for (int i = 0; i < k; ++i) mean += P(i).cross(P(i + 1));
     if (mean.norm() > 0) mean.normalize();
-    // The fan whose worst triangle faces the polygon's normal best (no fold-overs on convex-ish polygons).
+    // The fan whose worst triangle faces the polygon's normal best (no fold-overs on convex-ish polygons),
+    // among at most kApexes evenly spaced corners, so that a polygon of k corners costs O(k).
+    constexpr int kApexes = 32;
+    const int stride = (k + kApexes - 1) / kApexes;
     int best = 0;
     double best_score = -std::numeric_limits<double>::infinity();
-    for (int apex = 0; apex < k; ++apex) {
+    for (int apex = 0; apex < k; apex += stride) {
       double score = std::numeric_limits<double>::infinity();
       for (int i = 1; i + 1 < k; ++i) {
         const Vec3 nrm = (P(apex + i) - P(apex)).cross(P(apex + i + 1) - P(apex));
@@ -154,12 +167,35 @@ Mesh triangulate_polygons(const PolygonMesh& poly) {
         best = apex;
       }
     }
-    for (int i = 1; i + 1 < k; ++i) tris.emplace_back(f[best], f[(best + i) % k], f[(best + i + 1) % k]);
+    for (int i = 1; i + 1 < k; ++i) {
+      tris.emplace_back(f[best], f[(best + i) % k], f[(best + i + 1) % k]);
+      if (face_polygon) face_polygon->push_back(static_cast<int>(p));
+    }
   }
   if (tris.empty()) throw InvalidInput("triangulate_polygons: no polygon with three or more corners");
   MatrixX3i F(tris.size(), 3);
   for (size_t i = 0; i < tris.size(); ++i) F.row(i) = tris[i].transpose();
-  return make_mesh(poly.vertices, F);
+  Mesh out = make_mesh(poly.vertices, F);
+  if (face_polygon && out.n_faces() != tris.size()) {
+    // make_mesh() dropped faces it could not add: find each kept face's triangle by its corners.
+    std::map<std::array<int, 3>, int> polygon_of;
+    for (size_t i = 0; i < tris.size(); ++i) {
+      std::array<int, 3> key{tris[i][0], tris[i][1], tris[i][2]};
+      std::sort(key.begin(), key.end());
+      polygon_of.emplace(key, (*face_polygon)[i]);
+    }
+    std::vector<int> kept;
+    kept.reserve(out.n_faces());
+    for (auto f : out.faces()) {
+      std::array<int, 3> key;
+      int m = 0;
+      for (auto v : out.fv_range(f)) key[m++] = v.idx();
+      std::sort(key.begin(), key.end());
+      kept.push_back(polygon_of.at(key));
+    }
+    face_polygon->swap(kept);
+  }
+  return out;
 }
 
 Mesh surfel_primal_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S) {

@@ -12,11 +12,14 @@
 //!
 //! Lengths inside the energy are measured in the unit length of Sec. 7.4.3.4: the mean edge length
 //! of the input mesh, or the mean neighbour spacing of a point cloud.
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
 #include "geotex/core/progress.h"
 
 namespace geotex {
@@ -164,9 +167,12 @@ struct SurfelResult {
 //! noise (sharp edges are a small fraction of the pairs). Used for an automatic first threshold.
 double median_neighbor_angle_deg(const Surfels& S, const Neighborhoods& N);
 
-//! The tuned preset (not in the thesis; the figures behind it are in bench/surfel.md): \p base with IRLS
-//! weights, cluster moves, 30 iterations and t_start = 0.85 × median_neighbor_angle_deg(\p initial, \p N),
-//! clamped to [t_end, 60°]. Meant with the fit retrieval (surfel_fitted_mesh()).
+//! The automatic first threshold (not in the thesis; bench/surfel.md): 0.85 × median_neighbor_angle_deg(\p initial,
+//! \p N), clamped to [\p t_end_deg, 60°]: the threshold starts just below the typical normal noise.
+double automatic_t_start_deg(const Surfels& initial, const Neighborhoods& N, double t_end_deg);
+
+//! The tuned settings on \p base: IRLS weights, cluster moves, 30 iterations, automatic_t_start_deg().
+//! Kept for the front ends until they call surfel_denoise(), whose defaults these are.
 SurfelOptions tuned_surfel_options(const Surfels& initial, const Neighborhoods& N, SurfelOptions base = {});
 
 //! Optimise surfels by ICM with simultaneous updates (Sec. 7.4.3.5) and the decreasing threshold
@@ -184,6 +190,7 @@ double surfel_energy(const MatrixX3d& X, const Neighborhoods& N, const Surfels& 
 struct PolygonMesh {
   MatrixX3d vertices;                    //!< #V by 3
   std::vector<std::vector<int>> faces;   //!< vertex indices of each polygon, counter-clockwise
+  std::vector<int> sites;                //!< surfel_dual_polygons(): the input vertex of each polygon
 };
 
 struct DualOptions {
@@ -201,8 +208,10 @@ struct DualOptions {
 PolygonMesh surfel_dual_polygons(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, const DualOptions& options = {});
 
 //! Triangulate a polygon mesh: each polygon as the fan (from one of its corners) whose triangles
-//! face the polygon's mean normal best. \throw InvalidInput if the result has no faces.
-Mesh triangulate_polygons(const PolygonMesh& poly);
+//! face the polygon's mean normal best (among at most 32 evenly spaced corners: cost linear in the
+//! polygon's size). \param face_polygon if given, receives the polygon of each triangle.
+//! \throw InvalidInput if the result has no faces.
+Mesh triangulate_polygons(const PolygonMesh& poly, std::vector<int>* face_polygon = nullptr);
 
 //! Quadric-error-metric point for a set of planes (Garland & Heckbert): minimises Σ (n_k·p − a_k)²,
 //! with directions whose eigenvalue is below \p eigen_threshold × the largest kept at \p p0.
@@ -228,5 +237,64 @@ Mesh surfel_fitted_mesh(const Mesh& mesh, const MatrixX3d& X, const Surfels& S, 
 
 //! Write a polygon mesh as OBJ, atomically. \throw IoError on failure.
 void write_polygon_obj(const PolygonMesh& poly, const std::string& path);
+
+// ---------------------------------------------------------------------------------------------
+// The whole pipeline: neighbourhoods, initial surfels, optimisation, retrieval, edge labels.
+
+enum class SurfelRetrieval {
+  Dual,    //!< the dual mesh at surfel-plane intersections, triangulated (Sec. 7.4.4); new connectivity
+  Primal,  //!< every vertex moved to its surfel centre (Eq. 7.6); same connectivity
+  Fit      //!< vertices fitted to the surfel planes of their faces (surfel_fitted_mesh(), not in the thesis)
+};
+//! Weights held during each local minimisation (SurfelOptions::irls_weights).
+enum class SurfelWeights {
+  Lagged,  //!< w of Eq. (7.12), the thesis' scheme
+  Irls     //!< w², the stated energy's own reweighting (keeps edges sharp over more sweeps)
+};
+//! Names: "ring|knn", "dual|primal|fit", "lagged|irls".
+const EnumNames<SurfelNeighborhood>& surfel_neighborhood_names();
+const EnumNames<SurfelRetrieval>& surfel_retrieval_names();
+const EnumNames<SurfelWeights>& surfel_weight_names();
+
+//! Options of surfel_denoise(). Defaults: the best measured settings (bench/surfel.md, bench/denoise.md);
+//! preset "thesis": the thesis' own runs (Sec. 7.4.3.4–7.4.4: α 0.1, β 100, t 45° → 10° over 10
+//! iterations, lagged weights, dual-mesh retrieval, nothing else).
+struct SurfelDenoiseOptions {
+  double alpha = 0.1;              //!< data weight α (Eq. 7.16)
+  double beta = 100;               //!< parallelism weight β (Eq. 7.14)
+  //! First angle threshold t, degrees; unset = automatic_t_start_deg() (from the normal noise).
+  std::optional<double> t_start_deg;
+  double t_end_deg = 10;           //!< last angle threshold t, degrees (Sec. 7.4.3.4: 10–20°)
+  int iterations = 30;             //!< threshold values from t_start down to t_end (exponentially)
+  int per_threshold = 1;           //!< ICM sweeps at each threshold
+  bool candidates = false;         //!< SurfelOptions::candidates (not in the thesis)
+  bool guided = false;             //!< SurfelOptions::guided (not in the thesis)
+  SurfelWeights weights = SurfelWeights::Irls;  //!< lagged (thesis) or IRLS weights
+  bool cluster_moves = true;       //!< SurfelOptions::cluster_moves (not in the thesis)
+  SurfelRetrieval retrieval = SurfelRetrieval::Fit;  //!< how the surface is retrieved
+  SurfelNeighborhood neighborhood = SurfelNeighborhood::OneRing;  //!< one-ring (thesis) or kNN
+  int neighbors = 10;              //!< k with the kNN neighbourhood (and its PCA normals)
+  int fit_iterations = 20;         //!< fit retrieval: vertex updates (Sun et al. 2007)
+  double eigen_threshold = 0.05;   //!< dual retrieval: DualOptions::eigen_threshold
+  ProgressFn progress;             //!< optional progress callback
+  static const OptionTable<SurfelDenoiseOptions>& table();
+};
+
+struct SurfelDenoiseResult {
+  //! The denoised mesh: the input's connectivity (primal, fit) or the triangulated dual mesh (dual).
+  Mesh mesh;
+  //! Per edge of \c mesh: 1 − w(‖n − n'‖) at the last threshold (Eq. 7.12; ½ at the threshold angle) between
+  //! the planes of the edge's two sides: of its two faces (surfel_face_normals(); primal, fit), or of the
+  //! surfels of its two dual polygons (dual); 0 on boundary edges and on the dual polygons' diagonals.
+  Eigen::VectorXd edge_labels;
+  PolygonMesh polygons;            //!< dual retrieval: the dual polygons (empty otherwise)
+  SurfelResult surfels;            //!< optimised surfels, energies, thresholds, unit length
+  double t_start_deg = 0;          //!< the first threshold used
+  double median_angle_deg = 0;     //!< median angle between neighbouring initial surfels (the noise measure)
+};
+
+//! Surfel denoising of a mesh (thesis ch. 7): neighbourhoods, initial surfels, ICM, retrieval, labels.
+//! \throw InvalidInput for an invalid mesh; InvalidOption for options out of range.
+SurfelDenoiseResult surfel_denoise(const Mesh& mesh, const SurfelDenoiseOptions& options = {});
 
 }  // namespace geotex
