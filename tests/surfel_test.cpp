@@ -548,7 +548,7 @@ TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
   const Mesh clean = subdivided_cube(8);
   const Mesh noisy = noisy_copy(clean);
   write_mesh(noisy, tmp / "noisy.ply");
-  auto r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --report {} --polygons {}", tmp / "noisy.ply",
+  auto r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval dual --report {} --polygons {}", tmp / "noisy.ply",
                                      tmp / "dual.ply", tmp / "r.json", tmp / "poly.obj"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Mesh dual = read_mesh(tmp / "dual.ply");
@@ -557,7 +557,7 @@ TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
   EXPECT_NE(test::read_file(tmp / "poly.obj").find("\nf "), std::string::npos);
   // Primal retrieval keeps the connectivity and labels edges.
   r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval primal --iterations 3 --surfel-guided "
-                                "--surfel-candidates 1 --edges {}",
+                                "--surfel-candidates --edges {}",
                                 tmp / "noisy.ply", tmp / "primal.ply", tmp / "edges.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Mesh primal = read_mesh(tmp / "primal.ply");

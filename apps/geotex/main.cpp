@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
 
   auto& cmds = commands();
   std::sort(cmds.begin(), cmds.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
-  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.help));
+  // Global flags (-q, --threads, --stats) anywhere on the line: unknown options fall through to the app.
+  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.help)->fallthrough());
 
   try {
     app.parse(argc, argv);

@@ -55,21 +55,20 @@ void FlagSet::add_flag(const std::string& owner, const OptionInfo& info, const s
   if (it == flags_.end()) {
     Flag& flag = flags_[info.name];
     flag.info = info;
-    std::string* value = &flag.value;
-    const auto set_to = [value](std::string v) { return [value, v] { *value = v; }; };
     if (info.kind == OptionKind::Bool) {
-      // --name sets true; --no-name and value aliases (e.g. --explicit) are hidden spellings.
-      flag.option = app_.add_flag_callback(info.cli_flag(), set_to("true"), "");
-      flag.extra.push_back(app_.add_flag_callback("--no-" + info.cli_flag().substr(2), set_to("false"), "")->group(""));
+      // --name (true), --name=false; hidden spellings: --no-name and value aliases (e.g. --explicit).
+      flag.option = app_.add_flag(info.cli_flag(), flag.value, "");
+      flag.extra.push_back(app_.add_flag("--no-" + info.cli_flag().substr(2) + "{false}", flag.value, "")->group(""));
+      for (const auto& [alias, v] : info.aliases)
+        flag.extra.push_back(app_.add_flag(cli_flag(alias) + (v.empty() ? "" : "{" + v + "}"), flag.value, "")->group(""));
     } else {
       std::string names = info.cli_flag();
       for (const auto& [alias, v] : info.aliases)
         if (v.empty()) names += "," + cli_flag(alias);
       flag.option = app_.add_option(names, flag.value, "")->type_name(type_name(info));
+      for (const auto& [alias, v] : info.aliases)
+        if (!v.empty()) flag.extra.push_back(app_.add_flag(cli_flag(alias) + "{" + v + "}", flag.value, "")->group(""));
     }
-    for (const auto& [alias, v] : info.aliases)
-      if (!v.empty() || info.kind == OptionKind::Bool)
-        flag.extra.push_back(app_.add_flag_callback(cli_flag(alias), set_to(v.empty() ? "true" : v), "")->group(""));
     if (!group.empty()) flag.option->group(group);
     it = flags_.find(info.name);
   } else if (it->second.info.kind != info.kind) {
