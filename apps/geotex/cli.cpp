@@ -56,6 +56,20 @@ void check_output(const std::string& input, const std::string& output) {
     info(fmt::format("geotex: note: {} is both input and output; it is replaced only once the result is complete", output));
 }
 
+Outputs::Outputs(std::initializer_list<std::string> inputs,
+                 std::initializer_list<std::pair<std::string, std::string>> outputs) {
+  for (const auto& i : inputs) input(i);
+  for (const auto& [path, what] : outputs) output(path, what);
+}
+
+void Outputs::input(const std::string& path) {
+  if (!path.empty()) tx_.declare_input(path);
+}
+
+void Outputs::output(const std::string& path, const std::string& what) {
+  if (!path.empty()) tx_.declare(path, what);
+}
+
 ProgressFn progress_printer(const std::string& label) {
   if (globals().quiet) return {};
   const bool tty = ::isatty(STDERR_FILENO);

@@ -27,7 +27,7 @@ namespace geotex::cli {
 namespace {
 
 void run(const MeshIo& io, const std::string& handles, const EditOptions& o) {
-  check_output(io.input, io.output);
+  Outputs out({io.input, handles}, {{io.output, "-o"}});
   Mesh mesh = load_mesh(io.input);
   const HandleSet h = read_handles(handles, positions(mesh), o.handle_weight);
   const auto t0 = std::chrono::steady_clock::now();
@@ -43,6 +43,7 @@ void run(const MeshIo& io, const std::string& handles, const EditOptions& o) {
                    std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count(), worst));
   set_positions(mesh, Y);
   save_mesh(mesh, io.output, !io.ascii);
+  out.commit();
 }
 
 Registrar reg{70, "deform", "Laplacian surface editing with handles (Sec. 5.1.4): plain, membrane-fit or linear", [](CLI::App& app) {

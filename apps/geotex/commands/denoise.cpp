@@ -48,7 +48,10 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
   app.callback([io, a, flags] {
     const DenoiseMethod& method = find_method(a->method);
     const DenoiseRun run = method.prepare(*flags);  // options resolved (and refused) before any work
-    check_output(io->input, io->output);
+    Outputs out({io->input}, {{io->output, "-o"}, {a->edges_ply, "--edges"}, {a->edges_obj, "--edges-obj"},
+                              {a->report, "--report"}});
+    if (method.outputs)
+      for (const auto& [path, flag] : method.outputs()) out.output(path, flag);
     const Mesh input = load_mesh(io->input);
     const auto t0 = std::chrono::steady_clock::now();
     DenoiseOutput r = run(input, progress_printer("denoise " + a->method));
@@ -79,6 +82,7 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
       write_text_atomic(a->report, r.report.dump(2) + "\n");
       info(fmt::format("wrote {}", a->report));
     }
+    out.commit();
   });
 }};
 

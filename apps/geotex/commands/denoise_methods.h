@@ -31,12 +31,16 @@ struct DenoiseMethod {
   std::string name, help;
   std::function<void(FlagSet&)> add_flags;
   std::function<DenoiseRun(const FlagSet&)> prepare;
+  //! Files the method itself writes, as (path, flag); declared with the command's outputs.
+  std::function<std::vector<std::pair<std::string, std::string>>()> outputs;
 };
 std::vector<DenoiseMethod>& denoise_methods();
 struct DenoiseRegistrar {
   DenoiseRegistrar(std::string name, std::string help, std::function<void(FlagSet&)> add_flags,
-                   std::function<DenoiseRun(const FlagSet&)> prepare) {
-    denoise_methods().push_back({std::move(name), std::move(help), std::move(add_flags), std::move(prepare)});
+                   std::function<DenoiseRun(const FlagSet&)> prepare,
+                   std::function<std::vector<std::pair<std::string, std::string>>()> outputs = nullptr) {
+    denoise_methods().push_back(
+        {std::move(name), std::move(help), std::move(add_flags), std::move(prepare), std::move(outputs)});
   }
 };
 

@@ -45,7 +45,8 @@ DenoiseRegistrar reg{
         out.report["thresholds_deg"] = r.surfels.thresholds_deg;
         return out;
       };
-    }};
+    },
+    [] { return std::vector<std::pair<std::string, std::string>>{{*polygons_path, "--polygons"}}; }};
 
 }  // namespace
 }  // namespace geotex::cli

@@ -13,10 +13,11 @@ Registrar reg{30, "noise", "Add seeded noise (sigma in units of the mean edge le
   flags->add("noise", NoiseOptions::table());
   app.callback([io, flags] {
     const NoiseOptions o = flags->resolve<NoiseOptions>("noise");
-    check_output(io->input, io->output);
+    Outputs out({io->input}, {{io->output, "-o"}});
     Mesh mesh = load_mesh(io->input);
     set_positions(mesh, add_noise(mesh, o));
     save_mesh(mesh, io->output, !io->ascii);
+    out.commit();
   });
 }};
 

@@ -12,7 +12,7 @@ namespace geotex::cli {
 namespace {
 
 void run(const MeshIo& io, bool json, const ParametrizationOptions& o) {
-  check_output(io.input, io.output);
+  Outputs out({io.input}, {{io.output, "-o"}});
   const Mesh mesh = load_mesh(io.input);
   const std::string method = enum_name(param_method_names(), o.method);
   const auto t0 = std::chrono::steady_clock::now();
@@ -31,6 +31,7 @@ void run(const MeshIo& io, bool json, const ParametrizationOptions& o) {
     fmt::print("{}\n", j.dump(2));
   }
   write_obj_with_uv(mesh, uv, io.output);
+  out.commit();
   info("wrote " + io.output);
 }
 

@@ -17,8 +17,7 @@ struct Args {
 };
 
 void run(const Args& a, const PhongProjectionOptions& opt) {
-  check_output(a.input, a.output);
-  check_output(a.base, a.output);
+  Outputs out({a.input, a.base}, {{a.output, "-o"}});
   Mesh points = load_mesh(a.input);
   const Mesh base = load_mesh(a.base);
   const PhongProjector proj(base, MatrixX3d(), opt);
@@ -37,6 +36,7 @@ void run(const Args& a, const PhongProjectionOptions& opt) {
                    found, hits.size(), sum_d / std::max<size_t>(hits.size(), 1), max_d));
   set_positions(points, Q);
   save_mesh(points, a.output);
+  out.commit();
 }
 
 Registrar reg{75, "project", "project a mesh's vertices onto a base along the base's Phong normal field (Sec. 5.2)",

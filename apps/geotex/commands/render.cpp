@@ -37,6 +37,7 @@ void run(const Args& a, RenderOptions o) {
   const std::vector<std::string> inputs{a.input};
   const std::string edges = bind_to_meshes(a.layers.edges, inputs, "--edges").front();
   const std::string field_file = bind_to_meshes(a.layers.field_files, inputs, "--field-file").front();
+  Outputs out({a.input, edges, field_file, a.layers.reference}, {{a.output, "-o"}});
   const Mesh mesh = load_mesh(a.input);
   MeshLayers layers;
   const std::string field = load_layers(a.input, mesh, a.layers, edges, field_file, true, layers);
@@ -48,6 +49,7 @@ void run(const Args& a, RenderOptions o) {
   rl.segment_labels = layers.labels;
   const Rendering r = render_mesh(mesh, o, rl);
   write_png(r.image, a.output);
+  out.commit();
   info(fmt::format("wrote {} ({}x{}, {} view{}{})", a.output, o.width, o.height, enum_name(view_direction_names(), o.view),
                    field.empty() ? "" : fmt::format(", {} from {:.4g} to {:.4g}", field, r.field_lo, r.field_hi),
                    rl.segments.rows() ? fmt::format(", {} labelled edges", rl.segments.rows()) : ""));

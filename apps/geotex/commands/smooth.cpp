@@ -17,7 +17,7 @@ Registrar reg{40, "smooth", "Laplacian smoothing: explicit (Eq. 5.12) or implici
   flags->add("smooth", SmoothingOptions::table());
   app.callback([io, flags] {
     SmoothingOptions o = flags->resolve<SmoothingOptions>("smooth");
-    check_output(io->input, io->output);
+    Outputs out({io->input}, {{io->output, "-o"}});
     Mesh mesh = load_mesh(io->input);
     o.progress = progress_printer("smooth");
     const auto t0 = std::chrono::steady_clock::now();
@@ -26,6 +26,7 @@ Registrar reg{40, "smooth", "Laplacian smoothing: explicit (Eq. 5.12) or implici
     info(fmt::format("smoothed {} vertices: {} {} step(s) of lambda {} in {:.2f} s ({})", mesh.n_vertices(), o.steps,
                      o.implicit ? "implicit" : "explicit", o.lambda, sec, SpdSolver::backend()));
     save_mesh(mesh, io->output, !io->ascii);
+    out.commit();
   });
 }};
 

@@ -35,7 +35,7 @@ MatrixX3d read_points(const std::string& path) {
 }
 
 void run(const Args& a, PointSurfelOptions o) {
-  check_output(a.input, a.output);
+  Outputs out({a.input}, {{a.output, "-o"}});
   if (lower_ext(a.output) != ".ply") throw InvalidInput(fmt::format("{}: the output must be a .ply file", a.output));
   const MatrixX3d X = read_points(a.input);
   info(fmt::format("{} points", X.rows()));
@@ -54,6 +54,7 @@ void run(const Args& a, PointSurfelOptions o) {
     for (Eigen::Index i = 0; i < P.rows(); ++i) col[i] = r.surfels.normals(i, k);
   }
   write_ply(cloud, a.output, extras, !a.ascii);
+  out.commit();
   info(fmt::format("wrote {} ({} oriented points)", a.output, P.rows()));
 }
 

@@ -25,6 +25,9 @@ void run(Args a, ViewerOptions o, bool title_given) {
   o.initial_field.clear();
   const std::vector<std::string> edges = bind_to_meshes(a.layers.edges, a.inputs, "--edges");
   const std::vector<std::string> field_files = bind_to_meshes(a.layers.field_files, a.inputs, "--field-file");
+  Outputs out({a.layers.reference}, {{a.output, "-o"}});
+  for (const auto& files : {a.inputs, edges, field_files})
+    for (const auto& f : files) out.input(f);
   const std::string script = viewer_script();  // fail early when the viewer was not built
   if (!title_given)
     o.title = "geotex: " + std::filesystem::path(a.inputs.front()).filename().string() +
@@ -44,6 +47,7 @@ void run(Args a, ViewerOptions o, bool title_given) {
   if (!a.layers.field.empty() && !field_found)
     throw InvalidInput(fmt::format("--field {}: no mesh has a per-vertex property of that name", a.layers.field));
   write_text_atomic(a.output, viewer_page(meshes, o, script));
+  out.commit();
   info(fmt::format("wrote {} ({} mesh{})", a.output, meshes.size(), meshes.size() == 1 ? "" : "es"));
 }
 
