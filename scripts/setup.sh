@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libopenblas0-pthread libopenblas-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-distributed
+  python3-pip python3-venv python3-setuptools python3-wheel python3-mypy
   clang libclang-rt-14-dev
 )
 

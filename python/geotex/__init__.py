@@ -58,6 +58,9 @@ class Result:
     def __contains__(self, key: object) -> bool:
         return key in self.__dict__
 
+    def __getattr__(self, name: str) -> Any:  # only for names that are not fields
+        raise AttributeError(f"the result has no field '{name}' (it has: {', '.join(self.__dict__)})")
+
     def keys(self) -> List[str]:
         return list(self.__dict__)
 
@@ -343,11 +346,43 @@ def pca_normals(P: Any, k: int = 10) -> np.ndarray:
 # ------------------------------------------------------------------------------------------------
 # Texture (ch. 8) and resizing (ch. 9)
 
-texture_extract = _geotex.texture_extract
-texture_apply = _geotex.texture_apply
-texture_edit = _geotex.texture_edit
-texture_transfer = _geotex.texture_transfer
-resize = _geotex.resize
+def texture_extract(mesh: MeshLike, F: Any = None, V_base: Any = None, steps: int = 0, lambda_: float = 1.0,
+                    tilt_fit: str = "tangential", tilt_solver: str = "iterative") -> Result:
+    """Extract a height-and-tilt texture (Eq. 8.4–8.7; `geotex texture extract`). The base is V_base
+    (same connectivity) or, by default, implicit smoothing until the shape stops changing (steps=0).
+    Returns a Result: V_base, height (#V), tilt (#E), edges."""
+    V, F = _arrays(mesh, F)
+    return Result(**_geotex.texture_extract(V, F, V_base, steps, lambda_, tilt_fit, tilt_solver))
+
+
+def texture_apply(V_base: Any, F: Any, height: Any, tilt: Any) -> np.ndarray:
+    """Reconstruct the textured surface from a base (any pose, same connectivity), heights and tilt
+    (Eq. 8.8; `geotex texture apply`). Returns #V×3 positions."""
+    return _geotex.texture_apply(V_base, F, height, tilt)
+
+
+def texture_edit(V_base: Any, F: Any, height: Any, tilt: Any, op: str, direction: Sequence[float] = (1.0, 0.0, 0.0),
+                 angle: float = 30.0, wavelength: float = 0.0, phase: float = 0.0, factor: float = 1.0) -> Tuple[np.ndarray, np.ndarray]:
+    """Edit a texture (Sec. 8.4.1; `geotex texture edit`): op 'set-tilt', 'wrap', 'wiggle' or
+    'scale-height'. Returns (height, tilt)."""
+    return _geotex.texture_edit(V_base, F, height, tilt, op, list(direction), angle, wavelength, phase, factor)
+
+
+def texture_transfer(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any, F_target: Any, source_center: int,
+                     source_radius: float, target_center: int, target_radius: float, rotation: float = 0.0) -> Result:
+    """Transfer a disk patch of texture to a disk patch of another base via conformal maps (Sec. 8.3.3;
+    `geotex texture transfer`). Returns a Result: height, tilt, V (the textured target), target_vertices."""
+    return Result(**_geotex.texture_transfer(V_base, F, height, tilt, V_target, F_target, source_center, source_radius,
+                                              target_center, target_radius, rotation))
+
+
+def resize(mesh: MeshLike, F: Any = None, scale: Optional[Sequence[float]] = None, deformed: Any = None,
+           features: Any = "auto", method: str = "sliding", feature_threshold: float = 0.5) -> np.ndarray:
+    """Feature-aware resizing (ch. 9; `geotex resize`). Give scale=(sx, sy, sz) (about the box centre)
+    or deformed=#V×3 positions from any space deformation. features: 'auto', 'height', or #V weights
+    in [0, 1]. method: 'sliding' (default) or 'thesis' (Eq. 9.2–9.3). Returns #V×3 positions."""
+    V, F = _arrays(mesh, F)
+    return _geotex.resize(V, F, scale, deformed, features, method, feature_threshold)
 
 
 # ------------------------------------------------------------------------------------------------
