@@ -6,6 +6,11 @@ namespace geotex::cli {
 
 namespace {
 
+std::vector<const FlagSet*>& registry() {
+  static std::vector<const FlagSet*> r;
+  return r;
+}
+
 const char* type_name(const OptionInfo& info) {
   switch (info.kind) {
     case OptionKind::Bool: return "";
@@ -20,10 +25,43 @@ const char* type_name(const OptionInfo& info) {
 
 }  // namespace
 
+FlagSet::FlagSet(CLI::App& app) : app_(app) { registry().push_back(this); }
+
+FlagSet::~FlagSet() { std::erase(registry(), this); }
+
+nlohmann::json FlagSet::describe_all() {
+  static const char* kinds[] = {"bool", "int", "float", "str", "choice", "vec3"};
+  nlohmann::json all = nlohmann::json::object();
+  for (const FlagSet* set : registry())
+    for (const auto& [name, flag] : set->flags_)
+      for (const auto& [owner, def] : flag.defaults) {
+        const OptionInfo& info = flag.by_owner.at(owner);
+        nlohmann::json& j = all[set->app_.get_name()][owner][name];
+        j["flag"] = info.cli_flag();
+        j["kind"] = kinds[static_cast<int>(info.kind)];
+        j["default"] = def;
+        j["lo"] = info.bounds.lo;
+        j["hi"] = info.bounds.hi;
+        j["choices"] = info.choices;
+        j["automatic"] = info.automatic;
+      }
+  return all;
+}
+
 void FlagSet::describe(Flag& flag) const {
   const OptionInfo& info = flag.info;
   std::string text = info.help;
-  if (info.kind == OptionKind::Choice) text += fmt::format(" ({})", fmt::join(info.choices, "|"));
+  if (info.kind == OptionKind::Choice) {
+    std::set<std::vector<std::string>> distinct;
+    for (const auto& [o, i] : flag.by_owner) distinct.insert(i.choices);
+    if (distinct.size() <= 1) {
+      text += fmt::format(" ({})", fmt::join(info.choices, "|"));
+    } else {
+      std::vector<std::string> parts;
+      for (const auto& [o, i] : flag.by_owner) parts.push_back(fmt::format("{}: {}", o, fmt::join(i.choices, "|")));
+      text += fmt::format(" ({})", fmt::join(parts, "; "));
+    }
+  }
   if (info.kind == OptionKind::Int || info.kind == OptionKind::Real || info.kind == OptionKind::Vec3) {
     Bounds shown = info.bounds;  // the limits of the field's type are not worth showing
     if (shown.hi >= 2147483647.0) shown.hi = std::numeric_limits<double>::infinity();
@@ -75,6 +113,7 @@ void FlagSet::add_flag(const std::string& owner, const OptionInfo& info, const s
     throw std::logic_error(fmt::format("option {} has two kinds", info.name));
   }
   it->second.owners.insert(owner);
+  it->second.by_owner[owner] = info;
   it->second.defaults.emplace_back(owner, def);
   all_owners_.insert(owner);
   for (auto& [n, f] : flags_) describe(f);

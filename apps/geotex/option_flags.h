@@ -25,7 +25,12 @@ namespace geotex::cli {
 
 class FlagSet {
  public:
-  explicit FlagSet(CLI::App& app) : app_(app) {}
+  explicit FlagSet(CLI::App& app);
+  ~FlagSet();
+
+  //! Every option of every command as JSON: {command: {owner: {option: {flag, kind, default, lo, hi,
+  //! choices, automatic}}}} (the hidden `geotex options` prints it; a test compares it with Python).
+  static nlohmann::json describe_all();
 
   //! Add a flag for every option of \p table (and a --preset flag when it has presets), owned by \p owner.
   //! Options of the same name from several owners share one flag; its help lists each owner's default.
@@ -44,7 +49,7 @@ class FlagSet {
     if (!preset_.empty()) table.apply_preset(start, preset_);
     for (const auto& [name, flag] : flags_)
       if (flag.given() && flag.owners.count(owner))
-        table.set(start, name, parse_option_value(flag.info, flag.value));
+        table.set(start, name, parse_option_value(flag.by_owner.at(owner), flag.value));
     table.check(start);
     return start;
   }
@@ -63,7 +68,8 @@ class FlagSet {
 
  private:
   struct Flag {
-    OptionInfo info;
+    OptionInfo info;                            // the first owner's (name, kind and help)
+    std::map<std::string, OptionInfo> by_owner;  // each owner's own bounds and choices
     std::set<std::string> owners;
     std::vector<std::pair<std::string, std::string>> defaults;  // (owner, default) for the help
     std::string value;

@@ -137,3 +137,54 @@ def test_pip_install_into_a_virtual_environment(tmp_path):
     r = subprocess.run([str(venv / "bin" / "python"), "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert str(venv) in r.stdout  # the installed copy, not the build tree
+
+
+# Each command's options (and each method's, for denoise) and the Python function with the same ones.
+CLI_TO_PYTHON = {
+    ("smooth", "smooth"): "smooth",
+    ("noise", "noise"): "add_noise",
+    ("denoise", "mrf"): "denoise_mrf",
+    ("denoise", "mrf-normal"): "denoise_mrf_normal",
+    ("denoise", "surfel"): "denoise_surfel",
+    ("deform", "deform"): "deform",
+    ("param", "param"): "parametrize",
+    ("project", "project"): "phong_project",
+    ("surfels", "surfels"): "point_surfels",
+    ("render", "render"): "render",
+    ("view", "view"): "view",
+}
+
+
+def _parse_cli_default(kind, text, automatic):
+    if automatic and text == "auto":
+        return None
+    if kind == "bool":
+        return text == "true"
+    if kind == "int":
+        return int(text)
+    if kind == "float":
+        return float(text)
+    if kind == "vec3":
+        return tuple(float(x) for x in text.split(","))
+    return text
+
+
+@pytest.mark.skipif(not os.environ.get("GEOTEX_CLI"), reason="GEOTEX_CLI not set (ctest sets it)")
+def test_cli_and_python_have_the_same_options():
+    import json
+    cli = json.loads(subprocess.run([os.environ["GEOTEX_CLI"], "options"], capture_output=True, text=True,
+                                    check=True).stdout)
+    pairs = {(c, o) for c, owners in cli.items() for o in owners}
+    assert pairs == set(CLI_TO_PYTHON), "every command's options need a Python function (and back)"
+    for (command, owner), fn_name in CLI_TO_PYTHON.items():
+        fn = getattr(geotex, fn_name)
+        params = inspect.signature(fn).parameters
+        py_fields = {f["name"]: f for f in _options.table(fn.options_table)["fields"]}
+        assert set(cli[command][owner]) == set(py_fields), (command, owner)
+        for name, c in cli[command][owner].items():
+            p = params[_options.python_name(name)]
+            assert p.default == _parse_cli_default(c["kind"], c["default"], c["automatic"]), (command, owner, name)
+            f = py_fields[name]
+            unbounded = lambda v: None if v is None or abs(v) == float("inf") else v
+            assert (unbounded(c["lo"]), unbounded(c["hi"])) == (unbounded(f["lo"]), unbounded(f["hi"])), (command, name)
+            assert c["choices"] == f["choices"] and c["kind"] == f["kind"], (command, name)
