@@ -145,9 +145,8 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
 
   if (options.method != EditMethod::Linear) {
     // Normal equations of Eq. (5.20): (LᵀL + W²) X = Lᵀ D + W² C.
-    const SparseMatrix A = SparseMatrix(L_.transpose() * L_) + Wd;
     try {
-      solver_.compute(A);
+      solver_.compute(L_, Eigen::VectorXd(Wd.diagonal()));
     } catch (const SolverError&) {
       throw SolverError(pin_msg);
     }
@@ -197,14 +196,11 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
   for (auto& t : local) all.insert(all.end(), t.begin(), t.end());
   SparseMatrix G(3 * n, 3 * n);
   G.setFromTriplets(all.begin(), all.end());
-  std::vector<Triplet> wt;
+  Eigen::VectorXd w3 = Eigen::VectorXd::Zero(3 * n);
   for (size_t h = 0; h < handles_.size(); ++h)
-    for (int d = 0; d < 3; ++d) wt.emplace_back(d * n + handles_[h], d * n + handles_[h], w2_[h]);
-  SparseMatrix W3(3 * n, 3 * n);
-  W3.setFromTriplets(wt.begin(), wt.end());
-  const SparseMatrix A = SparseMatrix(G.transpose() * G) + W3;
+    for (int d = 0; d < 3; ++d) w3[d * n + handles_[h]] += w2_[h];
   try {
-    linear_solver_.compute(A);
+    linear_solver_.compute(G, w3);
   } catch (const SolverError&) {
     throw SolverError(pin_msg);
   }

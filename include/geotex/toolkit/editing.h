@@ -90,8 +90,8 @@ class LaplacianEditor {
   EditOptions options_;
   MatrixX3d X_, D_;
   SparseMatrix L_;
-  SpdSolver solver_;         // LᵀL + W² (Plain, MembraneFit)
-  SpdSolver linear_solver_;  // GᵀG + W² ⊗ I₃ (Linear), unknowns ordered x-block, y-block, z-block
+  LeastSquaresSolver solver_;         // LᵀL + W² (Plain, MembraneFit)
+  LeastSquaresSolver linear_solver_;  // GᵀG + W² ⊗ I₃ (Linear), unknowns ordered x-block, y-block, z-block
   MatrixX3d membrane_rest_;  // MembraneFit: membrane of the rest pose
 };
 
