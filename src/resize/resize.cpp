@@ -110,7 +110,7 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
       .add("taper", &O::taper, "sliding: feature weights fall off linearly over this many vertex rings outside features",
            non_negative())
       .add("bend_features", &O::bend_features,
-           "sliding: features bend with their base (rotation field); false: each turns as one rigid piece")
+           "sliding: elongated features (ridges) bend with their base; false: every feature turns as one rigid piece")
       .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",
               "Eq. (9.1)")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
@@ -314,10 +314,26 @@ Eigen::Matrix3d nearest_similarity(const Eigen::Matrix3d& M, bool allow_scale) {
   return allow_scale ? Eigen::Matrix3d(svd.singularValues().dot(S) / 3.0 * R) : R;
 }
 
+// Is a region much longer than wide (principal extents e1 > 2 e2), a ridge rather than a bump?
+bool elongated(const MatrixX3d& X, const std::vector<int>& rows) {
+  if (rows.size() < 3) return false;
+  Vec3 mean = Vec3::Zero();
+  for (int v : rows) mean += X.row(v).transpose();
+  mean /= static_cast<double>(rows.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int v : rows) {
+    const Vec3 d = X.row(v).transpose() - mean;
+    cov += d * d.transpose();
+  }
+  const Vec3 ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();  // ascending
+  return ev[2] > 4 * ev[1];
+}
+
 // The linear part T_i (rotation, or similarity with allow_scale) that turns each feature vertex's
 // edges; identity for the background.
-//  - rigid: one fit per region over its foot ring (or over the region itself if it has none);
-//  - bend: each foot vertex gets the rotation of the space map's local linear part J there (polar
+//  - rigid (compact features, and every feature without bend): one fit per region over its foot ring
+//    (or over the region itself if it has none);
+//  - bend (elongated features, a ridge): each foot vertex gets the rotation of the space map's local linear part J there (polar
 //    decomposition: the base's own rotation, well defined under any stretch), and the feature vertices
 //    the harmonic (umbrella) interpolation of those 3×3 matrices, projected back to rotations. Linear in the position along a uniformly bent base, so a wide
 //    feature follows the base's bending; near-constant along a protrusion's shaft, so a protrusion turns
@@ -331,7 +347,7 @@ std::vector<Eigen::Matrix3d> feature_transforms(const Mesh& mesh, const MatrixX3
   int m = 0;
   for (size_t k = 0; k < reg.members.size(); ++k) {
     const bool has_foot = reg.foot[k].size() >= 3;
-    if (!bend || !has_foot) {
+    if (!bend || !has_foot || !elongated(X, reg.members[k])) {
       const Eigen::Matrix3d L = fit_rows(X, C, has_foot ? reg.foot[k] : reg.members[k], allow_scale).linear();
       for (int v : reg.members[k]) T[v] = L;
       continue;
@@ -506,7 +522,7 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   const Frame frame = frame_of(mesh, X, o.frame_band);
   const double h_mean = mean_edge_length(mesh);
 
-  // The base: faces whose vertices are all background (f < ½). The background slides along the
+  // The base: faces whose vertices are all background (f < ½ before the taper). The background slides along the
   // deformed base, not along a feature's deformed (e.g. stretched) surface, and its normals are the
   // base's own: a vertex normal averaged with a feature's faces would tilt toward the feature and
   // drag the feature's foot along it. Vertices without a base face keep their vertex normal.
@@ -522,7 +538,7 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
     std::vector<int> base_faces;
     MatrixX3d acc = MatrixX3d::Zero(n, 3);
     for (Eigen::Index k = 0; k < F.rows(); ++k) {
-      if (f[F(k, 0)] >= 0.5 || f[F(k, 1)] >= 0.5 || f[F(k, 2)] >= 0.5) continue;
+      if (features[F(k, 0)] >= 0.5 || features[F(k, 1)] >= 0.5 || features[F(k, 2)] >= 0.5) continue;
       base_faces.push_back(static_cast<int>(k));
       for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area[k] * Fn.row(k);
     }
@@ -662,6 +678,7 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   // response to δ is a little below 1 (the region is partly held by what is not pushed), so a few
   // rounds close the gap.
   MatrixX3d U = MatrixX3d::Zero(n, 3), out;
+  const Vec3 c_lo = C.colwise().minCoeff(), c_hi = C.colwise().maxCoeff();
   auto push = [&] {
     for (int round = 0; round < 6 && !pushes.empty(); ++round) {
       double worst = 0;
@@ -674,7 +691,13 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
       Eigen::MatrixXd V = Eigen::MatrixXd::Zero(n, 3);
       for (const Push& q : pushes)
         for (int v : regions.members[q.region]) V(v, q.axis) = q.delta;
-      const MatrixX3d U_new = spread(V);
+      MatrixX3d U_new = spread(V);
+      // The push fades over the band around a feature, whose surroundings may hold the model's true
+      // extreme: keep the pushed surface within the map's box.
+      for (const Push& q : pushes) {
+        const int a = q.axis;
+        for (int i = 0; i < n; ++i) U_new(i, a) = std::clamp(C(i, a) + U_new(i, a), c_lo[a], c_hi[a]) - C(i, a);
+      }
       Q += U_new - U;
       U = U_new;
       Cp = C + U;

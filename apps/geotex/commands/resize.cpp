@@ -93,7 +93,7 @@ Registrar reg{80, "resize", "Feature-aware resizing and deformation (ch. 9): fea
   app.add_option("--deformed", a->deformed, "a deformed copy of IN (same connectivity), e.g. from geotex deform")
       ->check(ExistingMeshFile);
   app.add_option("--features", a->features,
-                 "auto (height and auto diffusion function together), height (over a smoothed base), adf (auto "
+                 "auto (adf, or height where the ADF finds no protrusion), height (over a smoothed base), adf (auto "
                  "diffusion function), none, or a file: text (one weight per line) or PLY with vertex 'feature' or 'height'")
       ->capture_default_str();
   app.add_option("--method", a->method, "sliding (background slides along the surface) or thesis (Eq. 9.2-9.3)")

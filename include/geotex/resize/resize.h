@@ -13,10 +13,11 @@
 //!    only to the deformed base surface, along its normal, so they can slide along it and make room;
 //!    the outer frame (mesh boundary and the vertices at the extremes of the bounding box) is pinned to
 //!    the space map, and a weak Laplacian term spreads the stretch evenly over the background. Feature
-//!    edges keep their original vectors turned by a rotation field: the rotations of the deformed base
-//!    around each feature (fitted by SVD on the 1-rings of its foot) interpolated harmonically over the
-//!    feature. A protrusion on a small foot turns as one piece with its base; a wide, low feature bends
-//!    with a bent base instead of standing flat on it (which leaves a crease around its rim).
+//!    edges keep their original vectors turned by one rotation per feature, fitted on its foot ring
+//!    (it turns with the tangent plane of its base); an elongated feature (a ridge) is turned by a
+//!    rotation field instead, the base's rotations around it interpolated harmonically over it, so that
+//!    it bends with a bent or twisted base rather than standing straight on it (which would leave a
+//!    crease along its rim).
 //!    (Laplacian coordinates alone cannot do this: an in-plane affine map of a flat region leaves them
 //!    unchanged, so a feature whose rim is stretched stretches along.) The stretch collects in the
 //!    background between the features, which keep their shape and size.
@@ -105,8 +106,9 @@ struct ResizeOptions {
   //! (k+1−d)/(k+1) at ring d), so that its rim passes from rigid to held-to-the-base over a band
   //! rather than in one crease.
   int taper = 2;
-  //! Sliding: features bend with their base (rotation field interpolated from the foot, default) or
-  //! turn as rigid pieces (one rotation per connected feature, fitted on its foot ring).
+  //! Sliding: elongated features (principal extents e1 > 2 e2, a ridge) bend with their base (a
+  //! rotation field interpolated from their foot); compact ones, and all with false, turn as rigid
+  //! pieces (one rotation per feature, fitted on its foot ring).
   bool bend_features = true;
   LaplacianType laplacian = LaplacianType::Umbrella;  //!< Eq. (9.1) uses the umbrella operator
   ProgressFn progress;
