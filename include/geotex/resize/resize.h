@@ -11,16 +11,20 @@
 //!    energy weighs the terms by f_i² and (w p_i)².
 //!  - ResizeMethod::Sliding (default; what Sec. 9.5 and ch. 10 propose): background vertices are held
 //!    only to the deformed base surface, along its normal, so they can slide along it and make room;
-//!    the outer frame (mesh boundary and the vertices at the extremes of the bounding box) is pinned to
-//!    the space map, and a weak Laplacian term spreads the stretch evenly over the background. Feature
-//!    edges keep their original vectors turned by one rotation per feature, fitted on its foot ring
-//!    (it turns with the tangent plane of its base); an elongated feature (a ridge) is turned by a
-//!    rotation field instead, the base's rotations around it interpolated harmonically over it, so that
-//!    it bends with a bent or twisted base rather than standing straight on it (which would leave a
-//!    crease along its rim).
-//!    (Laplacian coordinates alone cannot do this: an in-plane affine map of a flat region leaves them
-//!    unchanged, so a feature whose rim is stretched stretches along.) The stretch collects in the
-//!    background between the features, which keep their shape and size.
+//!    the mesh boundary and the extreme vertices of the bounding box are pinned to the space map, and
+//!    weak edge terms spread the stretch over the background. Feature edges keep their original
+//!    vectors turned by one rotation per feature, fitted on its foot ring (it turns with the tangent
+//!    plane of its base); an elongated feature (a ridge) is turned by a rotation field instead, the
+//!    base's rotations around it interpolated harmonically over it, so that it bends with a bent or
+//!    twisted base rather than standing straight on it. (Laplacian coordinates alone cannot do this:
+//!    an in-plane affine map of a flat region leaves them unchanged, so a feature whose rim is
+//!    stretched stretches along.) Three things keep rims free of rings and creases: the background's
+//!    edges pass from the features' rotation to the map's own local linear map over a band around
+//!    them (\ref ResizeOptions::transition), feature weights taper off over two rings outside them,
+//!    and the background slides along the deformed base, not along the features' deformed surface.
+//!    A feature at the box's extreme (an ear at the tip) is pushed, with its surroundings, until its
+//!    outermost vertex lands where the map puts it, so the box is scaled as asked. The stretch collects
+//!    in the background between the features, which keep their shape and size.
 
 #include <functional>
 #include <string>
