@@ -10,6 +10,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/random.h"
+#include "geotex/resize/measure.h"
 
 namespace geotex {
 
@@ -441,7 +442,7 @@ TexturedShape spiky(const Mesh& base, const SpikeOptions& opt) {
 
 std::vector<std::string> shape_names() {
   return {"cube", "cylinder", "sphere", "torus", "plane", "capsule", "spiky-sphere", "spiky-plane", "tentacle-stick",
-          "tentacle-plane"};
+          "tentacle-plane", "bumpy-plate", "ridge-plate"};
 }
 
 TexturedShape make_shape(const std::string& name, int level, uint64_t seed) {
@@ -456,6 +457,15 @@ TexturedShape make_shape(const std::string& name, int level, uint64_t seed) {
   else if (name == "capsule") s.base = capsule(1.0, 6.0, 40 * k);
   else if (name == "tentacle-stick") return tentacle_stick(level);
   else if (name == "tentacle-plane") return tentacle_plane(level);
+  else if (name == "bumpy-plate" || name == "ridge-plate") {  // feature-aware resizing's plates (resize/measure.h)
+    const int n = std::min(40 * k, 4000);
+    const BumpyPlate b = name == "bumpy-plate" ? bumpy_plate({.n = n}) : ridge_plate(n);
+    s.base = plane(n, 2.0);
+    s.textured = b.mesh;
+    const MatrixX3d X = positions(s.base);
+    for (const Vec3& c : b.centres) s.spike_centres.push_back(nearest_vertex(X, c));
+    return s;
+  }
   else if (name == "spiky-sphere" || name == "spiky-plane") {
     SpikeOptions o;
     o.seed = seed;

@@ -101,7 +101,8 @@ TexturedShape tentacle_plane(int level = 1, std::vector<Tentacle>* info = nullpt
 Eigen::VectorXd tentacle_truth(const Mesh& base, const std::vector<Tentacle>& tentacles, double radius);
 
 //! Names accepted by make_shape(): cube, cylinder, sphere, torus, plane, capsule, spiky-sphere, spiky-plane,
-//! tentacle-stick, tentacle-plane.
+//! tentacle-stick, tentacle-plane, bumpy-plate and ridge-plate (bumpy_plate() and ridge_plate() of
+//! resize/measure.h, 40·2^level quads a side; spike_centres the bumps' centre vertices).
 std::vector<std::string> shape_names();
 
 //! Build a named shape at a resolution level (0 = coarse, 1 = default, 2 = fine, …).
