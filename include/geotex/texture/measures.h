@@ -1,0 +1,41 @@
+#pragma once
+//! \file measures.h How well a texture survived a deformation or a transfer: protrusion length and
+//! lean, folded faces, height statistics, height steps. Used by the tests, the demo and the benchmarks.
+
+#include <vector>
+
+#include "geotex/core/mesh.h"
+
+namespace geotex {
+
+//! A protrusion (a tentacle, a spike) measured at its foot vertex v: tip = the textured position of v,
+//! foot = the base position of v (for the generated shapes the footprint's centre becomes the tip).
+struct Protrusion {
+  double length = 0;           //!< ‖tip − foot‖
+  double lean_deg = 0;         //!< angle between tip − foot and the base's vertex normal n at the foot
+  Vec3 direction = Vec3::Zero();  //!< unit tangential part of tip − foot (zero when it points along n)
+  Vec3 normal = Vec3::Zero();     //!< n: the base's angle-weighted vertex normal at the foot
+};
+
+//! Measure the protrusions at vertices \p feet of \p textured (#V by 3) over \p base (same connectivity).
+std::vector<Protrusion> measure_protrusions(const Mesh& base, const MatrixX3d& textured, const std::vector<int>& feet);
+
+//! Faces folded over: the face's normal points against the (unnormalised) sum of its edge-neighbours'
+//! normals. Crumpled texture folds; a smooth surface, however bent, does not. \return the count.
+size_t folded_faces(const Mesh& mesh);
+
+//! Statistics of the heights \p h (#V) over the vertices where \p mask is non-zero, weighted by the
+//! vertices' areas on \p base (a third of their faces' areas).
+struct HeightStats {
+  double mean_abs = 0;  //!< area-weighted mean |h|
+  double rms = 0;       //!< area-weighted root mean square of h
+  double max_abs = 0;   //!< largest |h|
+  double area = 0;      //!< area of the vertices counted
+};
+HeightStats height_stats(const Mesh& base, const Eigen::VectorXd& h, const std::vector<char>& mask);
+
+//! Largest |h_i − h_j| over the edges ij with at least one end where \p mask is non-zero (all edges
+//! when \p mask is empty).
+double max_height_step(const Mesh& mesh, const Eigen::VectorXd& h, const std::vector<char>& mask = {});
+
+}  // namespace geotex
