@@ -293,6 +293,8 @@ TEST(Texture, DiskPatchAndTransferOntoItselfReproducesTheTexture) {
   TransferOptions o;
   o.source_center = o.target_center = centre;
   o.source_radius = o.target_radius = 0.3;
+  o.falloff = 0;  // no rim: the identity map copies every value
+  o.refine_ratio = 0;
   const TransferResult r = transfer_texture(s.shape.base, tex, s.shape.base, o);
   double herr = 0, terr = 0, tmax = 0;
   for (int v : r.target_patch.vertices) herr = std::max(herr, std::abs(r.texture.height[v] - tex.height[v]));
@@ -361,42 +363,4 @@ TEST(TextureCli, TiltSolverOptions) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--fit-tolerance"), std::string::npos) << r.err;
   EXPECT_EQ(run_cli("texture extract --help").exit_code, 0);
-}
-
-TEST(TextureData, BunnyPatchTransfersToSpotWithItsHeightStatistics) {
-  GEOTEX_REQUIRE_DATA();
-  const Mesh bunny = read_mesh(geotex::test::data_dir() / "stanford-bunny.obj");
-  const Mesh spot = read_mesh(geotex::test::data_dir() / "spot.obj");
-  BaseShapeOptions bo;
-  bo.steps = 3;
-  Mesh base = bunny;
-  set_positions(base, extract_base_shape(bunny, bo));
-  TextureCodec codec(base);
-  const Texture tex = codec.extract(positions(bunny));
-  const double h = mean_edge_length(base);
-  EXPECT_LT((codec.apply(tex) - positions(bunny)).rowwise().norm().maxCoeff(), 1e-2 * h);
-  TransferOptions o;
-  o.source_center = 0;
-  o.source_radius = 20 * h;
-  o.target_center = 0;
-  o.target_radius = 0.25;
-  const TransferResult r = transfer_texture(base, tex, spot, o);
-  auto rms = [](const Eigen::VectorXd& x, const std::vector<int>& ids) {
-    double s = 0;
-    for (int i : ids) s += x[i] * x[i];
-    return std::sqrt(s / ids.size());
-  };
-  const double src = rms(tex.height, r.source_patch.vertices), dst = rms(r.texture.height, r.target_patch.vertices);
-  std::cout << "[ bunny -> spot ] source patch " << r.source_patch.vertices.size() << " vertices, rms height " << src
-            << "; target patch " << r.target_patch.vertices.size() << " vertices, rms height " << dst << "\n";
-  EXPECT_GT(r.target_patch.vertices.size(), 20u);
-  EXPECT_GT(dst, 0.3 * src);
-  EXPECT_LT(dst, 3.0 * src);
-  // Outside the target patch the texture is zero: spot stays spot there.
-  const MatrixX3d Y = apply_texture(spot, r.texture);
-  std::vector<char> in(spot.n_vertices(), 0);
-  for (int v : r.target_patch.vertices) in[v] = 1;
-  const MatrixX3d S = positions(spot);
-  for (Eigen::Index i = 0; i < S.rows(); ++i)
-    if (!in[i]) EXPECT_EQ((Y.row(i) - S.row(i)).norm(), 0.0);
 }

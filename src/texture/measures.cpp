@@ -63,6 +63,83 @@ HeightStats height_stats(const Mesh& base, const Eigen::VectorXd& h, const std::
   return s;
 }
 
+namespace {
+
+// ∫ h² = A/6 (Σ h_i² + Σ_{i<j} h_i h_j) exactly; ∫ |h| at the centroids of the 16 sub-triangles of a
+// 4 × 4 split (exact where h keeps its sign).
+void integrate_triangle(const double v[3], double A, double& sum_abs, double& sum_sq) {
+  sum_sq += A / 6 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[0] * v[1] + v[1] * v[2] + v[2] * v[0]);
+  double acc = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4 - i; ++j) {
+      // upward sub-triangle (i, j), and the downward one beside it when there is room
+      const double a = (i + 1.0 / 3) / 4, b = (j + 1.0 / 3) / 4;
+      acc += std::abs((1 - a - b) * v[0] + a * v[1] + b * v[2]);
+      if (i + j < 3) {
+        const double c = (i + 2.0 / 3) / 4, d = (j + 2.0 / 3) / 4;
+        acc += std::abs((1 - c - d) * v[0] + c * v[1] + d * v[2]);
+      }
+    }
+  sum_abs += A * acc / 16;
+}
+
+}  // namespace
+
+HeightStats height_stats_disk(const Mesh& disk, const MatrixX2d& uv, const Eigen::VectorXd& h, double radius) {
+  if (uv.rows() != static_cast<Eigen::Index>(disk.n_vertices()) || h.size() != uv.rows())
+    throw InvalidInput("disk height statistics: expected one uv and one height per vertex");
+  HeightStats s;
+  double sum_abs = 0, sum_sq = 0;
+  for (auto f : disk.faces()) {
+    double v[3];
+    int c[3], k = 0;
+    bool in = true;
+    for (auto vh : disk.fv_range(f)) {
+      c[k] = vh.idx();
+      v[k++] = h[vh.idx()];
+      in &= uv.row(vh.idx()).norm() <= radius;
+    }
+    if (!in) continue;
+    const Eigen::Vector2d a = uv.row(c[1]) - uv.row(c[0]), b = uv.row(c[2]) - uv.row(c[0]);
+    const double A = 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    s.area += A;
+    integrate_triangle(v, A, sum_abs, sum_sq);
+    for (double x : v) s.max_abs = std::max(s.max_abs, std::abs(x));
+  }
+  if (s.area > 0) {
+    s.mean_abs = sum_abs / s.area;
+    s.rms = std::sqrt(sum_sq / s.area);
+  }
+  return s;
+}
+
+HeightStats height_stats_linear(const Mesh& base, const Eigen::VectorXd& h, const std::vector<char>& mask) {
+  if (h.size() != static_cast<Eigen::Index>(base.n_vertices()) || mask.size() != base.n_vertices())
+    throw InvalidInput("height statistics: expected one height and one mask entry per vertex");
+  const Eigen::VectorXd fa = face_areas(base);
+  HeightStats s;
+  double sum_abs = 0, sum_sq = 0;
+  for (auto f : base.faces()) {
+    double v[3];
+    int k = 0;
+    bool in = true;
+    for (auto vh : base.fv_range(f)) {
+      in &= mask[vh.idx()] != 0;
+      v[k++] = h[vh.idx()];
+    }
+    if (!in) continue;
+    const double A = fa[f.idx()];
+    s.area += A;
+    integrate_triangle(v, A, sum_abs, sum_sq);
+    for (double x : v) s.max_abs = std::max(s.max_abs, std::abs(x));
+  }
+  if (s.area > 0) {
+    s.mean_abs = sum_abs / s.area;
+    s.rms = std::sqrt(sum_sq / s.area);
+  }
+  return s;
+}
+
 double max_height_step(const Mesh& mesh, const Eigen::VectorXd& h, const std::vector<char>& mask) {
   if (h.size() != static_cast<Eigen::Index>(mesh.n_vertices()) || (!mask.empty() && mask.size() != mesh.n_vertices()))
     throw InvalidInput("height step: expected one height (and mask entry) per vertex");

@@ -327,17 +327,42 @@ Texture set_tilt(TextureCodec& codec, const Texture& texture, const Vec3& direct
   return codec.from_directions(D, texture.height);
 }
 
+namespace {
+
+// Turn every direction D_i (in place) towards the tangent part of \p dir at n_i by theta(i) radians
+// (OpenMP: theta must be thread-safe).
+template <class Theta>
+void turn_all(MatrixX3d& D, const MatrixX3d& N, const Vec3& dir, const Theta& theta) {
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const Vec3 n = N.row(i);
+    D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta(i)).transpose();
+  }
+}
+
+// Wrap: θ_i = angle × |h_i| / max|h|.
+void wrap_directions(MatrixX3d& D, const MatrixX3d& N, const Eigen::VectorXd& h, const Vec3& dir, double angle_deg) {
+  const double hmax = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
+  if (hmax > 0) turn_all(D, N, dir, [&](Eigen::Index i) { return angle_deg * kDeg * std::abs(h[i]) / hmax; });
+}
+
+// Wiggle: θ_i = amplitude × sin(2π (x_i·d̂ / wavelength − phase)) × |h_i| / max|h|.
+void wiggle_directions(MatrixX3d& D, const MatrixX3d& N, const MatrixX3d& X, const Eigen::VectorXd& h, const Vec3& dir,
+                       double amplitude_deg, double wavelength, double phase) {
+  const double hmax = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
+  if (hmax > 0)
+    turn_all(D, N, dir, [&](Eigen::Index i) {
+      const double wave = std::sin(2 * M_PI * (X.row(i).dot(dir) / wavelength - phase));
+      return amplitude_deg * kDeg * wave * std::abs(h[i]) / hmax;
+    });
+}
+
+}  // namespace
+
 Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
   const Vec3 dir = unit_or_throw(direction, "wrap");
-  const double hmax = max_abs_height(texture);
   MatrixX3d D = codec.directions(texture);
-  const MatrixX3d& N = codec.normals();
-  if (hmax > 0)
-    for (Eigen::Index i = 0; i < N.rows(); ++i) {
-      const Vec3 n = N.row(i);
-      const double theta = angle_deg * kDeg * std::abs(texture.height[i]) / hmax;
-      D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta).transpose();
-    }
+  wrap_directions(D, codec.normals(), texture.height, dir, angle_deg);
   return codec.from_directions(D, texture.height);
 }
 
@@ -345,18 +370,90 @@ Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& directio
                double wavelength, double phase) {
   const Vec3 dir = unit_or_throw(direction, "wiggle");
   if (!(wavelength > 0)) throw InvalidInput("wiggle: wavelength must be positive");
-  const double hmax = max_abs_height(texture);
   MatrixX3d D = codec.directions(texture);
-  const MatrixX3d& N = codec.normals();
-  const MatrixX3d X = positions(codec.base());
-  if (hmax > 0)
-    for (Eigen::Index i = 0; i < N.rows(); ++i) {
-      const Vec3 n = N.row(i);
-      const double wave = std::sin(2 * M_PI * (X.row(i).dot(dir) / wavelength - phase));
-      const double theta = amplitude_deg * kDeg * wave * std::abs(texture.height[i]) / hmax;
-      D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta).transpose();
-    }
+  wiggle_directions(D, codec.normals(), positions(codec.base()), texture.height, dir, amplitude_deg, wavelength, phase);
   return codec.from_directions(D, texture.height);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Animation
+
+const EnumNames<AnimationKind>& animation_kind_names() {
+  static const EnumNames<AnimationKind> n = {
+      {"wiggle", AnimationKind::Wiggle}, {"wrap", AnimationKind::Sway}, {"sway", AnimationKind::Sway}, {"grow", AnimationKind::Grow}};
+  return n;
+}
+
+const OptionTable<AnimationOptions>& AnimationOptions::table() {
+  using O = AnimationOptions;
+  static const auto t = OptionTable<O>()
+      .choice("op", &O::kind, animation_kind_names(),
+              "wiggle (travelling wave), wrap (sway back and forth) or grow (heights 0 -> 1 -> 0)", "Sec. 8.4.1")
+      .add("frames", &O::frames, "number of frames (one period)", at_least(1))
+      .add("direction", &O::direction, "direction the texture leans or the wave travels (projected onto each tangent plane)")
+      .add("angle", &O::angle_deg, "degrees: wave amplitude or sway angle at the highest point", any_value())
+      .add("wavelength", &O::wavelength, "wiggle: wavelength along the direction (0: a quarter of the box diagonal)",
+           non_negative())
+      .add("refit", &O::refit,
+           "fit each frame's tilt 1-form (factored once per base); false: displace along the edited directions");
+  return t;
+}
+
+struct TextureAnimator::Impl {
+  TextureCodec codec;
+  Texture texture;
+  AnimationOptions options;
+  MatrixX3d X, D;  // base positions, decoded directions (once)
+  Vec3 dir;
+  double wavelength = 1;
+  Impl(const Mesh& base, const TextureOptions& o) : codec(base, o) {}
+};
+
+TextureAnimator::TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options,
+                                 const TextureOptions& texture_options) {
+  AnimationOptions::table().check(options);
+  TextureOptions o = texture_options;
+  // One factorization of the tilt system for every frame (the tangential fit's exact minimiser does not
+  // depend on the weights: TextureCodec::encode_tilt); CGLS would restart from scratch each frame.
+  o.solver = TiltSolver::Direct;
+  impl_ = std::make_unique<Impl>(base, o);
+  Impl& m = *impl_;
+  m.texture = texture;
+  m.options = options;
+  m.X = geotex::positions(base);
+  m.D = m.codec.directions(texture);
+  m.dir = unit_or_throw(options.direction, "animation");
+  m.wavelength = options.wavelength > 0 ? options.wavelength : 0.25 * bounding_box(base).diagonal();
+}
+
+TextureAnimator::~TextureAnimator() = default;
+TextureAnimator::TextureAnimator(TextureAnimator&&) noexcept = default;
+TextureAnimator& TextureAnimator::operator=(TextureAnimator&&) noexcept = default;
+
+int TextureAnimator::frames() const { return impl_->options.frames; }
+
+Texture TextureAnimator::texture(int frame) {
+  Impl& m = *impl_;
+  const double s = double(frame) / m.options.frames;
+  if (m.options.kind == AnimationKind::Grow) return scale_height(m.texture, 0.5 * (1 - std::cos(2 * M_PI * s)));
+  MatrixX3d D = m.D;
+  if (m.options.kind == AnimationKind::Wiggle)
+    wiggle_directions(D, m.codec.normals(), m.X, m.texture.height, m.dir, m.options.angle_deg, m.wavelength, s);
+  else
+    wrap_directions(D, m.codec.normals(), m.texture.height, m.dir, m.options.angle_deg * std::sin(2 * M_PI * s));
+  return m.codec.from_directions(D, m.texture.height);
+}
+
+MatrixX3d TextureAnimator::positions(int frame) {
+  Impl& m = *impl_;
+  if (m.options.refit || m.options.kind == AnimationKind::Grow) return m.codec.apply(texture(frame));
+  const double s = double(frame) / m.options.frames;
+  MatrixX3d D = m.D;
+  if (m.options.kind == AnimationKind::Wiggle)
+    wiggle_directions(D, m.codec.normals(), m.X, m.texture.height, m.dir, m.options.angle_deg, m.wavelength, s);
+  else
+    wrap_directions(D, m.codec.normals(), m.texture.height, m.dir, m.options.angle_deg * std::sin(2 * M_PI * s));
+  return m.X + m.texture.height.cwiseAbs().asDiagonal() * D;
 }
 
 Texture scale_height(const Texture& texture, double factor) {

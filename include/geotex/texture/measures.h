@@ -33,6 +33,17 @@ struct HeightStats {
   double area = 0;      //!< area of the vertices counted
 };
 HeightStats height_stats(const Mesh& base, const Eigen::VectorXd& h, const std::vector<char>& mask);
+//! The same for the piecewise-linear height field itself, integrated over the faces whose corners are
+//! all in \p mask (|h| by a 16-point rule, h² exactly): what resampling at any density converges to.
+//! Vertex statistics of a rough texture exceed these (linear interpolation between a peak and a trough
+//! is lower than both), so compare a resampled texture with its source this way.
+HeightStats height_stats_linear(const Mesh& base, const Eigen::VectorXd& h, const std::vector<char>& mask);
+
+//! Statistics of the piecewise-linear heights \p h (one per vertex of \p disk) over the part of the
+//! unit disk \p uv (#V by 2, e.g. TransferResult::target_uv) within radius \p radius, weighted by uv area:
+//! two disks of a transfer sample the same function of z, so these agree up to resampling, whatever
+//! area distortion the two conformal maps have (height_stats_linear() on the surfaces includes it).
+HeightStats height_stats_disk(const Mesh& disk, const MatrixX2d& uv, const Eigen::VectorXd& h, double radius);
 
 //! Largest |h_i − h_j| over the edges ij with at least one end where \p mask is non-zero (all edges
 //! when \p mask is empty).

@@ -9,6 +9,7 @@
 //! (TextureOptions::normals), recomputed from whatever base the texture is applied to.
 
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "geotex/core/geometry.h"
@@ -174,6 +175,49 @@ Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction,
 //! Animate with phase = frame / frames.
 Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& direction, double amplitude_deg,
                double wavelength, double phase);
+
+//! An edit in motion (Fig. 8.7).
+enum class AnimationKind {
+  Wiggle,  //!< a travelling wave: wiggle() with phase = frame / frames
+  Sway,    //!< wrap() by angle × sin(2π frame / frames): the texture sways back and forth
+  Grow,    //!< heights × ½ (1 − cos(2π frame / frames)): the texture grows and shrinks
+};
+//! "wiggle", "wrap" (also "sway"), "grow".
+const EnumNames<AnimationKind>& animation_kind_names();
+
+struct AnimationOptions {
+  AnimationKind kind = AnimationKind::Wiggle;
+  int frames = 24;                    //!< frames in one period
+  Vec3 direction = Vec3::UnitX();     //!< lean / wave direction (projected onto each tangent plane)
+  double angle_deg = 30;              //!< wave amplitude or sway angle at the highest point
+  double wavelength = 0;              //!< wiggle: along the direction; 0 = a quarter of the box diagonal
+  //! Fit each frame's tilt 1-form (true: the frame is the texture the edit makes, Sec. 8.4.1; one
+  //! back-substitution per frame) or displace along the edited directions directly (false: the same
+  //! surface up to the fit's tolerance, no solve at all).
+  bool refit = true;
+  static const OptionTable<AnimationOptions>& table();
+};
+
+//! Frames of an animation at interactive rates: the texture is decoded once and the base's tilt system
+//! factored once (direct solver, whatever TextureOptions::solver says); each frame turns the cached
+//! directions and re-solves (AnimationOptions::refit).
+class TextureAnimator {
+ public:
+  //! \throw InvalidInput for bad options or a texture that does not match the base.
+  TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options = {},
+                  const TextureOptions& texture_options = {});
+  ~TextureAnimator();
+  TextureAnimator(TextureAnimator&&) noexcept;
+  TextureAnimator& operator=(TextureAnimator&&) noexcept;
+
+  Texture texture(int frame);      //!< the edited texture of frame \p frame (0 ≤ frame < frames)
+  MatrixX3d positions(int frame);  //!< the textured surface of frame \p frame: #V by 3
+  int frames() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 //! Scale every height by \p factor.
 Texture scale_height(const Texture& texture, double factor);
