@@ -296,18 +296,18 @@ TEST(Texture, DiskPatchAndTransferOntoItselfReproducesTheTexture) {
   o.falloff = 0;  // no rim: the identity map copies every value
   o.refine_ratio = 0;
   const TransferResult r = transfer_texture(s.shape.base, tex, s.shape.base, o);
-  double herr = 0, terr = 0, tmax = 0;
-  for (int v : r.target_patch.vertices) herr = std::max(herr, std::abs(r.texture.height[v] - tex.height[v]));
-  for (auto e : r.target_patch.mesh.edges()) {
-    const int a = r.target_patch.vertices[r.target_patch.mesh.from_vertex_handle(r.target_patch.mesh.halfedge_handle(e, 0)).idx()];
-    const int b = r.target_patch.vertices[r.target_patch.mesh.to_vertex_handle(r.target_patch.mesh.halfedge_handle(e, 0)).idx()];
-    const auto ge = s.shape.base.edge_handle(s.shape.base.find_halfedge(s.shape.base.vertex_handle(a), s.shape.base.vertex_handle(b)));
-    terr = std::max(terr, std::abs(r.texture.tilt[ge.idx()] - tex.tilt[ge.idx()]));
-    tmax = std::max(tmax, std::abs(tex.tilt[ge.idx()]));
+  // Heights are copied; the tilt 1-form is refitted on the target (its coefficients are not unique:
+  // the tangential fit has more edges than equations), so compare what it decodes to: the surface.
+  double herr = 0, xerr = 0;
+  const MatrixX3d Y0 = codec.apply(tex), Y1 = apply_texture(r.target, r.texture);
+  for (int v : r.target_patch.vertices) {
+    herr = std::max(herr, std::abs(r.texture.height[v] - tex.height[v]));
+    xerr = std::max(xerr, (Y1.row(v) - Y0.row(v)).norm());
   }
-  std::cout << "[ transfer onto itself ] max height error " << herr << ", max tilt error " << terr << " (max tilt " << tmax << ")\n";
+  std::cout << "[ transfer onto itself ] max height error " << herr << ", max vertex error " << xerr / s.h
+            << " mean edges\n";
   EXPECT_LT(herr, 1e-9);
-  EXPECT_LT(terr, 0.1 * tmax);
+  EXPECT_LT(xerr, 1e-3 * s.h);
 }
 
 TEST(TextureCli, ExtractEditAnimateApplyAndErrors) {

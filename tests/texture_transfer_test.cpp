@@ -48,71 +48,19 @@ const Source& tentacle_source() {
   return s;
 }
 
-// What a transfer kept, by the stated measures.
-struct Kept {
-  double mean = 0, rms = 0;  // relative change of the disk statistics within |z| ≤ 1 − falloff
-  double lean = 0;           // change of the |h|-weighted mean lean there, degrees
-  size_t folded = 0;         // folded faces of the textured target
-  double falloff_step = 0;   // largest step the falloff adds between neighbours / the texture's height
-  double cliff = 0;          // largest |h| on the target patch's boundary / the texture's height
-};
-
-double mean_lean_deg(const Mesh& base, const Texture& t, const std::vector<int>& vertices, const MatrixX2d& uv,
-                     double radius) {
-  double s = 0, w = 0;
-  for (size_t k = 0; k < vertices.size(); ++k)
-    if (uv.row(k).norm() <= radius) {
-      const double weight = std::abs(t.height[vertices[k]]);
-      s += weight * t.lean[vertices[k]];
-      w += weight;
-    }
-  (void)base;
-  return w > 0 ? s / w * 180 / M_PI : 0;
-}
-
-Kept measure(const Source& s, const TransferResult& r, const TransferOptions& o) {
-  Kept k;
-  const double inner = 1 - o.falloff;
-  Eigen::VectorXd hs(r.source_patch.vertices.size()), ht(r.target_patch.vertices.size());
-  for (size_t i = 0; i < r.source_patch.vertices.size(); ++i) hs[i] = r.height_factor * s.texture.height[r.source_patch.vertices[i]];
-  for (size_t i = 0; i < r.target_patch.vertices.size(); ++i) ht[i] = r.texture.height[r.target_patch.vertices[i]];
-  const HeightStats a = height_stats_disk(r.source_patch.mesh, r.source_uv, hs, inner);
-  const HeightStats b = height_stats_disk(r.target_patch.mesh, r.target_uv, ht, inner);
-  k.mean = b.mean_abs / a.mean_abs - 1;
-  k.rms = b.rms / a.rms - 1;
-  k.lean = mean_lean_deg(r.target, r.texture, r.target_patch.vertices, r.target_uv, inner) -
-           mean_lean_deg(s.base, s.texture, r.source_patch.vertices, r.source_uv, inner);
-  Mesh textured = r.target;
-  set_positions(textured, apply_texture(r.target, r.texture, o.texture));
-  k.folded = folded_faces(textured);
-  // The same transfer without the falloff gives the heights the falloff scales.
-  TransferOptions flat = o;
-  flat.falloff = 0;
-  const TransferResult r0 = transfer_texture(s.base, s.texture, r.target, flat);  // already refined: same mesh
-  const double hmax = r0.texture.height.cwiseAbs().maxCoeff();
-  for (auto e : r.target.edges()) {
-    const auto h = r.target.halfedge_handle(e, 0);
-    const int i = r.target.from_vertex_handle(h).idx(), j = r.target.to_vertex_handle(h).idx();
-    k.falloff_step = std::max(k.falloff_step, std::abs(r.falloff[i] - r.falloff[j]) *
-                                                  std::max(std::abs(r0.texture.height[i]), std::abs(r0.texture.height[j])));
-  }
-  k.falloff_step /= hmax;
-  for (auto v : r.target_patch.mesh.vertices())
-    if (r.target_patch.mesh.is_boundary(v))
-      k.cliff = std::max(k.cliff, std::abs(r.texture.height[r.target_patch.vertices[v.idx()]]) / hmax);
-  return k;
-}
-
-void expect_kept(const Kept& k, const std::string& what) {
-  std::cout << fmt::format("[ {} ] disk statistics: mean |h| {:+.1f}%, rms {:+.1f}%; lean {:+.2f} deg; folded faces {}; "
-                           "falloff step {:.1f}% of the height; rim cliff {:.1g}\n",
-                           what, 100 * k.mean, 100 * k.rms, k.lean, k.folded, 100 * k.falloff_step, k.cliff);
-  EXPECT_LT(std::abs(k.mean), 0.05) << what;
-  EXPECT_LT(std::abs(k.rms), 0.05) << what;
-  EXPECT_LT(std::abs(k.lean), 5.0) << what;
+void expect_kept(const TransferQuality& k, const std::string& what) {
+  std::cout << fmt::format("[ {} ] disk statistics: mean |h| {:+.1f}%, rms {:+.1f}% (on the surfaces {:+.1f}%, "
+                           "{:+.1f}%); lean {:+.2f} deg; folded faces {} (source {}); falloff step {:.1f}% of the "
+                           "height; rim cliff {:.1g}\n",
+                           what, 100 * k.mean_change, 100 * k.rms_change, 100 * k.surface_mean_change,
+                           100 * k.surface_rms_change, k.lean_change_deg, k.folded, k.source_folded,
+                           100 * k.falloff_step, k.rim_cliff);
+  EXPECT_LT(std::abs(k.mean_change), 0.05) << what;
+  EXPECT_LT(std::abs(k.rms_change), 0.05) << what;
+  EXPECT_LT(std::abs(k.lean_change_deg), 5.0) << what;
   EXPECT_EQ(k.folded, 0u) << what;
   EXPECT_LT(k.falloff_step, 0.10) << what;
-  EXPECT_LT(k.cliff, 1e-9) << what;
+  EXPECT_LT(k.rim_cliff, 1e-9) << what;
 }
 
 }  // namespace
@@ -238,7 +186,7 @@ TEST(TextureTransfer, TentaclesOntoASphereKeepHeightsAndLeanWithoutFoldsOrCliff)
   o.target_center = nearest(sphere, Vec3(0, 0, 1));
   o.target_radius = 0.6;
   const TransferResult r = transfer_texture(s.base, s.texture, sphere, o);
-  expect_kept(measure(s, r, o), "tentacle patch -> icosphere(4)");
+  expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> icosphere(4)");
   // The middle tentacle keeps its lean exactly (it sits at both centres).
   const std::vector<Protrusion> src = measure_protrusions(s.base, apply_texture(s.base, s.texture), {s.center});
   const std::vector<Protrusion> dst =
@@ -262,7 +210,7 @@ TEST(TextureTransfer, ACoarseTargetIsRefinedWithAWarning) {
   EXPECT_EQ(r.target.n_vertices(), coarse.n_vertices() + r.added_vertices);
   EXPECT_EQ((positions(r.target).topRows(coarse.n_vertices()) - positions(coarse)).norm(), 0.0);
   EXPECT_GT(r.target_patch.vertices.size(), r.source_patch.vertices.size());
-  expect_kept(measure(s, r, o), "tentacle patch -> icosphere(2), refined");
+  expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> icosphere(2), refined");
   // Without refinement the patch has a handful of vertices and no warning.
   o.refine_ratio = 0;
   const TransferResult n = transfer_texture(s.base, s.texture, coarse, o);
@@ -292,26 +240,6 @@ TEST(TextureTransfer, BadInputIsRefusedByName) {
 
 namespace {
 
-// Height slopes |Δh| / edge length across the borders between disks (edges whose ends belong to different
-// disks) and within disks: 99th percentiles and maxima.
-struct Seams {
-  double across99 = 0, across_max = 0, within99 = 0, within_max = 0;
-};
-Seams seams(const AtlasResult& r) {
-  std::vector<double> across, within;
-  for (auto e : r.target.edges()) {
-    const auto h = r.target.halfedge_handle(e, 0);
-    const int a = r.target.from_vertex_handle(h).idx(), b = r.target.to_vertex_handle(h).idx();
-    const double slope = std::abs(r.texture.height[a] - r.texture.height[b]) / r.target.calc_edge_length(e);
-    (r.owner[a] != r.owner[b] ? across : within).push_back(slope);
-  }
-  std::sort(across.begin(), across.end());
-  std::sort(within.begin(), within.end());
-  return {across[across.size() * 99 / 100], across.back(), within[within.size() * 99 / 100], within.back()};
-}
-
-}  // namespace
-
 // A plate densely covered with round bumps of random heights (a height-field texture, statistically the
 // same everywhere, with features a few edges wide).
 Source bumpy_source() {
@@ -334,6 +262,8 @@ Source bumpy_source() {
   return out;
 }
 
+}  // namespace
+
 TEST(TextureAtlas, CoversASphereWithoutGapsAndWithoutSeams) {
   const Source s = bumpy_source();
   const Mesh sphere = icosphere(5, 1.0);
@@ -354,9 +284,9 @@ TEST(TextureAtlas, CoversASphereWithoutGapsAndWithoutSeams) {
   const double rms_source = r.height_factor * height_stats_linear(s.base, s.texture.height, src).rms;
   // No seam: across the borders between disks the height changes no faster than within the disks.
   // Disks pasted side by side without blending (each vertex from the disk whose centre is nearest) do not.
-  const Seams a = seams(r);
+  const SeamQuality a = atlas_seams(r);
   o.blend_power = 1000;
-  const Seams cut = seams(cover_with_texture(s.base, s.texture, sphere, o));
+  const SeamQuality cut = atlas_seams(cover_with_texture(s.base, s.texture, sphere, o));
   std::cout << fmt::format("[ atlas: bumps over icosphere(5), {} disks ] rms height {:.3g} (source patch {:.3g}); "
                            "|dh|/edge across disk borders p99 {:.3g} max {:.3g}, within disks p99 {:.3g} max {:.3g}; "
                            "pasted without blending: across p99 {:.3g} max {:.3g}\n",
@@ -379,5 +309,22 @@ TEST(TextureTransferData, TentaclesOntoSpot) {
   o.target_radius = 0.3;
   const TransferResult r = transfer_texture(s.base, s.texture, spot, o);
   EXPECT_EQ(r.warnings.size(), 1u);  // spot is coarser than the patch scaled to it
-  expect_kept(measure(s, r, o), "tentacle patch -> spot");
+  expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> spot");
+}
+
+TEST(TextureTransferCli, SaysWhenTheTargetIsRefined) {
+  using geotex::test::run_cli;
+  geotex::test::TempDir dir;
+  ASSERT_EQ(run_cli("generate tentacle-plane --level 0 -o " + (dir / "t.ply") + " --base-output " + (dir / "b.ply")).exit_code, 0);
+  ASSERT_EQ(run_cli("generate sphere --level 0 -o " + (dir / "s.ply")).exit_code, 0);
+  auto r = run_cli("texture extract " + (dir / "t.ply") + " --base " + (dir / "b.ply") + " -o " + (dir / "tex.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("texture transfer " + (dir / "tex.ply") + " " + (dir / "s.ply") + " -o " + (dir / "out.ply") +
+              " --source-near 0,0,0 --source-radius 1 --target-near 0,0,1 --target-radius 0.6 --texture-out " +
+              (dir / "out-tex.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: target refined"), std::string::npos) << r.err;
+  const TextureFile f = read_texture(dir / "out-tex.ply");
+  EXPECT_EQ(f.texture.lean.size(), static_cast<Eigen::Index>(f.base.n_vertices()));
+  EXPECT_GT(f.base.n_vertices(), 1000u);  // the refined target
 }

@@ -7,6 +7,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/texture/texture.h"
 
 namespace geotex {
 
@@ -151,6 +152,86 @@ double max_height_step(const Mesh& mesh, const Eigen::VectorXd& h, const std::ve
     step = std::max(step, std::abs(h[a] - h[b]));
   }
   return step;
+}
+
+namespace {
+
+double mean_lean_deg(const Texture& t, const std::vector<int>& vertices, const MatrixX2d& uv, double radius) {
+  double s = 0, w = 0;
+  for (size_t k = 0; k < vertices.size(); ++k)
+    if (uv.row(k).norm() <= radius) {
+      const double weight = std::abs(t.height[vertices[k]]);
+      s += weight * (t.lean.size() ? t.lean[vertices[k]] : 0.0);
+      w += weight;
+    }
+  return w > 0 ? s / w * 180 / M_PI : 0;
+}
+
+}  // namespace
+
+TransferQuality transfer_quality(const Mesh& source_base, const Texture& source, const TransferResult& r,
+                                 const TransferOptions& o) {
+  TransferQuality q;
+  const double inner = 1 - o.falloff;
+  const DiskPatch &S = r.source_patch, &T = r.target_patch;
+  Eigen::VectorXd hs(S.vertices.size()), ht(T.vertices.size());
+  for (size_t i = 0; i < S.vertices.size(); ++i) hs[i] = r.height_factor * source.height[S.vertices[i]];
+  for (size_t i = 0; i < T.vertices.size(); ++i) ht[i] = r.texture.height[T.vertices[i]];
+  const HeightStats a = height_stats_disk(S.mesh, r.source_uv, hs, inner), b = height_stats_disk(T.mesh, r.target_uv, ht, inner);
+  q.mean_change = b.mean_abs / a.mean_abs - 1;
+  q.rms_change = b.rms / a.rms - 1;
+  q.max_change = b.max_abs / a.max_abs - 1;
+  std::vector<char> ms(source_base.n_vertices(), 0), mt(r.target.n_vertices(), 0);
+  for (size_t i = 0; i < S.vertices.size(); ++i) ms[S.vertices[i]] = r.source_uv.row(i).norm() <= inner;
+  for (size_t i = 0; i < T.vertices.size(); ++i) mt[T.vertices[i]] = r.target_uv.row(i).norm() <= inner;
+  const HeightStats sa = height_stats_linear(source_base, source.height, ms);
+  const HeightStats sb = height_stats_linear(r.target, r.texture.height, mt);
+  q.surface_mean_change = sb.mean_abs / (r.height_factor * sa.mean_abs) - 1;
+  q.surface_rms_change = sb.rms / (r.height_factor * sa.rms) - 1;
+  q.lean_change_deg = mean_lean_deg(r.texture, T.vertices, r.target_uv, inner) -
+                      mean_lean_deg(source, S.vertices, r.source_uv, inner);
+  Mesh textured = r.target;
+  set_positions(textured, apply_texture(r.target, r.texture, o.texture));
+  q.folded = folded_faces(textured);
+  Mesh source_textured = source_base;
+  set_positions(source_textured, apply_texture(source_base, source, o.texture));
+  q.source_folded = folded_faces(source_textured);
+  TransferOptions flat = o;
+  flat.falloff = 0;
+  const TransferResult r0 = transfer_texture(source_base, source, r.target, flat);
+  const double hmax = r0.texture.height.cwiseAbs().maxCoeff();
+  if (hmax > 0) {
+    for (auto e : r.target.edges()) {
+      const auto h = r.target.halfedge_handle(e, 0);
+      const int i = r.target.from_vertex_handle(h).idx(), j = r.target.to_vertex_handle(h).idx();
+      q.falloff_step = std::max(q.falloff_step, std::abs(r.falloff[i] - r.falloff[j]) *
+                                                    std::max(std::abs(r0.texture.height[i]), std::abs(r0.texture.height[j])));
+    }
+    q.falloff_step /= hmax;
+    for (auto v : T.mesh.vertices())
+      if (T.mesh.is_boundary(v)) q.rim_cliff = std::max(q.rim_cliff, std::abs(r.texture.height[T.vertices[v.idx()]]) / hmax);
+  }
+  return q;
+}
+
+SeamQuality atlas_seams(const AtlasResult& r) {
+  std::vector<double> across, within;
+  for (auto e : r.target.edges()) {
+    const auto h = r.target.halfedge_handle(e, 0);
+    const int a = r.target.from_vertex_handle(h).idx(), b = r.target.to_vertex_handle(h).idx();
+    const double slope = std::abs(r.texture.height[a] - r.texture.height[b]) / r.target.calc_edge_length(e);
+    (r.owner[a] != r.owner[b] ? across : within).push_back(slope);
+  }
+  SeamQuality q;
+  auto fill = [](std::vector<double>& v, double& p99, double& mx) {
+    if (v.empty()) return;
+    std::sort(v.begin(), v.end());
+    p99 = v[v.size() * 99 / 100];
+    mx = v.back();
+  };
+  fill(across, q.across99, q.across_max);
+  fill(within, q.within99, q.within_max);
+  return q;
 }
 
 }  // namespace geotex

@@ -250,24 +250,29 @@ SourceDisk::SourceDisk(const Mesh& base, const Texture& texture, int center, dou
       for (int m = 0; m < 3; ++m)
         if (Fb(patch.faces[f], m) == patch.vertices[Fp(f, k)]) perm[f][k] = m;
   mean_edge = mean_patch_edge(patch);
+  e1_vertex = vertex_u_directions(patch.mesh, e1);
 }
 
 Vec3 SourceDisk::sample(const Eigen::Vector2d& z) const {
   const TriangleTree::Hit hit = tree->closest(Vec3(z.x(), z.y(), 0));
-  Vec3 bary;
-  for (int k = 0; k < 3; ++k) bary[perm[hit.face][k]] = hit.bary[k];
-  return sampler.sample(patch.faces[hit.face], bary, e1.row(hit.face).transpose());
+  Vec3 bary, hint = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    bary[perm[hit.face][k]] = hit.bary[k];
+    hint += hit.bary[k] * e1_vertex.row(tree->triangles()(hit.face, k)).transpose();
+  }
+  // The frame's e1 is interpolated from the vertices' (as on the target), not the face's own +u:
+  // face-constant frames jump by ~1° between faces of a discrete conformal map.
+  return sampler.sample(patch.faces[hit.face], bary, hint);
 }
 
 Vec3 SourceDisk::mean_local() const {
-  const MatrixX3d e1v = vertex_u_directions(patch.mesh, e1);
   const Eigen::VectorXd fa = face_areas(patch.mesh);
   Eigen::VectorXd va = Eigen::VectorXd::Zero(patch.mesh.n_vertices());
   for (auto f : patch.mesh.faces())
     for (auto v : patch.mesh.fv_range(f)) va[v.idx()] += fa[f.idx()] / 3;
   Vec3 sum = Vec3::Zero();
   for (size_t k = 0; k < patch.vertices.size(); ++k)
-    sum += va[k] * sampler.sample_vertex(patch.vertices[k], e1v.row(k).transpose());
+    sum += va[k] * sampler.sample_vertex(patch.vertices[k], e1_vertex.row(k).transpose());
   return va.sum() > 0 ? Vec3(sum / va.sum()) : Vec3::Zero();
 }
 

@@ -35,7 +35,8 @@ struct SourceDisk {
   TextureSampler sampler;
   DiskPatch patch;
   MatrixX2d uv;
-  MatrixX3d e1;
+  MatrixX3d e1;         // per patch face: +u
+  MatrixX3d e1_vertex;  // per patch vertex: the sum of its faces' +u (a tangent hint)
   std::unique_ptr<TriangleTree> tree;
   std::vector<std::array<int, 3>> perm;  // patch face corner k is base face corner perm[f][k]
   double mean_edge = 0;

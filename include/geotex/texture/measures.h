@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "geotex/core/mesh.h"
+#include "geotex/texture/transfer.h"
 
 namespace geotex {
 
@@ -48,5 +49,34 @@ HeightStats height_stats_disk(const Mesh& disk, const MatrixX2d& uv, const Eigen
 //! Largest |h_i − h_j| over the edges ij with at least one end where \p mask is non-zero (all edges
 //! when \p mask is empty).
 double max_height_step(const Mesh& mesh, const Eigen::VectorXd& h, const std::vector<char>& mask = {});
+
+//! What a disk transfer kept (TransferResult against its source), by the measures the tests state.
+struct TransferQuality {
+  //! Relative change of the disk statistics (height_stats_disk) within |z| ≤ 1 − falloff, target
+  //! against the source's heights times TransferResult::height_factor: what the transfer itself kept.
+  double mean_change = 0, rms_change = 0, max_change = 0;
+  //! The same on the surfaces (height_stats_linear over the vertices with |z| ≤ 1 − falloff): includes
+  //! how differently the two conformal maps distort area.
+  double surface_mean_change = 0, surface_rms_change = 0;
+  double lean_change_deg = 0;  //!< |h|-weighted mean lean there, target − source (degrees)
+  size_t folded = 0;           //!< folded faces of the textured target (folded_faces())
+  size_t source_folded = 0;    //!< folded faces of the textured source
+  //! Largest height step the rim falloff adds between neighbours, max |Δw| × |h̃| (h̃ the heights
+  //! before the falloff), over the largest |h̃|.
+  double falloff_step = 0;
+  double rim_cliff = 0;  //!< largest |h| on the target patch's boundary over the largest |h̃|
+};
+//! \param options the options the transfer ran with (the falloff and texture options are read; the
+//! transfer is run once more without the falloff, on the already refined target, for h̃).
+TransferQuality transfer_quality(const Mesh& source_base, const Texture& source, const TransferResult& result,
+                                 const TransferOptions& options);
+
+//! Seams of an atlas: height slopes |Δh| / edge length across the borders between disks (edges whose
+//! ends have different AtlasResult::owner) and within disks.
+struct SeamQuality {
+  double across99 = 0, across_max = 0;  //!< 99th percentile and maximum across borders
+  double within99 = 0, within_max = 0;  //!< the same within disks
+};
+SeamQuality atlas_seams(const AtlasResult& result);
 
 }  // namespace geotex
