@@ -72,10 +72,17 @@ void run_extract(const ExtractArgs& a) {
     BaseShapeOptions o = a.base_opt;
     o.laplacian = a.laplacian == "cotan" ? LaplacianType::Cotangent : LaplacianType::Umbrella;
     o.progress = progress_printer("base shape");
+    if (o.steps > 0) o.method = BaseMethod::Smoothing;  // a step count asks for the thesis' smoothing
     base = textured;
-    set_positions(base, extract_base_shape(textured, o));
-    info(fmt::format("base: implicit {} smoothing, {} step(s) of lambda {}", a.laplacian,
-                     o.steps > 0 ? std::to_string(o.steps) : "automatic", o.lambda));
+    const BaseShape b = base_shape(textured, o);
+    set_positions(base, b.positions);
+    if (o.method == BaseMethod::Smoothing)
+      info(fmt::format("base: implicit {} smoothing, {} step(s) of lambda {}{}", a.laplacian, b.passes, o.lambda,
+                       b.stopped ? "" : " (stopped at the step cap)"));
+    else
+      info(fmt::format("base: robust fit ({} fits), {:.0f} of {} vertices projected along the base normals",
+                       b.passes, b.projected.sum(), textured.n_vertices()));
+    info(fmt::format("base: displacements are a median {:.2f} deg off the base normal", b.median_off_normal_deg));
   }
   TextureOptions to;
   to.bound_tilt = a.bound;
@@ -251,7 +258,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
         ->check(CLI::IsMember({"umbrella", "cotan"}))->capture_default_str();
     s->add_option("--lambda", a->base_opt.lambda, "no --base: implicit smoothing step size")
         ->check(CLI::PositiveNumber)->capture_default_str();
-    s->add_option("--steps", a->base_opt.steps, "no --base: smoothing steps (0 = until the shape stops changing)")
+    s->add_option("--steps", a->base_opt.steps, "no --base: use the thesis' implicit smoothing for the base, with this many steps (0: the robust fit)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     s->add_option("--max-steps", a->base_opt.max_steps, "no --base, automatic: at most this many steps")
         ->check(CLI::PositiveNumber)->capture_default_str();

@@ -176,8 +176,11 @@ struct AtlasOptions {
   //! Blending: disk k weighs b_k = (1 − |z_k|²)² at a vertex with disk coordinate z_k (1 at its centre,
   //! 0 at its rim), and the disks covering a vertex are averaged with weights b_k^p / Σ_j b_j^p. The
   //! disk whose centre is nearest dominates; between two neighbours the blend is about 1.7/p of the
-  //! radius wide (p = 1: wide, ghosting; large p: a cut).
-  double blend_power = 8.0;
+  //! radius wide (large p: nearly a cut, steeper at the borders; at 8 the 99th percentile of |Δh|/edge
+  //! across borders was 12 % above that inside disks on a bump texture, at 4 equal to it). The blend
+  //! keeps the texture's contrast: Σ w̃_k M_k + Σ w̃_k (D_k − M_k) / √(Σ w̃_k²), M_k the source's mean
+  //! displacement (a plain average of two unrelated pieces of texture has 1/√2 of their contrast).
+  double blend_power = 4.0;
   HeightRule height_rule = HeightRule::PatchRadius;
   double height_scale = 1.0;
   double refine_ratio = 1.0;    //!< refine the target where coarser than this × the scaled source (0: never)
