@@ -60,7 +60,7 @@ void BM_Stick(benchmark::State& state) {
   double length = 0, angle = 0;
   for (const Tentacle& t : info) {
     const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, radius);
-    const Protrusion a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
+    const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
     length = std::max(length, std::abs(b.length / a.length - 1));
     angle = std::max(angle, std::abs(b.angle_deg - a.angle_deg));
   }

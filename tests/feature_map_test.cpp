@@ -137,7 +137,7 @@ TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {
   double length = 0, angle = 0, plain_angle = 0;
   for (const Tentacle& t : s.info) {
     const Eigen::VectorXd foot = tentacle_truth(s.shape.base, {t}, TentacleOptions{}.radius);
-    const Protrusion a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
+    const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
     length = std::max(length, std::abs(b.length / a.length - 1));
     angle = std::max(angle, std::abs(b.angle_deg - a.angle_deg));
     plain_angle = std::max(plain_angle, std::abs(measure_protrusion(m, C, t.foot, foot).angle_deg - a.angle_deg));

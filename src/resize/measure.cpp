@@ -102,7 +102,7 @@ BumpShape measure_bump(const MatrixX3d& X0, const MatrixX3d& X1, const Vec3& cen
   return s;
 }
 
-Protrusion measure_protrusion(const Mesh& mesh, const MatrixX3d& X, int tip, const Eigen::VectorXd& footprint) {
+ProtrusionPose measure_protrusion(const Mesh& mesh, const MatrixX3d& X, int tip, const Eigen::VectorXd& footprint) {
   const int n = static_cast<int>(mesh.n_vertices());
   if (X.rows() != n || footprint.size() != n || tip < 0 || tip >= n)
     throw InvalidInput("measure_protrusion: positions, footprint and tip must match the mesh");
@@ -130,7 +130,7 @@ Protrusion measure_protrusion(const Mesh& mesh, const MatrixX3d& X, int tip, con
   Vec3 nrm = es.eigenvectors().col(0);
   if (nrm.dot(nsum) < 0) nrm = -nrm;
   const Vec3 d = X.row(tip).transpose() - c.transpose();
-  Protrusion p;
+  ProtrusionPose p;
   p.length = d.norm();
   p.angle_deg = p.length > 0 ? std::acos(std::clamp(nrm.dot(d) / p.length, -1.0, 1.0)) * 180.0 / M_PI : 0.0;
   return p;

@@ -70,14 +70,6 @@ SpaceMap space_map(const SpaceMapOptions& o, const BoundingBox& box) {
   };
 }
 
-MatrixX3d apply_space_map(const SpaceMap& map, const MatrixX3d& X) {
-  MatrixX3d C(X.rows(), 3);
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index i = 0; i < X.rows(); ++i) C.row(i) = map(X.row(i).transpose()).transpose();
-  if (!C.allFinite()) throw InvalidInput("the space map gives non-finite positions");
-  return C;
-}
-
 const EnumNames<ResizeMethod>& resize_method_names() {
   static const EnumNames<ResizeMethod> names = {{"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis}};
   return names;

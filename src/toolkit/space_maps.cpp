@@ -17,7 +17,9 @@ SpaceMap arc_bend_map(double radius, double x0) {
 
 MatrixX3d apply_space_map(const SpaceMap& map, const MatrixX3d& X) {
   MatrixX3d Y(X.rows(), 3);
+#pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < X.rows(); ++i) Y.row(i) = map(X.row(i).transpose()).transpose();
+  if (!Y.allFinite()) throw InvalidInput("the space map gives non-finite positions");
   return Y;
 }
 

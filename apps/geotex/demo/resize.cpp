@@ -81,7 +81,7 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
     double length = 0, angle = 0;
     for (const Tentacle& t : info) {
       const Eigen::VectorXd foot = tentacle_truth(stick.base, {t}, TentacleOptions{}.radius);
-      const Protrusion a = measure_protrusion(m, S, t.foot, foot), c = measure_protrusion(m, Y, t.foot, foot);
+      const ProtrusionPose a = measure_protrusion(m, S, t.foot, foot), c = measure_protrusion(m, Y, t.foot, foot);
       length = std::max(length, std::abs(c.length / a.length - 1));
       angle = std::max(angle, std::abs(c.angle_deg - a.angle_deg));
     }

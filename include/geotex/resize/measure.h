@@ -48,7 +48,7 @@ BumpShape measure_bump(const MatrixX3d& original, const MatrixX3d& deformed, con
 
 //! A protrusion seen from its local base: the foot ring (vertices around its footprint) gives the base
 //! plane (centroid c, normal n by PCA, turned to agree with the ring's vertex normals).
-struct Protrusion {
+struct ProtrusionPose {
   double length = 0;     //!< |tip − c|
   double angle_deg = 0;  //!< angle between tip − c and n
 };
@@ -56,7 +56,7 @@ struct Protrusion {
 //! Measure a protrusion on positions \p X (#V by 3) of \p mesh. \param tip its tip vertex;
 //! \param footprint #V 0/1 membership of its footprint; the foot ring is the vertices outside it next to it.
 //! \throw InvalidInput if the foot ring has fewer than 3 vertices.
-Protrusion measure_protrusion(const Mesh& mesh, const MatrixX3d& X, int tip, const Eigen::VectorXd& footprint);
+ProtrusionPose measure_protrusion(const Mesh& mesh, const MatrixX3d& X, int tip, const Eigen::VectorXd& footprint);
 
 //! Principal extents of each connected feature region (vertices with f > ½): the square roots of the
 //! eigenvalues, descending, of the area-weighted covariance of the region's vertices. The areas are

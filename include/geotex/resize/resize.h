@@ -37,11 +37,9 @@
 #include "geotex/resize/feature_map.h"
 #include "geotex/resize/measure.h"
 #include "geotex/toolkit/laplace.h"
+#include "geotex/toolkit/space_maps.h"
 
 namespace geotex {
-
-//! A space map R³ → R³ applied to every vertex.
-using SpaceMap = std::function<Vec3(const Vec3&)>;
 
 //! Anisotropic scaling about \p centre: x ↦ centre + diag(s) (x − centre).
 SpaceMap scale_map(const Vec3& s, const Vec3& centre = Vec3::Zero());
@@ -68,9 +66,6 @@ struct SpaceMapOptions {
 
 //! The composed space map for a model with bounding box \p box. \throw InvalidInput for bad options.
 SpaceMap space_map(const SpaceMapOptions& options, const BoundingBox& box);
-
-//! c_i = map(x_i) for every row of \p X (#V by 3).
-MatrixX3d apply_space_map(const SpaceMap& map, const MatrixX3d& X);
 
 enum class ResizeMethod {
   Sliding,  //!< background slides along the deformed surface; frame pinned (default, beyond the thesis)

@@ -18,7 +18,7 @@ using SpaceMap = std::function<Vec3(const Vec3&)>;
 //! r = radius − z. \throw InvalidInput unless radius is finite and non-zero.
 SpaceMap arc_bend_map(double radius, double x0 = 0.0);
 
-//! \return #V by 3: \p map applied to every row of \p X.
+//! \return #V by 3: \p map applied to every row of \p X (in parallel). \throw InvalidInput if a result is not finite.
 MatrixX3d apply_space_map(const SpaceMap& map, const MatrixX3d& X);
 
 //! The Jacobian of \p map at \p x by central differences with step \p step.
