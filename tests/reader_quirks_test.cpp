@@ -255,6 +255,13 @@ TEST(ReaderQuirks, NonIntegerIndicesAndCountsAreRefusedNotTruncated) {
                                    "bad list length '300'"));
   EXPECT_TRUE(throws_with<IoError>([&] { read_mesh_from_bytes(ascii_ply("property list uchar int vertex_indices", "2.5 0 1 2"), MeshFormat::Ply); },
                                    "bad list length"));
+  // A float-typed count in ascii: 2.5, and 9223372036854775808 (found by fuzz/PlyData: an undefined cast).
+  for (const char* count : {"2.5", "9223372036854775808", "1e300", "nan", "-1"})
+    EXPECT_TRUE(throws_with<IoError>(
+        [&] { read_mesh_from_bytes(ascii_ply("property list double int vertex_indices", std::string(count) + " 0 1 2"), MeshFormat::Ply); },
+        "bad list length"))
+        << count;
+  EXPECT_EQ(read_mesh_from_bytes(ascii_ply("property list double int vertex_indices", "3.0 0 1 2"), MeshFormat::Ply).n_faces(), 1u);
   EXPECT_TRUE(throws_with<IoError>(
       [&] {
         read_mesh_from_bytes(binary_ply("property list float int vertex_indices", bytes_of<float>({3.5f}) + bytes_of<int32_t>({0, 1, 2})),

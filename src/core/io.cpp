@@ -653,8 +653,11 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
           const auto& p = d.props[k];
           auto tok = next_token(row);
           if (p.is_list) {
+            // A float count type takes any number: only a whole one that the row could hold is a count
+            // (casting 9.2e18 to int64 is undefined, truncating 2.5 silently wrong).
             double nd;
-            if (!parse_ply_ascii(tok, p.count_type, nd) || nd < 0)
+            if (!parse_ply_ascii(tok, p.count_type, nd) || !(nd >= 0) || nd != std::floor(nd) ||
+                nd > static_cast<double>(data.size()))
               malformed(path, body.line_no, fmt::format("bad list length '{}' (the header declares '{}')", tok,
                                                         type_name(p.count_type)));
             const auto n = static_cast<int64_t>(nd);
