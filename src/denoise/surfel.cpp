@@ -556,7 +556,8 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
   std::vector<double> patch_spread;
   const std::vector<Vec3>* G = o.guided ? &guide : nullptr;
   if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
-  result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), G);
+  if (o.record_energy)
+    result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), G);
 
   if (o.cluster_moves) {
     result.cluster_moves += cluster_moves(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), 20);
@@ -632,8 +633,10 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
       std::swap(w.s.a, next.a);
       update_centers(w.X, w.s);
       result.thresholds_deg.push_back(t);
-      if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
-      result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord, G));
+      if (o.record_energy) {
+        if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
+        result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord, G));
+      }
       report(o.progress, double(++done) / std::max(total, 1), "surfel ICM");
     }
   }
