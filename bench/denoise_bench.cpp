@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <sys/resource.h>
 #include <cstdio>
 #include <cmath>
 #include <cstdlib>
@@ -37,6 +38,12 @@ using namespace geotex;
 namespace {
 
 double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+// CPU seconds (user + system) of the finished child processes.
+double child_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_CHILDREN, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 double wall_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -109,9 +116,25 @@ Outcome run_method(const std::string& method, const Mesh& in, const std::vector<
     const AutoDenoiseResult r = auto_denoise(in, o);
     out.params = describe(r.resolved);
     for (const auto& c : r.choices) out.params += "\n  " + c;
+    for (const auto& [name, sec] : r.seconds) out.params += fmt::format("\n  {}: {:.3f} s", name, sec);
     out.mesh = in;
     set_positions(out.mesh, r.positions);
     out.labels = r.edge_labels;
+  } else if (method.rfind("peer-", 0) == 0) {
+    // A published denoiser (../shared/peers, gd_denoise METHOD IN OUT), run as a process on OBJ files.
+    const char* gd = std::getenv("GEOTEX_PEERS");
+    if (!gd) throw InvalidOption("set GEOTEX_PEERS to the gd_denoise binary");
+    const std::string dir = "/tmp/denoise_bench_peer", in_path = dir + "/in.obj", out_path = dir + "/out.obj";
+    std::filesystem::create_directories(dir);
+    WriteOptions wo;
+    write_mesh(in, in_path, wo);
+    const double c0 = child_cpu_seconds();
+    const std::string cmd = fmt::format("{} {} {} {} > /dev/null 2>&1", gd, method.substr(5), in_path, out_path);
+    if (std::system(cmd.c_str()) != 0) throw InvalidOption("peer failed: " + cmd);
+    out.mesh = read_mesh(out_path);
+    out.cpu = child_cpu_seconds() - c0;
+    out.wall = wall_seconds() - w0;
+    return out;
   } else if (method == "none") {
     out.mesh = in;
   } else if (method == "surfel") {
@@ -160,6 +183,34 @@ int cmd_run(int argc, char** argv) {
     }
   }
   fmt::print("{}\n  {}\n", line, r.params);
+  return 0;
+}
+
+// denoise_bench score RESULT TRUTH [LABELS.ply]: "error Ev precision recall" (labels against the truth's
+// edges above 30°, matched by their vertices; "- -" without labels).
+int cmd_score(int argc, char** argv) {
+  if (argc < 4) throw InvalidOption("usage: denoise_bench score RESULT TRUTH [LABELS.ply]");
+  const Mesh result = read_mesh(argv[2]), truth = read_mesh(argv[3]);
+  const Comparison c = compare_meshes(result, truth);
+  std::string labels = "-\t-";
+  if (argc >= 5) {
+    const EdgeValues ev = read_edge_values(argv[4], "label");
+    std::vector<int> keep;
+    for (Eigen::Index i = 0; i < ev.values.size(); ++i)
+      if (ev.values[i] > 0.5) keep.push_back(static_cast<int>(i));
+    MatrixX2i L(keep.size(), 2);
+    for (size_t k = 0; k < keep.size(); ++k) L.row(k) = ev.edges.row(keep[k]);
+    const Eigen::VectorXd D = dihedral_angles(truth);
+    const MatrixX2i E = edges(truth);
+    std::vector<int> sharp;
+    for (Eigen::Index i = 0; i < D.size(); ++i)
+      if (std::abs(D[i]) > 30.0 * M_PI / 180.0) sharp.push_back(static_cast<int>(i));
+    MatrixX2i T(sharp.size(), 2);
+    for (size_t k = 0; k < sharp.size(); ++k) T.row(k) = E.row(sharp[k]);
+    const LabelScore s = score_edge_labels(L, T);
+    labels = fmt::format("{:.2f}\t{:.2f}", s.precision, s.recall);
+  }
+  fmt::print("{:.3f}\t{:.3e}\t{}\n", c.mean_normal_error_deg, c.ev_relative, labels);
   return 0;
 }
 
@@ -223,6 +274,7 @@ Mesh load_model(const std::string& name) {
   if (name.find('/') != std::string::npos) return read_mesh(name);
   if (name == "cube") return subdivided_cube(40);
   if (name == "sphere") return icosphere(5, 1.0);
+  if (name == "cylinder") return cylinder(0.5, 1.0, 96, 48);
   if (name == "torus") return torus(1.0, 0.35, 160, 60);
   for (const char* ext : {".obj", ".ply"})
     if (std::filesystem::exists(dir / (name + ext))) return read_mesh(dir / (name + ext));
@@ -367,6 +419,7 @@ int main(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "fan") == 0) return cmd_fan(argc, argv);
     if (argc >= 2 && std::strcmp(argv[1], "synth") == 0) return cmd_synth(argc, argv);
     if (argc >= 2 && std::strcmp(argv[1], "noise") == 0) return cmd_noise(argc, argv);
+    if (argc >= 2 && std::strcmp(argv[1], "score") == 0) return cmd_score(argc, argv);
     fmt::print(stderr, "usage: denoise_bench run METHOD IN [--out OUT] [--edges E] [--truth T] [--preset P] [k=v ...]\n");
     return 2;
   } catch (const std::exception& e) {

@@ -6,6 +6,7 @@
 #include "geotex/denoise/auto_denoise.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -176,6 +177,12 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   o = options;
   const MatrixX3d X = positions(mesh);
   const MatrixX3i F = faces(mesh);
+  auto clock = std::chrono::steady_clock::now();
+  auto stage = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    r.seconds.emplace_back(name, std::chrono::duration<double>(now - clock).count());
+    clock = now;
+  };
 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
   r.noise = estimate_noise(mesh);
@@ -189,6 +196,7 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
                                     r.noise.outliers > 0.02 ? fmt::format(", {:.0f}% outliers", 100 * r.noise.outliers)
                                                             : std::string()));
   }
+  stage("noise estimate");
   const double s4 = std::pow(normal_noise / o.keep_below, 4), keep = s4 / (1 + s4);
   if (keep < 1e-6) {
     r.positions = X;
@@ -216,6 +224,7 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   mild.t_start_deg = std::clamp(kMildFactor * m0, kMildEnd, 60.0);
   mild.progress = [&](double f, std::string_view) { report(o.progress, 0.1 * f, "auto: mild pass"); };
   SurfelResult sr = optimize_surfels(X, N, S0, mild);
+  stage("mild surfel pass");
   const std::vector<double> angles = neighbor_angles(sr.surfels, N);
   const double q50 = quantile(angles, 0.5);
   // 3. The sharp pass, which also reads the surface: it flattens the faces of a creased surface until
@@ -228,6 +237,7 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   sharp.progress = [&](double f, std::string_view) { report(o.progress, 0.1 + 0.8 * f, "auto: sharp pass"); };
   SurfelResult sharp_result = optimize_surfels(X, N, S0, sharp);
   const double q25 = quantile(neighbor_angles(sharp_result.surfels, N), 0.25);
+  stage("sharp surfel pass");
   if (o.creased) {
     r.choices.push_back(fmt::format("surface: {} (given)", *o.creased ? "creased" : "smooth"));
   } else {
@@ -265,7 +275,9 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
     r.positions = X + keep * (r.positions - X);
     r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept", 100 * keep));
   }
+  stage("vertex fit");
   r.turned_over = untangle(mesh, F, r.positions, FN, kUntangleRounds);
+  stage("untangle");
   report(o.progress, 0.95, "auto: fit");
 
   // 7. Labels: the edge process (Eq. 6.12) on the result.
@@ -276,6 +288,7 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   int labelled = 0;
   for (Eigen::Index k = 0; k < r.edge_labels.size(); ++k) labelled += r.edge_labels[k] > 0.5;
   r.choices.push_back(fmt::format("labels: {} edges sharper than {:.0f} deg", labelled, *o.label_angle_deg));
+  stage("labels");
   report(o.progress, 1.0, "auto");
   return r;
 }

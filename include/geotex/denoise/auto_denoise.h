@@ -22,6 +22,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -87,6 +88,8 @@ struct AutoDenoiseResult {
   AutoDenoiseOptions resolved;         //!< the options with every automatic value set
   std::vector<std::string> choices;    //!< what was chosen and why, one short line each
   int turned_over = 0;                 //!< faces left turned over against their target normals (normally 0)
+  std::vector<std::pair<std::string, double>> seconds;  //!< wall time of each stage
+
 };
 
 //! Denoise \p mesh with the default pipeline (see the file's comment).
