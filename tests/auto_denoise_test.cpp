@@ -11,6 +11,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
 #include "geotex/denoise/auto_denoise.h"
+#include "geotex/denoise/surfel.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
 #include "geotex/tools/shapes.h"
@@ -211,4 +212,35 @@ TEST(AutoDenoise, SharedPairsAtOrBelowTheBestPeer) {
     EXPECT_EQ(*r.resolved.creased, p.creased) << p.name;
     EXPECT_EQ(folds(out, truth), 0) << p.name;
   }
+}
+
+// The option tables of the denoisers added here: every default valid and round-tripping through text,
+// every preset valid (as options_test does for the others).
+template <class O>
+void expect_table_is_consistent(const char* what) {
+  const auto& t = O::table();
+  const O defaults{};
+  for (const auto& f : t.fields()) {
+    const OptionValue v = f.get(defaults);
+    EXPECT_NO_THROW(check_option_value(f.info, v)) << what << ": default of " << f.info.name;
+    O o;
+    f.set(o, parse_option_value(f.info, format_option_value(v)));
+    EXPECT_EQ(format_option_value(f.get(o)), format_option_value(v)) << what << ": " << f.info.name;
+    EXPECT_FALSE(f.info.help.empty()) << what << ": " << f.info.name;
+  }
+  for (const auto& p : t.presets()) {
+    O o;
+    p.apply(o);
+    EXPECT_NO_THROW(t.check(o)) << what << ": preset " << p.name;
+  }
+}
+
+TEST(AutoDenoise, OptionTablesAreConsistent) {
+  expect_table_is_consistent<AutoDenoiseOptions>("AutoDenoiseOptions");
+  expect_table_is_consistent<SurfelDenoiseOptions>("SurfelDenoiseOptions");
+  // Names usable as CLI flags and Python keywords.
+  for (const auto& f : SurfelDenoiseOptions::table().fields())
+    EXPECT_EQ(f.info.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_0123456789"), std::string::npos) << f.info.name;
+  for (const auto& f : AutoDenoiseOptions::table().fields())
+    EXPECT_EQ(f.info.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_0123456789"), std::string::npos) << f.info.name;
 }
