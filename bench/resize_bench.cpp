@@ -1,6 +1,7 @@
 // Benchmarks of feature-aware resizing (thesis ch. 9) on the bumpy plate at 1e5 and 1e6 faces,
 // including every factorization. Run: build/bench/resize_bench (results in bench/resize.md)
 
+#include <array>
 #include <map>
 
 #include <benchmark/benchmark.h>
@@ -27,15 +28,19 @@ void BM_Resize(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(feature_aware_resize(b.mesh, map, b.truth, o));
   state.counters["faces"] = static_cast<double>(b.mesh.n_faces());
 }
-// method 0 = Sliding (default, one refinement), 1 = Thesis.
+// method 0 = Sliding (default), 1 = Thesis.
 BENCHMARK(BM_Resize)->ArgsProduct({{224, 708}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(1);
 
-void BM_FeaturesFromHeight(benchmark::State& state) {
+// Feature maps (feature_map.h): method 0 = auto (the ADF's eigenproblem, then, on this plate, the
+// height map it falls back to), 1 = height, 2 = adf.
+void BM_FeatureMap(benchmark::State& state) {
   const BumpyPlate& b = plate(static_cast<int>(state.range(0)));
-  for (auto _ : state) benchmark::DoNotOptimize(features_from_height(b.mesh));
+  FeatureMapOptions o;
+  o.method = std::array{FeatureMapMethod::Auto, FeatureMapMethod::Height, FeatureMapMethod::Adf}[state.range(1)];
+  for (auto _ : state) benchmark::DoNotOptimize(feature_map(b.mesh, o));
   state.counters["faces"] = static_cast<double>(b.mesh.n_faces());
 }
-BENCHMARK(BM_FeaturesFromHeight)->Arg(224)->Arg(708)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_FeatureMap)->ArgsProduct({{224, 708}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

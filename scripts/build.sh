@@ -6,12 +6,8 @@ jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
 cmake --build build -j"$jobs"
 
-# Make `/usr/bin/python3 -c "import geotex"` work: point Debian Python's site folder at build/python.
-if [ -d build/python/geotex ]; then
-  site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])' 2>/dev/null || true)
-  if [ -n "$site" ] && { mkdir -p "$site" 2>/dev/null && [ -w "$site" ]; }; then
-    echo "$(pwd)/build/python" > "$site/geotex-build.pth"
-  else
-    echo "build: to import geotex from Python: export PYTHONPATH=$(pwd)/build/python"
-  fi
-fi
+# The Python module is in build/python (PYTHONPATH=build/python); to install it, see the README:
+# `/usr/bin/python3 -m venv --system-site-packages venv && venv/bin/pip install --no-build-isolation .`
+# (an older build wrote a .pth file into the system's site-packages; remove it)
+site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])' 2>/dev/null || true)
+if [ -n "$site" ] && [ -f "$site/geotex-build.pth" ]; then rm -f "$site/geotex-build.pth" 2>/dev/null || true; fi

@@ -12,6 +12,9 @@
 #include <cstring>
 #include <string>
 
+#include <sys/stat.h>
+#include <sys/wait.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -664,4 +667,167 @@ TEST(BadInputCatalogue, TenMillionFaces) {
   EXPECT_NE(r.err.find("peak memory"), std::string::npos) << r.err;
   // Without --stats nothing extra is printed.
   EXPECT_EQ(run_cli("-q info " + (tmp / "bad.obj")).err.find("stats"), std::string::npos);
+}
+
+// ---- encodings: byte order mark, CRLF and lone CR (issue 14, class 5) ---------------------------
+
+namespace {
+
+std::string with_line_ends(const std::string& lf, const std::string& eol) {
+  std::string out;
+  for (char c : lf) {
+    if (c == '\n') out += eol;
+    else out += c;
+  }
+  return out;
+}
+
+// Runs the CLI under a hard time limit (coreutils' timeout): a hang is a failure, not a stuck test.
+CliResult run_cli_limited(const std::string& args, int seconds = 30) {
+  TempDir tmp;
+  const std::string out = tmp / "out.txt", err = tmp / "err.txt";
+  const std::string cmd = "timeout -s KILL " + std::to_string(seconds) + " " + std::string(GEOTEX_CLI) + " " + args +
+                          " >" + out + " 2>" + err + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;  // 137: killed after the time limit
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+}  // namespace
+
+TEST(BadInputCatalogue, ByteOrderMarkAndLineEnds) {
+  // On main an OBJ with a BOM lost its first vertex and a lone CR merged every line into one,
+  // even with --strict.
+  TempDir tmp;
+  const Mesh m = icosphere(1);
+  for (const char* ext : kFormats) {
+    WriteOptions w;
+    w.binary = false;
+    write_mesh(m, tmp / (std::string("lf.") + ext), w);
+    const std::string lf = read_file(tmp / (std::string("lf.") + ext));
+    for (const std::string eol : {"\r\n", "\r"})
+      for (bool bom : {false, true}) {
+        const std::string f = tmp / fmt::format("{}{}.{}", bom ? "bom-" : "", eol.size() == 2 ? "crlf" : "cr", ext);
+        write_file(f, (bom ? "\xEF\xBB\xBF" : "") + with_line_ends(lf, eol));
+        const CliResult r = run_cli("-q info --strict --json " + f);
+        ASSERT_EQ(r.exit_code, 0) << f << ": " << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["vertices"].get<size_t>(), m.n_vertices()) << f;
+        EXPECT_EQ(j["faces"].get<size_t>(), m.n_faces()) << f;
+      }
+  }
+}
+
+// ---- PLY declarations and non-integer indices (issue 14, class 5) -------------------------------
+
+TEST(BadInputCatalogue, PlyDuplicatePropertiesAndNonIntegerIndices) {
+  TempDir tmp;
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n";
+  const std::string rows = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  struct Case {
+    const char* name;
+    std::string text;
+    const char* needle;
+  };
+  const std::vector<Case> cases = {
+      {"x-twice", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                  "0 9 0 0\n1 9 0 0\n0 9 1 0\n3 0 1 2\n", "declared twice"},
+      {"fraction-int", head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + rows + "3 0 1.5 2\n",
+       "not an integer"},
+      {"fraction-float", head + "element face 1\nproperty list uchar float vertex_indices\nend_header\n" + rows + "3 0 1 2.5\n",
+       "not an integer index"},
+      {"huge", head + "element face 1\nproperty list uchar double vertex_indices\nend_header\n" + rows + "3 0 1 1e300\n",
+       "not an integer index"},
+      {"nan", head + "element face 1\nproperty list uchar double vertex_indices\nend_header\n" + rows + "3 0 1 nan\n",
+       "not an integer index"},
+      {"count", head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + rows + "3.5 0 1 2\n",
+       "bad list length"},
+  };
+  for (const auto& c : cases) {
+    const std::string f = tmp / (std::string(c.name) + ".ply");
+    write_file(f, c.text);
+    EXPECT_TRUE(one_line_error(run_cli("info " + f), c.needle)) << c.name;
+    EXPECT_TRUE(one_line_error(run_cli("smooth " + f + " -o " + (tmp / "out.ply")), c.needle)) << c.name;
+    EXPECT_FALSE(fs::exists(tmp / "out.ply"));
+  }
+}
+
+// ---- special files as inputs (issue 14, class 7) --------------------------------------------------
+
+TEST(BadInputCatalogue, SpecialFilesAsInputs) {
+  // On main a FIFO input blocked forever and /dev/zero as a handles or feature file was read until
+  // memory ran out. Now: one line at once.
+  TempDir tmp;
+  const std::string cube = tmp / "cube.obj";
+  ASSERT_EQ(run_cli("-q generate cube --level 0 -o " + cube).exit_code, 0);
+  ASSERT_EQ(::mkfifo((tmp / "fifo.obj").c_str(), 0644), 0);
+  ASSERT_EQ(::mkfifo((tmp / "fifo.json").c_str(), 0644), 0);
+  fs::create_symlink("/dev/zero", tmp.path / "zero.json");
+  fs::create_symlink("/dev/zero", tmp.path / "zero.txt");
+  const std::string out = tmp / "out.obj";
+  EXPECT_TRUE(one_line_error(run_cli_limited("info " + (tmp / "fifo.obj")), "FIFO"));
+  EXPECT_TRUE(one_line_error(run_cli_limited("smooth " + (tmp / "fifo.obj") + " -o " + out), "FIFO"));
+  EXPECT_TRUE(one_line_error(run_cli_limited("deform " + cube + " --handles " + (tmp / "fifo.json") + " -o " + out), "FIFO"));
+  EXPECT_TRUE(one_line_error(run_cli_limited("deform " + cube + " --handles " + (tmp / "zero.json") + " -o " + out), "device"));
+  EXPECT_TRUE(one_line_error(run_cli_limited("resize " + cube + " --scale 2,1,1 --features " + (tmp / "zero.txt") + " -o " + out),
+                             "device"));
+  EXPECT_TRUE(one_line_error(run_cli_limited("surfels " + (tmp / "zero.txt") + " -o " + (tmp / "s.ply")), "device"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// ---- the output path (issue 14, class 3) ----------------------------------------------------------
+
+TEST(BadInputCatalogue, OutputPathIsKeptAsTheUserMadeIt) {
+  TempDir tmp;
+  const std::string cube = "-q generate cube --level 0 -o ";
+  // A FIFO or a device at the output path is refused without blocking (main replaced it by a file,
+  // or waited for a reader).
+  ASSERT_EQ(::mkfifo((tmp / "fifo.obj").c_str(), 0644), 0);
+  EXPECT_TRUE(one_line_error(run_cli_limited(cube + (tmp / "fifo.obj")), "FIFO"));
+  EXPECT_TRUE(fs::is_fifo(tmp.path / "fifo.obj"));
+  // A read-only file is not replaced.
+  write_file(tmp / "ro.obj", "keep me");
+  ::chmod((tmp / "ro.obj").c_str(), 0444);
+  EXPECT_TRUE(one_line_error(run_cli(cube + (tmp / "ro.obj")), "is read-only; geotex does not replace it"));
+  EXPECT_EQ(read_file(tmp / "ro.obj"), "keep me");
+  // A replaced file keeps its mode.
+  write_file(tmp / "private.obj", "old");
+  ::chmod((tmp / "private.obj").c_str(), 0600);
+  ASSERT_EQ(run_cli(cube + (tmp / "private.obj")).exit_code, 0);
+  struct stat st {};
+  ASSERT_EQ(::stat((tmp / "private.obj").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  // A symbolic link stays a link; its target gets the result.
+  fs::create_symlink("private.obj", tmp.path / "link.obj");
+  write_file(tmp / "private.obj", "old");
+  ASSERT_EQ(run_cli(cube + (tmp / "link.obj")).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(tmp.path / "link.obj"));
+  EXPECT_NE(read_file(tmp / "private.obj"), "old");
+  // A name of 250 characters works (main's temporary name was 13 characters longer than the name).
+  const std::string long_name = tmp / (std::string(246, 'n') + ".obj");
+  ASSERT_EQ(run_cli(cube + long_name).exit_code, 0);
+  EXPECT_GT(info_json(long_name)["faces"].get<size_t>(), 0u);
+  // No temporary is left anywhere.
+  for (const auto& e : fs::directory_iterator(tmp.path)) EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
+}
+
+TEST(BadInputCatalogue, NonFiniteResultsAreNotWritten) {
+  // Coordinates of 1e200 are finite, but noise and denoise overflow on them: on main the inf/NaN
+  // result was written with exit 0 (a file geotex's own reader refuses). The writers refuse it now.
+  TempDir tmp;
+  write_file(tmp / "big.obj", "v 0 0 0\nv 1e200 0 0\nv 0 1e200 0\nv 0 0 1e200\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  for (const char* cmd : {"noise", "denoise"}) {
+    write_file(tmp / "out.obj", "old");
+    const CliResult r = run_cli("-q " + std::string(cmd) + " " + (tmp / "big.obj") + " -o " + (tmp / "out.obj"));
+    if (r.exit_code == 0) {
+      EXPECT_TRUE(all_finite(read_mesh(tmp / "out.obj"))) << cmd;
+    } else {
+      EXPECT_TRUE(one_line_error(r, "non-finite")) << cmd;
+      EXPECT_EQ(read_file(tmp / "out.obj"), "old") << cmd;
+    }
+  }
 }

@@ -60,3 +60,17 @@ TEST(Diffusion, RejectsBadArguments) {
   EXPECT_THROW(laplace_spectrum(s, static_cast<int>(s.n_vertices())), InvalidInput);
   EXPECT_THROW(auto_diffusion_function(s, {.t = -1}), InvalidInput);
 }
+
+TEST(Diffusion, IsolatedVerticesLeaveTheSpectrumAlone) {
+  // Scans come with vertices in no face (the bunny has 1113): each would be a spurious λ = 0 mode.
+  const Mesh s = icosphere(2);
+  Mesh with = s;
+  for (int k = 0; k < 30; ++k) with.add_vertex(Mesh::Point(5.0 + k, 0, 0));
+  const LaplaceSpectrum a = laplace_spectrum(s, 12), b = laplace_spectrum(with, 12);
+  ASSERT_EQ(b.vectors.rows(), static_cast<Eigen::Index>(with.n_vertices()));
+  EXPECT_LT((a.values - b.values).cwiseAbs().maxCoeff(), 1e-8 * (1 + a.values.maxCoeff()));
+  EXPECT_EQ(b.vectors.bottomRows(30).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::VectorXd adf = auto_diffusion_function(with, {0.1, 12});
+  EXPECT_TRUE(adf.allFinite());
+  EXPECT_LT((adf.head(s.n_vertices()) - auto_diffusion_function(s, {0.1, 12})).cwiseAbs().maxCoeff(), 1e-8);
+}

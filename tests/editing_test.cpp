@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geotex/toolkit/editing.h"
+#include "geotex/toolkit/laplace.h"
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
@@ -242,4 +243,33 @@ TEST(DeformCli, HandlesJsonWithRegionsAndTransforms) {
   EXPECT_NE(geotex::test::run_cli("deform " + tmp / "p.ply" + " --handles " + tmp / "h.json" + " -o " + tmp / "x.ply" +
                                   " --method nope").exit_code, 0);
   EXPECT_EQ(geotex::test::run_cli("deform --help").exit_code, 0);
+}
+
+TEST(Editing, AFanOfThousandsIsEditedInLinearMemory) {
+  // The centre's Laplacian row couples all its neighbours: in LᵀL (and GᵀG) it is a k × k block, which
+  // for k = 6000 is 290 MB (linear method: 2.6 GB). The long rows go by a low-rank update instead; the
+  // plain method's result must still solve the normal equations of Eq. (5.20), (LᵀL + W²) X = Lᵀ L X0 + W² C.
+  const int k = 6000;
+  MatrixX3d V(k + 1, 3);
+  MatrixX3i F(k, 3);
+  V.row(0) << 0, 0, 0.1;
+  for (int i = 0; i < k; ++i) {
+    const double a = 2 * M_PI * i / k;
+    V.row(i + 1) << std::cos(a), std::sin(a), 0;
+    F.row(i) << 0, i + 1, (i + 1) % k + 1;
+  }
+  const Mesh fan = make_mesh(V, F);
+  const std::vector<int> handles{0, 1, 1 + k / 3, 1 + 2 * k / 3};
+  MatrixX3d targets(4, 3);
+  targets << 0, 0, 0.6, V.row(1), V.row(1 + k / 3), V.row(1 + 2 * k / 3);
+  EditOptions o;
+  o.method = EditMethod::Plain;
+  const MatrixX3d Y = laplacian_edit(fan, handles, targets, o);
+  const SparseMatrix L = umbrella_laplacian(fan);
+  MatrixX3d R = L.transpose() * (L * Y - L * V);
+  for (size_t h = 0; h < handles.size(); ++h) R.row(handles[h]) += Y.row(handles[h]) - targets.row(h);  // w = 1
+  EXPECT_LT(R.norm(), 1e-8 * (L.transpose() * (L * V)).norm() + 1e-10);
+  EXPECT_GT(Y(0, 2), 0.2);  // the centre went up with its handle
+  o.method = EditMethod::Linear;
+  EXPECT_TRUE(laplacian_edit(fan, handles, targets, o).allFinite());
 }

@@ -79,3 +79,32 @@ TEST(SpdSolver, BlockSizeMustDivideTheUnknowns) {
   EXPECT_THROW(s.analyze(A, 5), SolverError);
   EXPECT_THROW(s.analyze(A, 0), SolverError);
 }
+
+TEST(LeastSquaresSolver, LongRowsByWoodburyMatchTheDenseNormalEquations) {
+  // A sparse G with a few long rows (a high-valence vertex couples all its neighbours), and a diagonal
+  // that leaves one unknown constrained only by the long rows (the base matrix is singular then).
+  const int n = 300;
+  Rng rng(7);
+  std::vector<Triplet> t;
+  int row = 0;
+  for (int i = 0; i + 1 < n - 1; ++i, ++row) {  // a chain of differences over unknowns 0..n-2
+    t.emplace_back(row, i, 1.0);
+    t.emplace_back(row, i + 1, -1.0);
+  }
+  for (int k = 0; k < 3; ++k, ++row)  // three long rows, each over every unknown
+    for (int j = 0; j < n; ++j) t.emplace_back(row, j, rng.normal());
+  SparseMatrix G(row, n);
+  G.setFromTriplets(t.begin(), t.end());
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+  d[0] = 2.0;  // pins the chain
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 2);
+  const Eigen::MatrixXd A = Eigen::MatrixXd(G).transpose() * Eigen::MatrixXd(G) + Eigen::MatrixXd(d.asDiagonal());
+  const Eigen::MatrixXd reference = A.ldlt().solve(B);
+  for (int dense_row_nnz : {1000, 100}) {  // all rows factored, or the three long ones by the update
+    LeastSquaresSolver s;
+    s.compute(G, d, 1, dense_row_nnz);
+    EXPECT_EQ(s.dense_rows(), dense_row_nnz == 100 ? 3 : 0);
+    const Eigen::MatrixXd X = s.solve(B);
+    EXPECT_LT((X - reference).norm(), 1e-7 * reference.norm()) << dense_row_nnz;
+  }
+}

@@ -409,7 +409,7 @@ TEST(MrfCli, DenoiseWritesMeshLabelsAndReport) {
     const auto j = nlohmann::json::parse(geotex::test::read_file(tmp / "r.json"));
     EXPECT_EQ(j["iterations"].get<int>(), 3);
     EXPECT_EQ(j["energy_per_iteration"]["edge_process"].size(), 3u);
-    EXPECT_EQ(j["parameters"]["phi0_deg"].get<double>(), 40.0);
+    EXPECT_EQ(j["parameters"]["phi0"].get<double>(), 40.0);  // report keys are the option names
     EXPECT_GT(j["seconds"].get<double>(), 0.0);
     EXPECT_FALSE(geotex::test::read_file(tmp / "e.ply").empty());
     EXPECT_FALSE(geotex::test::read_file(tmp / "e.obj").empty());

@@ -6,7 +6,11 @@
 
 #include "geotex/core/options.h"
 #include "geotex/denoise/mrf.h"
+#include "geotex/toolkit/editing.h"
+#include "geotex/toolkit/parametrization.h"
+#include "geotex/toolkit/phong_projection.h"
 #include "geotex/toolkit/smoothing.h"
+#include "geotex/tools/noise.h"
 
 namespace geotex {
 namespace {
@@ -38,6 +42,10 @@ TEST(Options, TablesAreConsistent) {
   expect_table_is_consistent<SmoothingOptions>("SmoothingOptions");
   expect_table_is_consistent<MrfOptions>("MrfOptions");
   expect_table_is_consistent<MrfNormalOptions>("MrfNormalOptions");
+  expect_table_is_consistent<NoiseOptions>("NoiseOptions");
+  expect_table_is_consistent<EditOptions>("EditOptions");
+  expect_table_is_consistent<ParametrizationOptions>("ParametrizationOptions");
+  expect_table_is_consistent<PhongProjectionOptions>("PhongProjectionOptions");
 }
 
 TEST(Options, SettingByNameReachesTheField) {

@@ -8,6 +8,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
 #include "geotex/resize/resize.h"
+#include "geotex/toolkit/laplace.h"
 #include "geotex/tools/shapes.h"
 #include "test_util.h"
 
@@ -142,6 +143,94 @@ TEST(Resize, AutomaticFeaturesFindTheBumps) {
   }
   std::printf("  height features vs true footprints: IoU %.3f\n", inter / uni);
   EXPECT_GT(inter / uni, 0.7);
+}
+
+// Eq. (9.3) as written: W [L; I] X = W [D^t; C] solved in the least-squares sense, with W the
+// diagonal of the f_i and the w p_i. Reference: the dense least-squares solution of that stacked
+// system by QR, per coordinate, on a small mesh with fractional weights (for 0/1 weights and w = 1
+// squaring would change nothing).
+TEST(Resize, ThesisPresetSolvesEquation93AsWritten) {
+  const Mesh m = icosphere(1);  // 42 vertices
+  const int n = static_cast<int>(m.n_vertices());
+  const MatrixX3d X = positions(m);
+  MatrixX3d C = apply_map(twist_map(0.8), apply_map(scale_map({1.7, 1.0, 0.8}), X));
+  Eigen::VectorXd f(n);
+  for (int i = 0; i < n; ++i) f[i] = 0.5 + 0.45 * std::sin(3.0 * i);  // in [0.05, 0.95]
+  ResizeOptions o;
+  ResizeOptions::table().apply_preset(o, "thesis");
+  o.position_weight = 2.5;
+  ASSERT_EQ(o.method, ResizeMethod::Thesis);
+  ASSERT_TRUE(o.square_weights);
+  ASSERT_FALSE(o.keep_feature_size);  // T_i similarities ("rotation and scale")
+  const MatrixX3d Y = feature_aware_resize(m, C, f, o);
+
+  const Eigen::MatrixXd L = Eigen::MatrixXd(umbrella_laplacian(m));
+  const std::vector<Similarity> T = one_ring_similarities(m, X, C, true);
+  MatrixX3d Dt(n, 3);
+  const MatrixX3d D = L * X;
+  for (int i = 0; i < n; ++i) Dt.row(i) = (T[i].linear() * D.row(i).transpose()).transpose();
+  auto stacked_solution = [&](const Eigen::VectorXd& rows_f, const Eigen::VectorXd& rows_p) {
+    Eigen::MatrixXd A(2 * n, n);
+    A << rows_f.asDiagonal() * L, Eigen::MatrixXd(rows_p.asDiagonal());
+    Eigen::MatrixXd B(2 * n, 3);
+    B << rows_f.asDiagonal() * Dt, rows_p.asDiagonal() * C;
+    return Eigen::MatrixXd(A.colPivHouseholderQr().solve(B));
+  };
+  const Eigen::VectorXd wp = o.position_weight * (Eigen::VectorXd::Ones(n) - f);
+  const Eigen::MatrixXd ref93 = stacked_solution(f, wp);  // rows weighted by W: energy weights f², (w p)²
+  EXPECT_LT((Y - ref93).cwiseAbs().maxCoeff(), 1e-5);
+  // Without squaring, the energy of Eq. (9.2) itself: rows weighted by √f, √(w p).
+  o.square_weights = false;
+  const MatrixX3d Y92 = feature_aware_resize(m, C, f, o);
+  const Eigen::MatrixXd ref92 = stacked_solution(f.cwiseSqrt(), wp.cwiseSqrt());
+  EXPECT_LT((Y92 - ref92).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_GT((ref92 - ref93).cwiseAbs().maxCoeff(), 1e-3) << "the test case must tell the two apart";
+}
+
+TEST(Resize, OptionTablesDescribeEveryOptionAndTheThesisPreset) {
+  ResizeOptions o;
+  EXPECT_NO_THROW(ResizeOptions::table().check(o));
+  EXPECT_NE(ResizeOptions::table().find("square_weights"), nullptr);
+  EXPECT_NE(ResizeOptions::table().find("transition"), nullptr);
+  EXPECT_THROW(ResizeOptions::table().apply_preset(o, "nonsense"), InvalidOption);
+  o.position_weight = -1;
+  EXPECT_THROW(feature_aware_resize(plane(3), MatrixX3d(positions(plane(3))), Eigen::VectorXd::Zero(16), o), InvalidInput);
+  FeatureMapOptions fo;
+  EXPECT_NO_THROW(FeatureMapOptions::table().check(fo));
+  FeatureMapOptions::table().set(fo, "features", std::string("adf"));
+  EXPECT_EQ(fo.method, FeatureMapMethod::Adf);
+  EXPECT_THROW(FeatureMapOptions::table().set(fo, "features", std::string("magic")), InvalidOption);
+  SpaceMapOptions so;
+  EXPECT_TRUE(so.identity());
+  EXPECT_THROW(SpaceMapOptions::table().set(so, "scale", Vec3(2, 0, 1)), InvalidOption);
+}
+
+TEST(Resize, ArcMapKeepsTheAxisLengthAndBendsIt) {
+  const SpaceMap arc = arc_map(2.0);
+  // The line z = 0 keeps its length and lies on the circle of radius 2 about (0, ·, 2).
+  for (double x : {-3.0, -1.0, 0.0, 0.5, 2.0}) {
+    const Vec3 y = arc(Vec3(x, 0.3, 0));
+    EXPECT_NEAR((y - Vec3(0, 0.3, 2)).norm(), 2.0, 1e-12);
+    EXPECT_NEAR(std::atan2(y.x(), 2 - y.z()), x / 2.0, 1e-12);
+  }
+  // A point above the axis (towards the centre) is on the smaller circle.
+  EXPECT_NEAR((arc(Vec3(1, 0, 0.5)) - Vec3(0, 0, 2)).norm(), 1.5, 1e-12);
+}
+
+// Sliding without rings: around the features' rims, the largest crease (dihedral angle) of the
+// result is no larger than the plain map's (which has none of its own beyond the input's).
+TEST(Resize, BendsAndTwistsLeaveNoCreaseAroundFeatures) {
+  const BumpyPlate b = ridge_plate();
+  const MatrixX3d X = positions(b.mesh);
+  const FeatureMap fm = feature_map(b.mesh);
+  const double input = rim_crease_deg(b.mesh, X, fm.weights);
+  for (const SpaceMap& map : {bend_map(1.5), twist_map(1.0), scale_map({2, 1, 1})}) {
+    const MatrixX3d C = apply_map(map, X);
+    const double plain = rim_crease_deg(b.mesh, C, fm.weights);
+    const double sliding = rim_crease_deg(b.mesh, feature_aware_resize(b.mesh, C, fm.weights), fm.weights);
+    std::printf("  largest crease at feature rims (deg): input %.1f, plain map %.1f, sliding %.1f\n", input, plain, sliding);
+    EXPECT_LT(sliding, std::max(input, plain) + 1.0);
+  }
 }
 
 TEST(Resize, RejectsBadInput) {

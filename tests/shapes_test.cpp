@@ -58,3 +58,43 @@ TEST(Shapes, SpikesLeanPastTheirFootprint) {
   EXPECT_TRUE(faces(s.base) == faces(s.textured));
   EXPECT_TRUE(positions(spiky(base, o).textured) == T);
 }
+
+TEST(Shapes, CapsuleIsAClosedSphereWithTheRightArea) {
+  const Mesh m = capsule(1.0, 6.0, 80);
+  EXPECT_EQ(euler_characteristic(m), 2);
+  EXPECT_TRUE(boundary_loops(m).empty());
+  EXPECT_GT(signed_volume(m), 0);  // outward
+  // Area 2πrL + 4πr² of the smooth capsule, approached from below by the inscribed mesh.
+  const double area = face_areas(m).sum(), exact = 2 * M_PI * 6.0 + 4 * M_PI;
+  EXPECT_LT(area, exact);
+  EXPECT_GT(area, 0.99 * exact);
+}
+
+TEST(Shapes, TentacleStickTentaclesBendAsTheySay) {
+  std::vector<Tentacle> info;
+  const TexturedShape s = tentacle_stick(0, &info);
+  ASSERT_EQ(info.size(), 9u);
+  EXPECT_TRUE(faces(s.base) == faces(s.textured));
+  EXPECT_EQ(euler_characteristic(s.textured), 2);
+  const MatrixX3d B = positions(s.base), T = positions(s.textured);
+  const MatrixX3d N = vertex_normals(s.base);
+  const double R = TentacleOptions().radius, L = TentacleOptions().length;
+  for (const auto& t : info) {
+    // The centreline turns at a constant rate from the normal to bend_deg: the chord from foot to
+    // tip makes half that angle with the normal, and has length (2/κ) sin(θ/2), κ = θ/L.
+    const double theta = t.bend_deg * M_PI / 180;
+    EXPECT_NEAR(t.lean_deg, 0.5 * t.bend_deg, 1.0);
+    EXPECT_NEAR(t.length, 2 * L / theta * std::sin(theta / 2), 0.02 * L);
+    // It leans the way it says, and overhangs its foot: the tip is further sideways than the footprint.
+    const Vec3 d = (T.row(t.foot) - B.row(t.foot)).transpose(), n = N.row(t.foot).transpose();
+    const Vec3 side = d - d.dot(n) * n;
+    EXPECT_GT(side.normalized().dot(t.lean), 0.99);
+    EXPECT_GT(side.norm(), 0.5 * R);
+  }
+  // Only the footprints move.
+  const Eigen::VectorXd truth = tentacle_truth(s.base, info, R);
+  for (Eigen::Index i = 0; i < B.rows(); ++i)
+    if (truth[i] == 0) EXPECT_EQ((T.row(i) - B.row(i)).norm(), 0.0);
+  EXPECT_GT(truth.sum(), 0.02 * B.rows());
+  EXPECT_LT(truth.sum(), 0.2 * B.rows());
+}

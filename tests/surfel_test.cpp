@@ -548,7 +548,7 @@ TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
   const Mesh clean = subdivided_cube(8);
   const Mesh noisy = noisy_copy(clean);
   write_mesh(noisy, tmp / "noisy.ply");
-  auto r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --report {} --polygons {}", tmp / "noisy.ply",
+  auto r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval dual --report {} --polygons {}", tmp / "noisy.ply",
                                      tmp / "dual.ply", tmp / "r.json", tmp / "poly.obj"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Mesh dual = read_mesh(tmp / "dual.ply");
@@ -557,7 +557,7 @@ TEST(SurfelCli, DenoiseWritesMeshReportAndPolygons) {
   EXPECT_NE(test::read_file(tmp / "poly.obj").find("\nf "), std::string::npos);
   // Primal retrieval keeps the connectivity and labels edges.
   r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval primal --iterations 3 --surfel-guided "
-                                "--surfel-candidates 1 --edges {}",
+                                "--surfel-candidates --edges {}",
                                 tmp / "noisy.ply", tmp / "primal.ply", tmp / "edges.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Mesh primal = read_mesh(tmp / "primal.ply");
@@ -574,7 +574,7 @@ TEST(SurfelCli, TunedPresetBeatsTheThesisDefaultsAndExplicitFlagsOverrideIt) {
   const Mesh noisy = noisy_copy(clean, 0.3);
   write_mesh(noisy, tmp / "noisy.ply");
   write_mesh(clean, tmp / "clean.ply");
-  auto r = test::run_cli(fmt::format("denoise {} -o {} --method surfel --surfel-preset tuned --report {}",
+  auto r = test::run_cli(fmt::format("denoise {} -o {} --method surfel --preset tuned --report {}",
                                      tmp / "noisy.ply", tmp / "tuned.ply", tmp / "t.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("median angle between neighbouring surfels"), std::string::npos) << r.err;
@@ -583,12 +583,12 @@ TEST(SurfelCli, TunedPresetBeatsTheThesisDefaultsAndExplicitFlagsOverrideIt) {
   EXPECT_NE(report.find("\"weights\": \"irls\""), std::string::npos) << report;
   const Mesh tuned = read_mesh(tmp / "tuned.ply");
   EXPECT_EQ(tuned.n_faces(), noisy.n_faces());  // the fit retrieval keeps the connectivity
-  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --retrieval primal", tmp / "noisy.ply", tmp / "thesis.ply"));
+  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --preset thesis --retrieval primal", tmp / "noisy.ply", tmp / "thesis.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_LT(compare_meshes(tuned, clean).mean_normal_error_deg,
             0.7 * compare_meshes(read_mesh(tmp / "thesis.ply"), clean).mean_normal_error_deg);
   // An explicit flag wins over the preset.
-  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --surfel-preset tuned --retrieval dual --report {}",
+  r = test::run_cli(fmt::format("-q denoise {} -o {} --method surfel --preset tuned --retrieval dual --report {}",
                                 tmp / "noisy.ply", tmp / "dual.ply", tmp / "d.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(test::read_file(tmp / "d.json").find("\"retrieval\": \"dual\""), std::string::npos);

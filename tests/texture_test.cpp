@@ -293,19 +293,21 @@ TEST(Texture, DiskPatchAndTransferOntoItselfReproducesTheTexture) {
   TransferOptions o;
   o.source_center = o.target_center = centre;
   o.source_radius = o.target_radius = 0.3;
+  o.falloff = 0;  // no rim: the identity map copies every value
+  o.refine_ratio = 0;
   const TransferResult r = transfer_texture(s.shape.base, tex, s.shape.base, o);
-  double herr = 0, terr = 0, tmax = 0;
-  for (int v : r.target_patch.vertices) herr = std::max(herr, std::abs(r.texture.height[v] - tex.height[v]));
-  for (auto e : r.target_patch.mesh.edges()) {
-    const int a = r.target_patch.vertices[r.target_patch.mesh.from_vertex_handle(r.target_patch.mesh.halfedge_handle(e, 0)).idx()];
-    const int b = r.target_patch.vertices[r.target_patch.mesh.to_vertex_handle(r.target_patch.mesh.halfedge_handle(e, 0)).idx()];
-    const auto ge = s.shape.base.edge_handle(s.shape.base.find_halfedge(s.shape.base.vertex_handle(a), s.shape.base.vertex_handle(b)));
-    terr = std::max(terr, std::abs(r.texture.tilt[ge.idx()] - tex.tilt[ge.idx()]));
-    tmax = std::max(tmax, std::abs(tex.tilt[ge.idx()]));
+  // Heights are copied; the tilt 1-form is refitted on the target (its coefficients are not unique:
+  // the tangential fit has more edges than equations), so compare what it decodes to: the surface.
+  double herr = 0, xerr = 0;
+  const MatrixX3d Y0 = codec.apply(tex), Y1 = apply_texture(r.target, r.texture);
+  for (int v : r.target_patch.vertices) {
+    herr = std::max(herr, std::abs(r.texture.height[v] - tex.height[v]));
+    xerr = std::max(xerr, (Y1.row(v) - Y0.row(v)).norm());
   }
-  std::cout << "[ transfer onto itself ] max height error " << herr << ", max tilt error " << terr << " (max tilt " << tmax << ")\n";
+  std::cout << "[ transfer onto itself ] max height error " << herr << ", max vertex error " << xerr / s.h
+            << " mean edges\n";
   EXPECT_LT(herr, 1e-9);
-  EXPECT_LT(terr, 0.1 * tmax);
+  EXPECT_LT(xerr, 1e-3 * s.h);
 }
 
 TEST(TextureCli, ExtractEditAnimateApplyAndErrors) {
@@ -361,42 +363,4 @@ TEST(TextureCli, TiltSolverOptions) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--fit-tolerance"), std::string::npos) << r.err;
   EXPECT_EQ(run_cli("texture extract --help").exit_code, 0);
-}
-
-TEST(TextureData, BunnyPatchTransfersToSpotWithItsHeightStatistics) {
-  GEOTEX_REQUIRE_DATA();
-  const Mesh bunny = read_mesh(geotex::test::data_dir() / "stanford-bunny.obj");
-  const Mesh spot = read_mesh(geotex::test::data_dir() / "spot.obj");
-  BaseShapeOptions bo;
-  bo.steps = 3;
-  Mesh base = bunny;
-  set_positions(base, extract_base_shape(bunny, bo));
-  TextureCodec codec(base);
-  const Texture tex = codec.extract(positions(bunny));
-  const double h = mean_edge_length(base);
-  EXPECT_LT((codec.apply(tex) - positions(bunny)).rowwise().norm().maxCoeff(), 1e-2 * h);
-  TransferOptions o;
-  o.source_center = 0;
-  o.source_radius = 20 * h;
-  o.target_center = 0;
-  o.target_radius = 0.25;
-  const TransferResult r = transfer_texture(base, tex, spot, o);
-  auto rms = [](const Eigen::VectorXd& x, const std::vector<int>& ids) {
-    double s = 0;
-    for (int i : ids) s += x[i] * x[i];
-    return std::sqrt(s / ids.size());
-  };
-  const double src = rms(tex.height, r.source_patch.vertices), dst = rms(r.texture.height, r.target_patch.vertices);
-  std::cout << "[ bunny -> spot ] source patch " << r.source_patch.vertices.size() << " vertices, rms height " << src
-            << "; target patch " << r.target_patch.vertices.size() << " vertices, rms height " << dst << "\n";
-  EXPECT_GT(r.target_patch.vertices.size(), 20u);
-  EXPECT_GT(dst, 0.3 * src);
-  EXPECT_LT(dst, 3.0 * src);
-  // Outside the target patch the texture is zero: spot stays spot there.
-  const MatrixX3d Y = apply_texture(spot, r.texture);
-  std::vector<char> in(spot.n_vertices(), 0);
-  for (int v : r.target_patch.vertices) in[v] = 1;
-  const MatrixX3d S = positions(spot);
-  for (Eigen::Index i = 0; i < S.rows(); ++i)
-    if (!in[i]) EXPECT_EQ((Y.row(i) - S.row(i)).norm(), 0.0);
 }

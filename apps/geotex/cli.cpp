@@ -22,6 +22,12 @@ std::vector<DemoStep>& demo_steps() {
   return s;
 }
 
+MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
+  app.add_option("IN", input, "input mesh")->required()->check(ExistingMeshFile);
+  app.add_option("-o,--output", output, output_help)->required();
+  app.add_flag("--ascii", ascii, "ascii PLY/STL output");
+}
+
 void info(const std::string& line) {
   if (!globals().quiet) std::fprintf(stderr, "%s\n", line.c_str());
 }
@@ -48,6 +54,20 @@ void check_output(const std::string& input, const std::string& output) {
   std::error_code ec;
   if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
     info(fmt::format("geotex: note: {} is both input and output; it is replaced only once the result is complete", output));
+}
+
+Outputs::Outputs(std::initializer_list<std::string> inputs,
+                 std::initializer_list<std::pair<std::string, std::string>> outputs) {
+  for (const auto& i : inputs) input(i);
+  for (const auto& [path, what] : outputs) output(path, what);
+}
+
+void Outputs::input(const std::string& path) {
+  if (!path.empty()) tx_.declare_input(path);
+}
+
+void Outputs::output(const std::string& path, const std::string& what) {
+  if (!path.empty()) tx_.declare(path, what);
 }
 
 ProgressFn progress_printer(const std::string& label) {

@@ -12,6 +12,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
+#include "geotex/core/output.h"
 #include "geotex/core/progress.h"
 
 namespace geotex::cli {
@@ -51,12 +52,33 @@ struct DemoRegistrar {
   }
 };
 
+// IN, -o/--output OUT and --ascii: the arguments of every mesh-to-mesh command.
+struct MeshIo {
+  std::string input, output;
+  bool ascii = false;
+  explicit MeshIo(CLI::App& app, const std::string& output_help = "output mesh");
+};
+
 // Read a mesh, printing the reader's warnings (what was dropped, strips decoded, …) unless quiet.
 Mesh load_mesh(const std::string& path, ReadReport* report = nullptr, bool strict = false);
 // Write a mesh (atomically) and say where it went unless quiet.
 void save_mesh(const Mesh& mesh, const std::string& path, bool binary = true);
-// Refuse an output path that names the input, unless the user allowed it.
+// Transitional (texture, resize): a note when the output names the input.
 void check_output(const std::string& input, const std::string& output);
+
+// The files of one run (geotex/core/output.h): inputs and outputs are declared, and every output is
+// checked, before any work; outputs go to temporaries and are put in place together by commit().
+// An output that names an input, a special file, a read-only file or an unwritable folder fails here.
+class Outputs {
+ public:
+  Outputs(std::initializer_list<std::string> inputs, std::initializer_list<std::pair<std::string, std::string>> outputs);
+  void input(const std::string& path);                          // "" is skipped
+  void output(const std::string& path, const std::string& what);  // "" is skipped
+  void commit() { tx_.commit(); }
+
+ private:
+  OutputTransaction tx_;
+};
 
 // A progress callback printing "stage 42%" on stderr (a carriage-return line on a terminal).
 ProgressFn progress_printer(const std::string& label);

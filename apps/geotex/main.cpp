@@ -11,6 +11,7 @@
 
 #include "cli.h"
 #include "geotex/core/error.h"
+#include "geotex/core/options.h"
 #include "geotex/core/resources.h"
 
 namespace {
@@ -62,7 +63,8 @@ int main(int argc, char** argv) {
 
   auto& cmds = commands();
   std::sort(cmds.begin(), cmds.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
-  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.help));
+  // Global flags (-q, --threads, --stats) anywhere on the line: unknown options fall through to the app.
+  for (auto& c : cmds) c.setup(*app.add_subcommand(c.name, c.help)->fallthrough());
 
   try {
     app.parse(argc, argv);
@@ -73,6 +75,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
+    return 2;
+  } catch (const geotex::InvalidOption& e) {
     std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
     return 2;
   } catch (const geotex::InvalidInput& e) {

@@ -1,19 +1,418 @@
 """geotex: 3D shape modeling with high-level descriptors (after V. Andersen, DTU 2011).
 
-Meshes are numpy arrays: V (#V×3 float64 positions) and F (#F×3 int triangles). Every function
-takes keyword options with the same defaults as the command line (`geotex <command> --help`).
-Errors raise geotex.InvalidInput (a ValueError), geotex.IoError (an OSError) or
-geotex.SolverError (a RuntimeError); all derive from geotex.Error except the first two, which
-derive from the Python built-ins.
+A mesh is given as two numpy arrays, V (#V×3 positions) and F (#F×3 integer triangles), or as one
+object with vertices and faces (trimesh.Trimesh, open3d.geometry.TriangleMesh, anything with
+`vertices` and `faces` or `triangles`). Every function takes keyword-only options with the names,
+defaults and ranges of the command line (`geotex <command> --help`); `help(geotex.smooth)` lists
+them, and `inspect.signature` shows them. Errors raise geotex.InvalidInput (a ValueError),
+geotex.IoError (an OSError) or geotex.SolverError (a RuntimeError); running out of memory raises
+MemoryError.
 
     import geotex
     V, F = geotex.generate("cube")
     Vn = geotex.add_noise(V, F, sigma=0.3)
-    Vs = geotex.smooth(Vn, F, steps=3)
-    print(geotex.compare(Vs, F, V, F)["mean_normal_error_deg"])
+    r = geotex.denoise(Vn, F)                       # r.V, r.F, r.edge_labels, r.parameters
+    print(geotex.compare(r.V, r.F, V, F)["mean_normal_error_deg"])
 """
 
-from ._geotex import *  # noqa: F401,F403
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Iterable, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _geotex
 from ._geotex import Error, InvalidInput, IoError, SolverError  # noqa: F401
+from ._options import options_doc, table, with_options
 
 __version__ = "0.1.0"
+
+__all__ = [
+    "Error", "InvalidInput", "IoError", "SolverError", "Result",
+    "read_mesh", "write_mesh", "info", "shape_names", "generate", "add_noise", "compare", "score_edge_labels",
+    "face_normals", "vertex_normals", "face_areas", "edges", "dihedral_angles", "mean_edge_length",
+    "boundary_loops", "connected_components",
+    "umbrella_laplacian", "cotan_matrix", "mass_matrix", "cotan_laplacian", "mean_curvature_normals",
+    "smooth", "deform", "parametrize", "phong_project", "one_form_fit", "one_form_to_vertices",
+    "auto_diffusion_function",
+    "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
+    "texture_extract", "texture_apply", "texture_edit", "texture_transfer",
+    "resize", "render", "view",
+]
+
+
+class Result:
+    """What a computation returned: attributes (r.V, r.F, r.edge_labels, r.parameters, …), also
+    readable as r["V"]."""
+
+    def __init__(self, **fields: Any) -> None:
+        self.__dict__.update(fields)
+
+    def __getitem__(self, key: str) -> Any:
+        try:
+            return self.__dict__[key]
+        except KeyError:
+            raise KeyError(key) from None
+
+    def __contains__(self, key: object) -> bool:
+        return key in self.__dict__
+
+    def __getattr__(self, name: str) -> Any:  # only for names that are not fields
+        raise AttributeError(f"the result has no field '{name}' (it has: {', '.join(self.__dict__)})")
+
+    def keys(self) -> List[str]:
+        return list(self.__dict__)
+
+    def __repr__(self) -> str:
+        def short(v: Any) -> str:
+            if isinstance(v, np.ndarray):
+                return f"array{v.shape}"
+            if isinstance(v, (list, dict)) and len(v) > 6:
+                return f"{type(v).__name__}[{len(v)}]"
+            return repr(v)
+        return "Result(" + ", ".join(f"{k}={short(v)}" for k, v in self.__dict__.items()) + ")"
+
+
+MeshLike = Any
+
+
+def _arrays(mesh: MeshLike, F: Any = None) -> Tuple[Any, Any]:
+    """(V, F) of a mesh given as arrays or as an object with vertices and faces/triangles."""
+    if F is not None:
+        return mesh, F
+    if isinstance(mesh, tuple) and len(mesh) == 2:
+        return mesh
+    if hasattr(mesh, "vertices"):
+        faces = getattr(mesh, "faces", None)
+        if faces is None:
+            faces = getattr(mesh, "triangles", None)  # open3d.geometry.TriangleMesh
+        if faces is not None:
+            return np.asarray(mesh.vertices), np.asarray(faces)
+    raise TypeError("expected a mesh: arrays V and F, a (V, F) tuple, or an object with vertices and faces "
+                    f"(trimesh, Open3D), not {type(mesh).__name__}")
+
+
+def _path(p: Union[str, os.PathLike]) -> str:
+    return os.fspath(p)
+
+
+# ------------------------------------------------------------------------------------------------
+# Files, shapes, noise, geometry, metrics
+
+
+def read_mesh(path: Union[str, os.PathLike], strict: bool = False) -> Tuple[np.ndarray, np.ndarray]:
+    """Read a mesh file (.obj, .ply, .off, .stl). Returns (V, F): V float64 #V×3, F int32 #F×3.
+
+    Polygons are split into fans and PLY triangle strips decoded. Faces that are degenerate,
+    duplicated or non-manifold are dropped with a UserWarning (strict=True raises InvalidInput
+    instead). Raises IoError for missing, malformed or truncated files and InvalidInput for NaN/inf
+    coordinates or out-of-range indices."""
+    return _geotex.read_mesh(_path(path), strict)
+
+
+def write_mesh(path: Union[str, os.PathLike], mesh: MeshLike, F: Any = None, binary: bool = True) -> None:
+    """Write a mesh atomically (format from the extension; binary PLY/STL unless binary=False).
+    An existing file is replaced only once the new one is complete, and keeps its permissions."""
+    V, F = _arrays(mesh, F)
+    _geotex.write_mesh(_path(path), V, F, binary)
+
+
+def info(mesh: MeshLike, F: Any = None) -> dict:
+    """Counts, boundary loops, components, Euler characteristic, genus, mean edge length, area,
+    volume, bounding box (as `geotex info`)."""
+    return _geotex.info(*_arrays(mesh, F))
+
+
+def shape_names() -> List[str]:
+    """Names accepted by generate()."""
+    return _geotex.shape_names()
+
+
+def generate(name: str, level: int = 1, seed: int = 1, with_base: bool = False) -> Any:
+    """A procedural test shape (see shape_names()). Returns (V, F), or ((V, F), (V_base, F_base))
+    with with_base=True (the textured shapes' untextured base, same connectivity)."""
+    return _geotex.generate(name, level, seed, with_base)
+
+
+@with_options("NoiseOptions")
+def add_noise(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
+    """Seeded noise, sigma in mean edge lengths (`geotex noise`). Returns the noisy #V×3 positions."""
+    return _geotex.add_noise(*_arrays(mesh, F), options)
+
+
+def compare(result: MeshLike, F: Any = None, V_truth: Any = None, F_truth: Any = None) -> dict:
+    """Mean face-normal error (degrees), Ev and Hausdorff distance of a result against the truth
+    (`geotex compare`): compare(V, F, V_truth, F_truth) or compare(result_mesh, None, truth_mesh)."""
+    if F is None:
+        V, F = _arrays(result)
+    else:
+        V = result
+    if F_truth is None:
+        V_truth, F_truth = _arrays(V_truth)
+    return _geotex.compare(V, F, V_truth, F_truth)
+
+
+def score_edge_labels(labelled: Any, truth: Any) -> dict:
+    """Precision, recall and F1 of labelled edges (#×2 vertex pairs) against the true ones."""
+    return _geotex.score_edge_labels(labelled, truth)
+
+
+def face_normals(mesh: MeshLike, F: Any = None) -> np.ndarray:
+    """Unit normal per face, #F×3."""
+    return _geotex.face_normals(*_arrays(mesh, F))
+
+
+def vertex_normals(mesh: MeshLike, F: Any = None, weighting: str = "area") -> np.ndarray:
+    """Unit normal per vertex, #V×3, from the faces weighted by 'area', 'angle' or 'uniform'."""
+    return _geotex.vertex_normals(*_arrays(mesh, F), weighting)
+
+
+def face_areas(mesh: MeshLike, F: Any = None) -> np.ndarray:
+    """Area per face, #F."""
+    return _geotex.face_areas(*_arrays(mesh, F))
+
+
+def edges(mesh: MeshLike, F: Any = None) -> np.ndarray:
+    """#E×2 vertex indices of the edges, in the order of every per-edge array (labels, tilt)."""
+    return _geotex.edges(*_arrays(mesh, F))
+
+
+def dihedral_angles(mesh: MeshLike, F: Any = None) -> np.ndarray:
+    """Signed dihedral angle per edge (radians; convex > 0), in edges() order."""
+    return _geotex.dihedral_angles(*_arrays(mesh, F))
+
+
+def mean_edge_length(mesh: MeshLike, F: Any = None) -> float:
+    """The mean edge length (the unit of noise, smoothing steps and thresholds)."""
+    return _geotex.mean_edge_length(*_arrays(mesh, F))
+
+
+def boundary_loops(mesh: MeshLike, F: Any = None) -> List[List[int]]:
+    """The boundary loops as lists of vertex indices."""
+    return _geotex.boundary_loops(*_arrays(mesh, F))
+
+
+def connected_components(mesh: MeshLike, F: Any = None) -> np.ndarray:
+    """Component id per vertex."""
+    return _geotex.connected_components(*_arrays(mesh, F))
+
+
+# ------------------------------------------------------------------------------------------------
+# Toolkit (thesis ch. 5)
+
+
+def umbrella_laplacian(mesh: MeshLike, F: Any = None) -> Any:
+    """Umbrella operator, Eq. (5.8), as a scipy.sparse matrix."""
+    return _geotex.umbrella_laplacian(*_arrays(mesh, F))
+
+
+def cotan_matrix(mesh: MeshLike, F: Any = None) -> Any:
+    """Symmetric cotangent matrix C (C_ij = ½(cot α + cot β)), scipy.sparse."""
+    return _geotex.cotan_matrix(*_arrays(mesh, F))
+
+
+def mass_matrix(mesh: MeshLike, F: Any = None, mass: str = "voronoi") -> Any:
+    """Diagonal mass matrix ('voronoi', 'barycentric' or 'thesis'), scipy.sparse."""
+    return _geotex.mass_matrix(*_arrays(mesh, F), mass)
+
+
+def cotan_laplacian(mesh: MeshLike, F: Any = None, mass: str = "voronoi") -> Any:
+    """L = M⁻¹C; Eq. (5.11) with mass='thesis'. scipy.sparse."""
+    return _geotex.cotan_laplacian(*_arrays(mesh, F), mass)
+
+
+def mean_curvature_normals(mesh: MeshLike, F: Any = None) -> np.ndarray:
+    """H n per vertex (n/r on a sphere of radius r), Eq. (5.10)."""
+    return _geotex.mean_curvature_normals(*_arrays(mesh, F))
+
+
+@with_options("SmoothingOptions")
+def smooth(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
+    """Laplacian smoothing, thesis Eq. (5.12) explicit or (5.14) implicit (`geotex smooth`).
+    lambda_ is dimensionless for 'umbrella' and in squared mean edge lengths for 'cotan'.
+    Returns the new #V×3 positions (same connectivity)."""
+    return _geotex.smooth(*_arrays(mesh, F), options)
+
+
+@with_options("EditOptions")
+def deform(mesh: MeshLike, F: Any = None, handles: Optional[Sequence[int]] = None, targets: Any = None,
+           **options: Any) -> np.ndarray:
+    """Laplacian surface editing (Eq. 5.15–5.24, `geotex deform`): handle vertex ids and their
+    #handles×3 targets. Returns #V×3 positions."""
+    if handles is None or targets is None:
+        raise TypeError("deform() needs handles (vertex ids) and targets (#handles×3 positions)")
+    V, F = _arrays(mesh, F)
+    return _geotex.deform(V, F, [int(h) for h in handles], targets, options)
+
+
+@with_options("ParametrizationOptions")
+def parametrize(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
+    """UV coordinates (#V×2) of a disk (Sec. 5.4, `geotex param`). InvalidInput if not a disk."""
+    return _geotex.parametrize(*_arrays(mesh, F), options)
+
+
+@with_options("PhongProjectionOptions")
+def phong_project(mesh: MeshLike, F: Any = None, P: Any = None, **options: Any) -> dict:
+    """Project points P (#P×3) onto a mesh along its Phong-interpolated normal field (Sec. 5.2,
+    analytic cubic; `geotex project`). Returns face (−1 where none), bary, point, distance."""
+    if P is None:
+        raise TypeError("phong_project() needs the points P")
+    return _geotex.phong_project(*_arrays(mesh, F), P, options)
+
+
+@with_options("OneFormFitOptions")
+def one_form_fit(mesh: MeshLike, F: Any = None, T: Any = None, **options: Any) -> np.ndarray:
+    """Least-squares 1-form (Eq. 5.81–5.82) of a per-vertex tangent field T (#V×3); one coefficient per edge."""
+    if T is None:
+        raise TypeError("one_form_fit() needs the field T")
+    return _geotex.one_form_fit(*_arrays(mesh, F), T, options)
+
+
+def one_form_to_vertices(mesh: MeshLike, F: Any = None, c: Any = None) -> np.ndarray:
+    """Per-vertex vectors from edge coefficients (Eq. 5.78–5.79)."""
+    if c is None:
+        raise TypeError("one_form_to_vertices() needs the coefficients c")
+    return _geotex.one_form_to_vertices(*_arrays(mesh, F), c)
+
+
+def auto_diffusion_function(mesh: MeshLike, F: Any = None, t: float = 0.1, eigenpairs: int = 100, *,
+                            progress: Any = None, threads: Optional[int] = None) -> np.ndarray:
+    """Auto diffusion function (Gębal et al. 2009; thesis Sec. 9.4), one value per vertex."""
+    return _geotex.auto_diffusion_function(*_arrays(mesh, F), t, eigenpairs, {"progress": progress, "threads": threads})
+
+
+# ------------------------------------------------------------------------------------------------
+# Denoising (thesis ch. 6–7)
+
+
+def _denoise_result(d: dict) -> Result:
+    return Result(**d)
+
+
+@with_options("MrfOptions")
+def denoise_mrf(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """MRF denoising with a vertex process and an edge-labelling process (thesis ch. 6; `geotex denoise
+    --method mrf`). Returns a Result: V, F, edge_labels (per edges()), edges, energies, parameters."""
+    return _denoise_result(_geotex.denoise_mrf(*_arrays(mesh, F), options))
+
+
+@with_options("MrfNormalOptions")
+def denoise_mrf_normal(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """Face-normal MRF with edge labelling, then vertices fitted to the normals (Sec. 6.5; `geotex
+    denoise --method mrf-normal`). Returns a Result like denoise_mrf()."""
+    return _denoise_result(_geotex.denoise_mrf_normal(*_arrays(mesh, F), options))
+
+
+@with_options("SurfelDenoiseOptions")
+def denoise_surfel(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """Surfel reconstruction of a piecewise-smooth surface (thesis ch. 7; `geotex denoise --method
+    surfel`). Returns a Result: V, F (new connectivity with retrieval='dual'), edge_labels, normals,
+    offsets, energy, parameters."""
+    return _denoise_result(_geotex.denoise_surfel(*_arrays(mesh, F), options))
+
+
+_DENOISERS = {"mrf": denoise_mrf, "mrf-normal": denoise_mrf_normal, "surfel": denoise_surfel}
+
+
+def denoise_methods() -> List[str]:
+    """The names accepted by denoise(method=...)."""
+    return list(_DENOISERS)
+
+
+def denoise(mesh: MeshLike, F: Any = None, *, method: str = "mrf", **options: Any) -> Result:
+    """Denoise a mesh and find its sharp edges (`geotex denoise`). `method` chooses the function
+    called with the same options: 'mrf' → denoise_mrf(), 'mrf-normal' → denoise_mrf_normal(),
+    'surfel' → denoise_surfel() (see each for its options and defaults; an option of another method
+    raises TypeError). preset='thesis' gives each method as the thesis runs it."""
+    fn = _DENOISERS.get(method)
+    if fn is None:
+        raise InvalidInput(f"unknown denoising method '{method}' ({', '.join(_DENOISERS)})")
+    return fn(mesh, F, **options)
+
+
+@with_options("PointSurfelOptions")
+def point_surfels(P: Any, **options: Any) -> Tuple[np.ndarray, np.ndarray]:
+    """Surfel reconstruction of a point cloud (kNN neighbourhoods; `geotex surfels`).
+    Returns (centres, normals), each #P×3."""
+    return _geotex.point_surfels(P, options)
+
+
+def pca_normals(P: Any, k: int = 10) -> np.ndarray:
+    """Consistently oriented PCA normals of a point cloud (#P×3)."""
+    return _geotex.pca_normals(P, k)
+
+
+# ------------------------------------------------------------------------------------------------
+# Texture (ch. 8) and resizing (ch. 9)
+
+def texture_extract(mesh: MeshLike, F: Any = None, V_base: Any = None, steps: int = 0, lambda_: float = 1.0,
+                    tilt_fit: str = "tangential", tilt_solver: str = "iterative") -> Result:
+    """Extract a height-and-tilt texture (Eq. 8.4–8.7; `geotex texture extract`). The base is V_base
+    (same connectivity) or, by default, implicit smoothing until the shape stops changing (steps=0).
+    Returns a Result: V_base, height (#V), tilt (#E), edges."""
+    V, F = _arrays(mesh, F)
+    return Result(**_geotex.texture_extract(V, F, V_base, steps, lambda_, tilt_fit, tilt_solver))
+
+
+def texture_apply(V_base: Any, F: Any, height: Any, tilt: Any) -> np.ndarray:
+    """Reconstruct the textured surface from a base (any pose, same connectivity), heights and tilt
+    (Eq. 8.8; `geotex texture apply`). Returns #V×3 positions."""
+    return _geotex.texture_apply(V_base, F, height, tilt)
+
+
+def texture_edit(V_base: Any, F: Any, height: Any, tilt: Any, op: str, direction: Sequence[float] = (1.0, 0.0, 0.0),
+                 angle: float = 30.0, wavelength: float = 0.0, phase: float = 0.0, factor: float = 1.0) -> Tuple[np.ndarray, np.ndarray]:
+    """Edit a texture (Sec. 8.4.1; `geotex texture edit`): op 'set-tilt', 'wrap', 'wiggle' or
+    'scale-height'. Returns (height, tilt)."""
+    return _geotex.texture_edit(V_base, F, height, tilt, op, list(direction), angle, wavelength, phase, factor)
+
+
+def texture_transfer(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any, F_target: Any, source_center: int,
+                     source_radius: float, target_center: int, target_radius: float, rotation: float = 0.0) -> Result:
+    """Transfer a disk patch of texture to a disk patch of another base via conformal maps (Sec. 8.3.3;
+    `geotex texture transfer`). Returns a Result: height, tilt, V (the textured target), target_vertices."""
+    return Result(**_geotex.texture_transfer(V_base, F, height, tilt, V_target, F_target, source_center, source_radius,
+                                              target_center, target_radius, rotation))
+
+
+def resize(mesh: MeshLike, F: Any = None, scale: Optional[Sequence[float]] = None, deformed: Any = None,
+           features: Any = "auto", method: str = "sliding", feature_threshold: float = 0.5) -> np.ndarray:
+    """Feature-aware resizing (ch. 9; `geotex resize`). Give scale=(sx, sy, sz) (about the box centre)
+    or deformed=#V×3 positions from any space deformation. features: 'auto', 'height', or #V weights
+    in [0, 1]. method: 'sliding' (default) or 'thesis' (Eq. 9.2–9.3). Returns #V×3 positions."""
+    V, F = _arrays(mesh, F)
+    return _geotex.resize(V, F, scale, deformed, features, method, feature_threshold)
+
+
+# ------------------------------------------------------------------------------------------------
+# Pictures and pages
+
+
+@with_options("RenderOptions")
+def render(mesh: MeshLike, F: Any = None, path: Optional[Union[str, os.PathLike]] = None, field: Any = None,
+           edges: Any = None, **options: Any) -> np.ndarray:
+    """A software-rendered picture (`geotex render`): returns the image as an H×W×3 uint8 array, and
+    writes it as PNG when `path` is given. field: #V values shown through a colour map; edges: #S×2
+    vertex pairs drawn as lines."""
+    V, F = _arrays(mesh, F)
+    return _geotex.render(V, F, None if path is None else _path(path), field, edges, options)
+
+
+@with_options("ViewerOptions")
+def view(meshes: Any, path: Union[str, os.PathLike] = "geotex-view.html", **options: Any) -> str:
+    """Write a self-contained HTML page showing meshes side by side in 3D (`geotex view`).
+    meshes: one mesh or a list; each a mesh (arrays, (V, F), trimesh, Open3D) or a dict with
+    "mesh" (or "V" and "F") and optional "name", "field" (#V values), "edges" (#S×2). Returns the path."""
+    if not isinstance(meshes, list):
+        meshes = [meshes]
+    items = []
+    for k, m in enumerate(meshes):
+        if isinstance(m, dict):
+            V, F = _arrays(m["mesh"]) if "mesh" in m else (m["V"], m["F"])
+            items.append((str(m.get("name", f"mesh {k + 1}")), V, F, m.get("field"), m.get("edges")))
+        else:
+            V, F = _arrays(m)
+            items.append((f"mesh {k + 1}", V, F, None, None))
+    _geotex.view(items, _path(path), options)
+    return _path(path)

@@ -24,7 +24,7 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Dict, Iterable, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Union
 
 MESH_EXTENSIONS = (".obj", ".ply", ".off", ".stl")
 
@@ -90,7 +90,7 @@ OPERATIONS: Dict[str, Callable[..., dict]] = {
 def _run_one(operation: Union[str, Callable[..., dict]], path: str, out_dir: Optional[str], options: dict) -> dict:
     """Runs on a worker. Never raises: errors become the row's 'error'."""
     t0 = time.perf_counter()
-    row = {"file": path, "status": "ok", "error": None}
+    row: Dict[str, Any] = {"file": path, "status": "ok", "error": None}
     try:
         fn = OPERATIONS[operation] if isinstance(operation, str) else operation
         row.update(fn(Path(path), Path(out_dir) if out_dir else None, **options) or {})
@@ -181,7 +181,7 @@ def run(
             except Exception as e:  # a worker died: record it, keep going
                 rows[i] = {"file": files[i], "status": "error", "error": f"worker lost: {e}", "seconds": 0.0}
             if progress:
-                r = rows[i]
+                r = rows[i] or {}
                 print(f"[{done}/{len(files)}] {r['status']:5} {files[i]}" + (f": {r['error']}" if r["error"] else ""),
                       file=sys.stderr, flush=True)
     finally:

@@ -1,32 +1,19 @@
-// Python bindings of the foundation: I/O, shapes, noise, geometry, Laplacians, smoothing, metrics.
+// Python bindings of the core and the tools around it: files, shapes, noise, geometry, metrics, and
+// the option tables the Python wrappers make their signatures from.
 
 #include "common.h"
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
-#include "geotex/toolkit/laplace.h"
+#include "geotex/core/output.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
 #include "geotex/tools/shapes.h"
-#include "geotex/toolkit/smoothing.h"
 
 namespace geotex::python {
 
 namespace {
-
-LaplacianType laplacian_type(const std::string& s) {
-  if (s == "cotan" || s == "cotangent") return LaplacianType::Cotangent;
-  if (s == "umbrella") return LaplacianType::Umbrella;
-  throw InvalidInput("laplacian must be 'cotan' or 'umbrella', not '" + s + "'");
-}
-
-MassType mass_type(const std::string& s) {
-  if (s == "voronoi") return MassType::Voronoi;
-  if (s == "barycentric") return MassType::Barycentric;
-  if (s == "thesis") return MassType::Thesis;
-  throw InvalidInput("mass must be 'voronoi', 'barycentric' or 'thesis', not '" + s + "'");
-}
 
 py::dict summary_dict(const Mesh& m) {
   const MeshSummary s = summarize(m);
@@ -49,89 +36,77 @@ py::dict summary_dict(const Mesh& m) {
   return d;
 }
 
+const EnumNames<NormalWeighting>& weighting_names() {
+  static const EnumNames<NormalWeighting> n = {
+      {"area", NormalWeighting::Area}, {"angle", NormalWeighting::Angle}, {"uniform", NormalWeighting::Uniform}};
+  return n;
+}
+
 }  // namespace
 
 void bind_core(py::module_& m) {
-  using V3 = Eigen::Ref<const MatrixX3d>;
-  using F3 = Eigen::Ref<const MatrixX3i>;
+  register_table<NoiseOptions>("NoiseOptions");
+  m.def("_option_tables", [] {
+    py::dict d;
+    for (const auto& [name, describe] : option_tables()) d[py::str(name)] = describe();
+    return d;
+  });
 
   m.def("read_mesh", [](const std::string& path, bool strict) {
         ReadOptions o;
         o.strict = strict;
         ReadReport rep;
-        const Mesh mesh = read_mesh(path, o, &rep);
+        Mesh mesh;
+        {
+          py::gil_scoped_release release;
+          mesh = read_mesh(path, o, &rep);
+        }
         for (const auto& w : rep.warnings) {
           const std::string msg = path + ": " + w;
           if (PyErr_WarnEx(PyExc_UserWarning, msg.c_str(), 1) != 0) throw py::error_already_set();
         }
         return from_mesh(mesh);
       },
-      py::arg("path"), py::arg("strict") = false,
-      R"doc(Read a mesh file (.obj, .ply, .off, .stl).
+      py::arg("path"), py::arg("strict") = false);
 
-Returns (V, F): V float64 #V×3 positions, F int32 #F×3 triangles. Polygons are split into fans,
-PLY triangle strips decoded. Faces that are degenerate, duplicated or non-manifold are dropped with
-a UserWarning (strict=True raises InvalidInput instead). Raises IoError for missing, malformed or
-truncated files and InvalidInput for NaN/inf coordinates or out-of-range indices.)doc");
-
-  m.def("write_mesh", [](const std::string& path, V3 V, F3 F, bool binary) {
+  m.def("write_mesh", [](const std::string& path, py::handle V, py::handle F, bool binary) {
         WriteOptions o;
         o.binary = binary;
-        write_mesh(to_mesh(V, F), path, o);
+        const Mesh mesh = to_mesh(V, F);
+        py::gil_scoped_release release;
+        write_mesh(mesh, path, o);
       },
-      py::arg("path"), py::arg("V"), py::arg("F"), py::arg("binary") = true,
-      "Write a mesh atomically (format from the extension; binary PLY/STL unless binary=False).");
+      py::arg("path"), py::arg("V"), py::arg("F"), py::arg("binary") = true);
 
-  m.def("info", [](V3 V, F3 F) { return summary_dict(to_mesh(V, F)); }, py::arg("V"), py::arg("F"),
-        "Counts, boundary loops, components, Euler characteristic, genus, mean edge length, area, volume, bbox.");
+  m.def("info", [](py::handle V, py::handle F) { return summary_dict(to_mesh(V, F)); }, py::arg("V"), py::arg("F"));
 
-  m.def("shape_names", &shape_names, "Names accepted by generate().");
+  m.def("shape_names", &shape_names);
   m.def("generate", [](const std::string& name, int level, uint64_t seed, bool with_base) -> py::object {
-        const TexturedShape s = make_shape(name, level, seed);
+        TexturedShape s;
+        {
+          py::gil_scoped_release release;
+          s = make_shape(name, level, seed);
+        }
         if (!with_base) return from_mesh(s.textured);
         return py::make_tuple(from_mesh(s.textured), from_mesh(s.base));
       },
-      py::arg("name"), py::arg("level") = 1, py::arg("seed") = 1, py::arg("with_base") = false,
-      R"doc(Procedural test shape: cube, cylinder, sphere, torus, plane, spiky-sphere, spiky-plane.
+      py::arg("name"), py::arg("level") = 1, py::arg("seed") = 1, py::arg("with_base") = false);
 
-Returns (V, F), or ((V, F), (Vbase, Fbase)) with with_base=True (the spiky shapes' untextured base).)doc");
-
-  m.def("add_noise", [](V3 V, F3 F, double sigma, bool along_normal, double impulsive_fraction, uint64_t seed) {
-        NoiseOptions o;
-        o.sigma = sigma;
-        o.along_normal = along_normal;
-        o.impulsive_fraction = impulsive_fraction;
-        o.seed = seed;
-        return VArray(add_noise(to_mesh(V, F), o));
+  m.def("add_noise", [](py::handle V, py::handle F, py::dict kw) {
+        CallOptions call = call_options(kw);
+        const NoiseOptions o = to_options<NoiseOptions>(kw, call);
+        const Mesh mesh = to_mesh(V, F);
+        return VArray(run(call, [&] { return add_noise(mesh, o); }));
       },
-      py::arg("V"), py::arg("F"), py::arg("sigma") = 0.3, py::arg("along_normal") = false,
-      py::arg("impulsive_fraction") = 0.0, py::arg("seed") = 1,
-      "Seeded Gaussian noise, sigma in mean edge lengths. Returns the noisy #V×3 positions.");
+      py::arg("V"), py::arg("F"), py::arg("options"));
 
-  m.def("smooth", [](V3 V, F3 F, const std::string& laplacian, bool implicit, double lambda_, int steps,
-                     const std::string& mass, bool fix_boundary, bool rescale, bool update_weights) {
-        SmoothingOptions o;
-        o.laplacian = laplacian_type(laplacian);
-        o.implicit = implicit;
-        o.lambda = lambda_;
-        o.steps = steps;
-        o.mass = mass_type(mass);
-        o.fix_boundary = fix_boundary;
-        o.rescale = rescale;
-        o.update_weights = update_weights;
-        py::gil_scoped_release release;
-        return VArray(smooth(to_mesh(V, F), o));
-      },
-      py::arg("V"), py::arg("F"), py::arg("laplacian") = "cotan", py::arg("implicit") = true,
-      py::arg("lambda_") = 1.0, py::arg("steps") = 1, py::arg("mass") = "voronoi", py::arg("fix_boundary") = true,
-      py::arg("rescale") = false, py::arg("update_weights") = true,
-      R"doc(Laplacian smoothing, thesis Eq. (5.12) explicit or (5.14) implicit. Same defaults as `geotex smooth`.
-
-lambda_ is dimensionless for 'umbrella' and in squared mean edge lengths for 'cotan'.
-Returns the new #V×3 positions (same connectivity).)doc");
-
-  m.def("compare", [](V3 V, F3 F, V3 Vt, F3 Ft) {
-        const Comparison c = compare_meshes(to_mesh(V, F), to_mesh(Vt, Ft));
+  m.def("compare", [](py::handle V, py::handle F, py::handle Vt, py::handle Ft) {
+        const Mesh result = to_mesh(V, F), truth = to_mesh(Vt, Ft);
+        Comparison c;
+        {
+          py::gil_scoped_release release;
+          c = compare_meshes(result, truth);
+        }
         py::dict d;
         d["mean_normal_error_deg"] = c.mean_normal_error_deg;
         d["max_normal_error_deg"] = c.max_normal_error_deg;
@@ -144,46 +119,33 @@ Returns the new #V×3 positions (same connectivity).)doc");
         d["bbox_diagonal"] = c.diagonal;
         return d;
       },
-      py::arg("V"), py::arg("F"), py::arg("V_truth"), py::arg("F_truth"),
-      "Mean face-normal error (degrees), Ev and Hausdorff distance of a result against the truth.");
+      py::arg("V"), py::arg("F"), py::arg("V_truth"), py::arg("F_truth"));
 
-  m.def("score_edge_labels", [](const MatrixX2i& labelled, const MatrixX2i& truth) {
-        const LabelScore s = score_edge_labels(labelled, truth);
+  m.def("score_edge_labels", [](py::handle labelled, py::handle truth) {
+        const auto pairs = [](py::handle a, const char* what) {
+          const py::array arr = py::array::ensure(a);
+          if (!arr || arr.ndim() != 2 || arr.shape(1) != 2 || (arr.dtype().kind() != 'i' && arr.dtype().kind() != 'u'))
+            throw InvalidInput(std::string(what) + ": expected an N x 2 array of vertex indices");
+          return py::cast<MatrixX2i>(arr);
+        };
+        const LabelScore s = score_edge_labels(pairs(labelled, "labelled"), pairs(truth, "truth"));
         return py::dict(py::arg("precision") = s.precision, py::arg("recall") = s.recall, py::arg("f1") = s.f1);
       },
-      py::arg("labelled"), py::arg("truth"), "Precision/recall/F1 of labelled edges (#×2 vertex pairs).");
+      py::arg("labelled"), py::arg("truth"));
 
-  m.def("face_normals", [](V3 V, F3 F) { return VArray(face_normals(to_mesh(V, F))); }, py::arg("V"), py::arg("F"));
-  m.def("vertex_normals", [](V3 V, F3 F, const std::string& weighting) {
-        const NormalWeighting w = weighting == "angle" ? NormalWeighting::Angle
-                                  : weighting == "uniform" ? NormalWeighting::Uniform : NormalWeighting::Area;
-        if (weighting != "angle" && weighting != "uniform" && weighting != "area")
-          throw InvalidInput("weighting must be 'area', 'angle' or 'uniform'");
-        return VArray(vertex_normals(to_mesh(V, F), w));
+  m.def("face_normals", [](py::handle V, py::handle F) { return VArray(face_normals(to_mesh(V, F))); });
+  m.def("vertex_normals", [](py::handle V, py::handle F, const std::string& weighting) {
+        return VArray(vertex_normals(to_mesh(V, F), parse_enum(weighting_names(), weighting, "weighting")));
       },
       py::arg("V"), py::arg("F"), py::arg("weighting") = "area");
-  m.def("face_areas", [](V3 V, F3 F) { return Eigen::VectorXd(face_areas(to_mesh(V, F))); }, py::arg("V"), py::arg("F"));
-  m.def("edges", [](V3 V, F3 F) { return MatrixX2i(edges(to_mesh(V, F))); }, py::arg("V"), py::arg("F"),
-        "#E×2 vertex indices of the edges, in the order used by every per-edge array.");
-  m.def("dihedral_angles", [](V3 V, F3 F) { return Eigen::VectorXd(dihedral_angles(to_mesh(V, F))); },
-        py::arg("V"), py::arg("F"), "Signed dihedral angle per edge (radians; convex > 0), edges() order.");
-  m.def("mean_edge_length", [](V3 V, F3 F) { return mean_edge_length(to_mesh(V, F)); }, py::arg("V"), py::arg("F"));
-  m.def("boundary_loops", [](V3 V, F3 F) { return boundary_loops(to_mesh(V, F)); }, py::arg("V"), py::arg("F"));
-  m.def("connected_components", [](V3 V, F3 F) { return Eigen::VectorXi(connected_components(to_mesh(V, F))); },
-        py::arg("V"), py::arg("F"), "Component id per vertex.");
-
-  m.def("umbrella_laplacian", [](V3 V, F3 F) { return umbrella_laplacian(to_mesh(V, F)); }, py::arg("V"), py::arg("F"),
-        "Umbrella operator, Eq. (5.8), as a scipy.sparse matrix.");
-  m.def("cotan_matrix", [](V3 V, F3 F) { return cotan_matrix(to_mesh(V, F)); }, py::arg("V"), py::arg("F"),
-        "Symmetric cotangent matrix C (C_ij = ½(cot α + cot β)), scipy.sparse.");
-  m.def("mass_matrix", [](V3 V, F3 F, const std::string& mass) { return mass_matrix(to_mesh(V, F), mass_type(mass)); },
-        py::arg("V"), py::arg("F"), py::arg("mass") = "voronoi", "Diagonal mass matrix, scipy.sparse.");
-  m.def("cotan_laplacian", [](V3 V, F3 F, const std::string& mass) {
-        return cotan_laplacian(to_mesh(V, F), mass_type(mass));
-      },
-      py::arg("V"), py::arg("F"), py::arg("mass") = "voronoi", "L = M⁻¹C, Eq. (5.11) with mass='thesis'.");
-  m.def("mean_curvature_normals", [](V3 V, F3 F) { return VArray(mean_curvature_normals(to_mesh(V, F))); },
-        py::arg("V"), py::arg("F"), "H n per vertex (n/r on a sphere of radius r), Eq. (5.10).");
+  m.def("face_areas", [](py::handle V, py::handle F) { return Eigen::VectorXd(face_areas(to_mesh(V, F))); });
+  m.def("edges", [](py::handle V, py::handle F) { return MatrixX2i(edges(to_mesh(V, F))); });
+  m.def("dihedral_angles", [](py::handle V, py::handle F) { return Eigen::VectorXd(dihedral_angles(to_mesh(V, F))); });
+  m.def("mean_edge_length", [](py::handle V, py::handle F) { return mean_edge_length(to_mesh(V, F)); });
+  m.def("boundary_loops", [](py::handle V, py::handle F) { return boundary_loops(to_mesh(V, F)); });
+  m.def("connected_components", [](py::handle V, py::handle F) {
+    return Eigen::VectorXi(connected_components(to_mesh(V, F)));
+  });
 }
 
 }  // namespace geotex::python

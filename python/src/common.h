@@ -1,6 +1,14 @@
 #pragma once
-// Shared helpers of the Python bindings: numpy (V, F) <-> geotex::Mesh, option parsing.
+// Shared pieces of the Python bindings: strict numpy <-> mesh conversion, options from keyword
+// dictionaries through the option tables (geotex/core/options.h), running without the GIL, progress.
+//
+// Every binding takes its options as one dict (the Python wrappers in geotex/__init__.py build it
+// from real keyword arguments whose names and defaults come from the same tables) and converts
+// its inputs while holding the GIL; only the computation runs without it.
 
+#include <functional>
+#include <map>
+#include <optional>
 #include <string>
 
 #include <pybind11/eigen.h>
@@ -9,6 +17,8 @@
 #include <pybind11/stl.h>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
+#include "geotex/core/progress.h"
 
 namespace py = pybind11;
 
@@ -17,13 +27,131 @@ namespace geotex::python {
 using VArray = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using FArray = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-//! Build a mesh from numpy arrays; warns (Python warning) when faces had to be dropped.
-Mesh to_mesh(const Eigen::Ref<const MatrixX3d>& V, const Eigen::Ref<const MatrixX3i>& F);
-//! (V, F) tuple of a mesh as numpy arrays (V float64 #V×3, F int32 #F×3).
+// ---------------------------------------------------------------------------------------------
+// Arrays
+
+//! #N by 3 finite float positions from any array-like of real numbers (integers allowed).
+//! \throw InvalidInput for another shape, a non-numeric dtype, NaN or infinity.
+MatrixX3d to_points(py::handle a, const char* what);
+//! #N by 3 vertex indices from an integer array-like: every index in [0, n_vertices). Floats, bools
+//! and indices that do not fit are refused (no silent narrowing). \throw InvalidInput.
+MatrixX3i to_faces(py::handle a, Eigen::Index n_vertices, const char* what);
+//! A vector of #n finite reals. \throw InvalidInput.
+Eigen::VectorXd to_vector(py::handle a, Eigen::Index n, const char* what);
+//! A mesh from positions and faces (both checked as above); faces dropped by make_mesh() raise a
+//! UserWarning (with the GIL held). \throw InvalidInput for no faces.
+Mesh to_mesh(py::handle V, py::handle F);
+//! (V, F) of a mesh as numpy arrays (V float64 #V×3, F int32 #F×3).
 py::tuple from_mesh(const Mesh& mesh);
 
-// One bind_* per topic file.
-void bind_core(py::module_& m);
-void bind_extras(py::module_& m);  // capabilities beyond the foundation (denoise, texture, …)
+// ---------------------------------------------------------------------------------------------
+// Options
+
+//! A Python value for an option value (None for "auto", tuples for Vec3).
+py::object to_python(const OptionValue& v);
+//! The option value of \p obj for option \p info: bool for Bool, int for Int (not float or bool),
+//! int or float for Real (finite), str for Text/Choice, three numbers for Vec3, None for "auto".
+//! \throw InvalidOption (a ValueError) or py::type_error naming the option.
+OptionValue from_python(const OptionInfo& info, py::handle obj);
+
+//! What every call takes besides its options: a preset name, a progress callback, a thread count.
+struct CallOptions {
+  std::string preset;
+  ProgressFn progress;        // calls the Python callback with the GIL; raises KeyboardInterrupt on Ctrl-C
+  std::optional<int> threads;
+};
+//! Split \p kw into the call options ("preset", "progress", "threads") and the rest.
+CallOptions call_options(py::dict& kw);
+
+//! An options struct from a dict of option names (Python spelling: a trailing '_' is dropped, for
+//! `lambda_`): the defaults (or \p start), then the preset, then the given values, checked.
+template <class O>
+O to_options(py::dict kw, const CallOptions& call, O start = O{}, const OptionTable<O>& table = O::table()) {
+  if (!call.preset.empty()) table.apply_preset(start, call.preset);
+  for (auto item : kw) {
+    std::string name = py::cast<std::string>(item.first);
+    if (!name.empty() && name.back() == '_') name.pop_back();
+    const auto* f = table.find(name);
+    if (!f) throw py::type_error("unexpected keyword argument '" + name + "'");
+    f->set(start, from_python(f->info, item.second));
+  }
+  table.check(start);
+  return start;
+}
+
+//! The options of \p o as a dict of Python values (the parameters a run used).
+template <class O>
+py::dict options_dict(const O& o, const OptionTable<O>& table = O::table()) {
+  py::dict d;
+  for (const auto& [name, v] : table.values(o)) d[py::str(name)] = to_python(v);
+  return d;
+}
+
+//! The description of a table for the Python side: {"fields": [{name, kind, default, help, ref, lo,
+//! hi, lo_open, hi_open, choices, automatic}], "presets": {name: help}}.
+template <class O>
+py::dict table_description(const OptionTable<O>& table = O::table()) {
+  py::list fields;
+  const O defaults{};
+  for (const auto& f : table.fields()) {
+    py::dict d;
+    d["name"] = f.info.name;
+    static const char* kinds[] = {"bool", "int", "float", "str", "choice", "vec3"};
+    d["kind"] = kinds[static_cast<int>(f.info.kind)];
+    d["default"] = to_python(f.get(defaults));
+    d["help"] = f.info.help;
+    d["ref"] = f.info.ref;
+    d["lo"] = f.info.bounds.lo;
+    d["hi"] = f.info.bounds.hi;
+    d["lo_open"] = f.info.bounds.lo_open;
+    d["hi_open"] = f.info.bounds.hi_open;
+    d["choices"] = f.info.choices;
+    d["automatic"] = f.info.automatic;
+    fields.append(d);
+  }
+  py::dict presets;
+  for (const auto& p : table.presets()) presets[py::str(p.name)] = p.help;
+  py::dict out;
+  out["fields"] = fields;
+  out["presets"] = presets;
+  return out;
+}
+
+//! The tables the Python side sees, by struct name (filled by each bind_* file).
+std::map<std::string, std::function<py::dict()>>& option_tables();
+template <class O>
+void register_table(const std::string& name) {
+  option_tables()[name] = [] { return table_description<O>(); };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Running
+
+//! The OpenMP thread count for one call (restored afterwards).
+class ThreadScope {
+ public:
+  explicit ThreadScope(std::optional<int> threads);
+  ~ThreadScope();
+
+ private:
+  int previous_ = 0;
+  bool set_ = false;
+};
+
+//! Run \p f without the GIL and with the requested thread count; exceptions propagate.
+template <class F>
+auto run(const CallOptions& call, F&& f) -> decltype(f()) {
+  ThreadScope threads(call.threads);
+  py::gil_scoped_release release;
+  return f();
+}
+
+// One bind_* per topic.
+void bind_core(py::module_& m);     // files, shapes, noise, geometry, metrics, option tables
+void bind_toolkit(py::module_& m);  // ch. 5: Laplacians, smoothing, editing, Phong projection, 1-forms, parametrization, ADF
+void bind_denoise(py::module_& m);  // ch. 6-7
+void bind_texture(py::module_& m);  // ch. 8
+void bind_resize(py::module_& m);   // ch. 9
+void bind_tools(py::module_& m);    // render, view
 
 }  // namespace geotex::python

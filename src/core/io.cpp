@@ -13,12 +13,16 @@
 #include <limits>
 #include <sstream>
 #include <string_view>
-#include <unistd.h>
 #include <unordered_map>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "geotex/core/error.h"
+#include "geotex/core/output.h"
 
 namespace geotex {
 
@@ -31,37 +35,39 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string read_file_bytes(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw IoError(fmt::format("{}: no such file", path.string()));
-  if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("{}: cannot open for reading", path.string()));
-  std::string data;
-  in.seekg(0, std::ios::end);
-  const auto size = in.tellg();
-  if (size < 0) throw IoError(fmt::format("{}: cannot determine size", path.string()));
-  data.resize(static_cast<size_t>(size));
-  in.seekg(0);
-  in.read(data.data(), size);
-  if (!in) throw IoError(fmt::format("{}: read failed", path.string()));
-  return data;
+std::string read_file_bytes(const fs::path& path) { return read_regular_file(path); }
+
+std::string human_bytes(uint64_t n) {
+  if (n >= (1ull << 30)) return fmt::format("{:.1f} GiB", n / double(1ull << 30));
+  if (n >= (1ull << 20)) return fmt::format("{:.1f} MiB", n / double(1ull << 20));
+  return fmt::format("{} bytes", n);
 }
 
 // ---------------------------------------------------------------------------------------------
 // Text scanning helpers.
 
+// A UTF-8 byte order mark, which some Windows tools put before any text.
+constexpr std::string_view kBom = "\xEF\xBB\xBF";
+std::string_view without_bom(std::string_view data) {
+  return data.substr(0, 3) == kBom ? data.substr(3) : data;
+}
+
+// Lines end with LF, CRLF or a lone CR (classic Mac OS); the line excludes its end.
 struct LineReader {
   std::string_view data;
   size_t pos = 0;
   size_t line_no = 0;
   bool next(std::string_view& line) {
     if (pos >= data.size()) return false;
-    size_t end = data.find('\n', pos);
-    if (end == std::string_view::npos) end = data.size();
-    line = data.substr(pos, end - pos);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos = end + 1;
+    const size_t end = data.find_first_of("\r\n", pos);
+    if (end == std::string_view::npos) {
+      line = data.substr(pos);
+      pos = data.size();
+    } else {
+      line = data.substr(pos, end - pos);
+      pos = end + 1;
+      if (data[end] == '\r' && pos < data.size() && data[pos] == '\n') ++pos;
+    }
     ++line_no;
     return true;
   }
@@ -111,6 +117,15 @@ bool parse_int64(std::string_view tok, int64_t& out) {
   throw IoError(fmt::format("{}:{}: {}", path.string(), line, what));
 }
 
+// A vertex index stored as a number of any type: an integer within int range (casting anything else
+// is undefined behaviour, and truncating 2.5 to 2 would be silently wrong). Negative values pass
+// (a strip restart is -1; a face's range is checked when it is built).
+bool integral_index(double v, int64_t& out) {
+  if (!(std::abs(v) <= static_cast<double>(std::numeric_limits<int>::max())) || v != std::floor(v)) return false;
+  out = static_cast<int64_t>(v);
+  return true;
+}
+
 // A polygon soup before triangulation.
 struct Soup {
   std::vector<double> xyz;             // 3 per vertex
@@ -129,6 +144,8 @@ Mesh build_from_soup(const fs::path& path, const Soup& soup, const ReadOptions& 
                      ReadReport& rep) {
   const size_t nv = soup.n_vertices();
   if (nv == 0) throw InvalidInput(fmt::format("{}: the file holds no vertices", path.string()));
+  if (nv > static_cast<size_t>(std::numeric_limits<int>::max()))
+    throw InvalidInput(fmt::format("{}: {} vertices; geotex meshes hold at most 2^31 - 1", path.string(), nv));
   MatrixX3d V(nv, 3);
   for (size_t i = 0; i < nv; ++i) {
     V(i, 0) = soup.xyz[3 * i];
@@ -202,7 +219,7 @@ Mesh build_from_soup(const fs::path& path, const Soup& soup, const ReadOptions& 
 
 Soup parse_obj(const fs::path& path, std::string_view data, ReadReport& rep) {
   Soup soup;
-  LineReader lr{data};
+  LineReader lr{without_bom(data)};
   std::string_view line;
   std::vector<int64_t> poly;
   size_t unknown = 0;
@@ -248,7 +265,7 @@ Soup parse_obj(const fs::path& path, std::string_view data, ReadReport& rep) {
 
 Soup parse_off(const fs::path& path, std::string_view data, ReadReport& rep) {
   Soup soup;
-  LineReader lr{data};
+  LineReader lr{without_bom(data)};
   std::string_view line;
   // Skip comments and blank lines.
   auto next_content = [&](std::string_view& l) {
@@ -359,7 +376,7 @@ Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
     uint32_t n;
     std::memcpy(&n, data.data() + 80, 4);
     const uint64_t expect = 84ull + 50ull * n;
-    const bool looks_ascii = data.substr(0, 5) == "solid" && data.find("facet") != std::string_view::npos;
+    const bool looks_ascii = without_bom(data).substr(0, 5) == "solid" && data.find("facet") != std::string_view::npos;
     if (expect == data.size() || !looks_ascii) {
       if (data.size() < expect)
         throw IoError(fmt::format("{}: truncated binary STL: {} triangles declared, room for {}",
@@ -371,11 +388,11 @@ Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
       rep.file_polygons = n;
       return stl_from_corners(corners, rep);
     }
-  } else if (data.substr(0, std::min<size_t>(5, data.size())) != "solid") {
+  } else if (without_bom(data).substr(0, 5) != "solid") {
     throw IoError(fmt::format("{}: not an STL file (too short for binary, no 'solid' header)", path.string()));
   }
   std::vector<float> corners;
-  LineReader lr{data};
+  LineReader lr{without_bom(data)};
   std::string_view line;
   size_t in_facet = 0;
   bool ended = false;
@@ -388,6 +405,9 @@ Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
         double c;
         const auto tok = next_token(rest);
         if (!parse_double(tok, c)) malformed(path, lr.line_no, fmt::format("bad vertex coordinate '{}'", tok));
+        // STL holds 32-bit floats; a larger finite number has no float (the cast would be undefined).
+        if (std::isfinite(c) && std::abs(c) > std::numeric_limits<float>::max())
+          malformed(path, lr.line_no, fmt::format("coordinate {} is beyond the range of STL's 32-bit floats", tok));
         corners.push_back(static_cast<float>(c));
       }
       ++in_facet;
@@ -419,6 +439,54 @@ PlyType ply_type(const fs::path& path, std::string_view t) {
   if (t == "float" || t == "float32") return PlyType::F32;
   if (t == "double" || t == "float64") return PlyType::F64;
   throw IoError(fmt::format("{}: unknown PLY property type '{}'", path.string(), t));
+}
+
+const char* type_name(PlyType t) {
+  switch (t) {
+    case PlyType::I8: return "char";
+    case PlyType::U8: return "uchar";
+    case PlyType::I16: return "short";
+    case PlyType::U16: return "ushort";
+    case PlyType::I32: return "int";
+    case PlyType::U32: return "uint";
+    case PlyType::F32: return "float";
+    case PlyType::F64: return "double";
+  }
+  return "?";
+}
+
+bool is_integer_type(PlyType t) { return t != PlyType::F32 && t != PlyType::F64; }
+
+// The range of an integer PLY type.
+std::pair<int64_t, int64_t> integer_range(PlyType t) {
+  switch (t) {
+    case PlyType::I8: return {INT8_MIN, INT8_MAX};
+    case PlyType::U8: return {0, UINT8_MAX};
+    case PlyType::I16: return {INT16_MIN, INT16_MAX};
+    case PlyType::U16: return {0, UINT16_MAX};
+    case PlyType::I32: return {INT32_MIN, INT32_MAX};
+    case PlyType::U32: return {0, UINT32_MAX};
+    default: return {0, 0};
+  }
+}
+
+// One ascii PLY value of type \p t: an integer type holds an integer in its range ("1.5" or 300 in a
+// uchar is refused, not truncated or wrapped).
+bool parse_ply_ascii(std::string_view tok, PlyType t, double& out) {
+  if (!is_integer_type(t)) return parse_double(tok, out);
+  int64_t i;
+  if (!parse_int64(tok, i)) return false;
+  const auto [lo, hi] = integer_range(t);
+  if (i < lo || i > hi) return false;
+  out = static_cast<double>(i);
+  return true;
+}
+
+std::string ascii_value_error(std::string_view tok, PlyType t) {
+  if (tok.empty()) return "row has too few values (truncated?)";
+  if (!is_integer_type(t)) return fmt::format("'{}' is not a number", tok);
+  const auto [lo, hi] = integer_range(t);
+  return fmt::format("'{}' is not an integer in [{}, {}] (the header declares '{}')", tok, lo, hi, type_name(t));
 }
 
 size_t type_size(PlyType t) {
@@ -472,9 +540,13 @@ double load_as_double(const char* p, PlyType t, bool swap) {
 }
 
 PlyData parse_ply(const fs::path& path, std::string_view data) {
+  data = without_bom(data);
   LineReader lr{data};
   std::string_view line;
   if (!lr.next(line) || line != "ply") throw IoError(fmt::format("{}: not a PLY file (no 'ply' magic)", path.string()));
+  // The magic line's end tells how the header's lines end; it decides where a binary body starts
+  // after "end_header\r" (a lone CR, then maybe a body byte 0x0A, or CRLF).
+  const bool cr_only = data.size() > 3 && data[3] == '\r' && (data.size() == 4 || data[4] != '\n');
   // A header cut short would otherwise be reported by whichever line the cut made malformed.
   if (data.find("end_header") == std::string_view::npos)
     throw IoError(fmt::format("{}: PLY header has no end_header (truncated?)", path.string()));
@@ -496,6 +568,8 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
       int64_t n;
       if (d.name.empty() || !parse_int64(next_token(rest), n) || n < 0)
         malformed(path, lr.line_no, "bad element declaration");
+      for (const auto& other : decls)
+        if (other.name == d.name) malformed(path, lr.line_no, fmt::format("element '{}' is declared twice", d.name));
       d.count = static_cast<size_t>(n);
       decls.push_back(d);
     } else if (key == "property") {
@@ -511,9 +585,20 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
       }
       p.name = std::string(next_token(rest));
       if (p.name.empty()) malformed(path, lr.line_no, "property without a name");
+      for (const auto& other : decls.back().props)
+        if (other.name == p.name)  // the values would interleave: x1 x2 of one vertex read as x of two
+          malformed(path, lr.line_no,
+                    fmt::format("property '{}' of element '{}' is declared twice", p.name, decls.back().name));
       decls.back().props.push_back(p);
     } else if (key == "end_header") {
       header_done = true;
+      // Where the body starts: right after this line's end, reading a CR LF pair as one end only if
+      // the header's lines end that way.
+      size_t body = static_cast<size_t>(line.data() - data.data()) + line.size();
+      if (body < data.size() && data[body] == '\n') ++body;
+      else if (body < data.size() && data[body] == '\r')
+        body += (!cr_only && body + 1 < data.size() && data[body + 1] == '\n') ? 2 : 1;
+      lr.pos = body;
       break;
     } else {
       malformed(path, lr.line_no, fmt::format("unexpected header line '{}'", line));
@@ -568,19 +653,22 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
           const auto& p = d.props[k];
           auto tok = next_token(row);
           if (p.is_list) {
-            int64_t n;
-            if (!parse_int64(tok, n) || n < 0) malformed(path, body.line_no, fmt::format("bad list length '{}'", tok));
+            double nd;
+            if (!parse_ply_ascii(tok, p.count_type, nd) || nd < 0)
+              malformed(path, body.line_no, fmt::format("bad list length '{}' (the header declares '{}')", tok,
+                                                        type_name(p.count_type)));
+            const auto n = static_cast<int64_t>(nd);
             for (int64_t i = 0; i < n; ++i) {
               double v;
               tok = next_token(row);
-              if (!parse_double(tok, v)) malformed(path, body.line_no, fmt::format("list of {} items has fewer (truncated?)", n));
+              if (tok.empty()) malformed(path, body.line_no, fmt::format("list of {} items has fewer (truncated?)", n));
+              if (!parse_ply_ascii(tok, p.type, v)) malformed(path, body.line_no, ascii_value_error(tok, p.type));
               lst[k]->items.push_back(v);
             }
             lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
           } else {
             double v;
-            if (!parse_double(tok, v))
-              malformed(path, body.line_no, tok.empty() ? "row has too few values (truncated?)" : fmt::format("'{}' is not a number", tok));
+            if (!parse_ply_ascii(tok, p.type, v)) malformed(path, body.line_no, ascii_value_error(tok, p.type));
             scal[k]->push_back(v);
           }
         }
@@ -596,8 +684,8 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
             if (pos + cs > data.size()) truncated(r);
             const double nd = load_as_double(data.data() + pos, p.count_type, swap);
             pos += cs;
-            if (!(nd >= 0) || nd > static_cast<double>(data.size()))
-              malformed(path, 0, fmt::format("bad list length {} in element '{}' row {}", nd, d.name, r));
+            if (!(nd >= 0) || nd > static_cast<double>(data.size()) || nd != std::floor(nd))
+              throw IoError(fmt::format("{}: bad list length {} in element '{}' row {}", path.string(), nd, d.name, r));
             const size_t n = static_cast<size_t>(nd);
             const size_t is = type_size(p.type);
             if (pos + n * is > data.size()) truncated(r);
@@ -643,7 +731,12 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
     if (!L) throw IoError(fmt::format("{}: PLY face element has no vertex_indices list", path.string()));
     std::vector<int64_t> poly;
     for (size_t f = 0; f < L->rows(); ++f) {
-      poly.assign(L->items.begin() + L->offsets[f], L->items.begin() + L->offsets[f + 1]);
+      poly.resize(static_cast<size_t>(L->offsets[f + 1] - L->offsets[f]));
+      for (size_t k = 0; k < poly.size(); ++k) {
+        const double v = L->items[L->offsets[f] + k];
+        if (!integral_index(v, poly[k]))
+          throw IoError(fmt::format("{}: face {} has vertex index {}, not an integer index", path.string(), f, v));
+      }
       soup.add_polygon(poly.data(), poly.size());
     }
     rep.file_polygons += face->count;
@@ -665,7 +758,10 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
         run.clear();
       };
       for (int64_t i = L->offsets[s]; i < L->offsets[s + 1]; ++i) {
-        const int64_t v = static_cast<int64_t>(L->items[i]);
+        int64_t v;
+        if (!integral_index(L->items[i], v))
+          throw IoError(fmt::format("{}: triangle strip {} has vertex index {}, not an integer index", path.string(), s,
+                                    L->items[i]));
         if (v < 0) flush();
         else run.push_back(v);
       }
@@ -701,29 +797,22 @@ void append_bin(std::string& s, T v) {
   s.append(b, sizeof(T));
 }
 
-void write_bytes_atomic(const fs::path& path, const std::string& bytes) {
-  if (path.empty()) throw IoError("empty output path");
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path.string()));
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec)) throw IoError(fmt::format("{}: folder {} does not exist", path.string(), dir.string()));
-  const fs::path tmp = dir / fmt::format(".{}.tmp-{}", path.filename().string(), ::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(fmt::format("{}: cannot write in {}", path.string(), dir.string()));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      fs::remove(tmp, ec);
-      throw IoError(fmt::format("{}: write failed (disk full?)", path.string()));
-    }
+void write_bytes_atomic(const fs::path& path, const std::string& bytes) { write_file_atomic(path, bytes); }
+
+// Writers refuse what the readers refuse: a file geotex cannot read back is never written.
+void require_finite_points(const Mesh& mesh, const fs::path& path) {
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])))
+      throw InvalidInput(fmt::format("{}: not written: vertex {} has a non-finite coordinate ({}, {}, {})",
+                                     path.string(), v.idx(), p[0], p[1], p[2]));
   }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw IoError(fmt::format("{}: cannot move the written file into place", path.string()));
-  }
+}
+
+void require_finite_values(const double* v, size_t n, const std::string& what, const fs::path& path) {
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(v[i]))
+      throw InvalidInput(fmt::format("{}: not written: {} {} is {}", path.string(), what, i, v[i]));
 }
 
 std::string obj_text(const Mesh& mesh) {
@@ -761,7 +850,13 @@ std::string off_text(const Mesh& mesh) {
   return s;
 }
 
-std::string stl_bytes(const Mesh& mesh, bool binary) {
+std::string stl_bytes(const Mesh& mesh, bool binary, const fs::path& path) {
+  // STL stores 32-bit floats: a larger coordinate would become inf.
+  for (auto v : mesh.vertices())
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(mesh.point(v)[k]) > std::numeric_limits<float>::max())
+        throw InvalidInput(fmt::format("{}: not written: vertex {} has coordinate {}, beyond STL's 32-bit floats",
+                                       path.string(), v.idx(), mesh.point(v)[k]));
   std::string s;
   auto tri = [&](Mesh::FaceHandle f, Vec3 (&c)[3], Vec3& n) {
     int k = 0;
@@ -799,11 +894,16 @@ std::string stl_bytes(const Mesh& mesh, bool binary) {
   return s;
 }
 
-std::string ply_bytes(const Mesh& mesh, const PlyExtras& extras, bool binary) {
+std::string ply_bytes(const Mesh& mesh, const PlyExtras& extras, bool binary, const fs::path& path) {
   const size_t nv = mesh.n_vertices();
-  for (const auto& [name, vals] : extras.vertex_scalars)
+  for (const auto& [name, vals] : extras.vertex_scalars) {
     if (vals.size() != nv)
       throw InvalidInput(fmt::format("PLY vertex property '{}' has {} values for {} vertices", name, vals.size(), nv));
+    require_finite_values(vals.data(), vals.size(), fmt::format("'{}' of vertex", name), path);
+  }
+  for (const auto& e : extras.elements)
+    for (const auto& [name, v] : e.double_props)
+      require_finite_values(v.data(), v.size(), fmt::format("'{}' of {}", name, e.name), path);
   std::string s = "ply\n";
   s += binary ? (std::endian::native == std::endian::little ? "format binary_little_endian 1.0\n"
                                                             : "format binary_big_endian 1.0\n")
@@ -876,6 +976,64 @@ std::string ply_bytes(const Mesh& mesh, const PlyExtras& extras, bool binary) {
 
 // ---------------------------------------------------------------------------------------------
 
+std::string read_regular_file(const fs::path& path, size_t max_bytes, const std::string& what) {
+  const std::string name = path.string();
+  const std::string limit_of = what.empty() ? "this input" : what;
+  // stat first: opening a FIFO or a tape device can block or have effects.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int e = errno;
+    if (e == ENOENT) throw IoError(fmt::format("{}: no such file", name));
+    throw IoError(fmt::format("{}: cannot read ({})", name, std::strerror(e)));
+  }
+  auto require_regular = [&](mode_t m) {
+    if (S_ISREG(m)) return;
+    if (S_ISDIR(m)) throw IoError(fmt::format("{}: is a directory", name));
+    const char* kind = S_ISFIFO(m) ? "a FIFO (named pipe)" : S_ISSOCK(m) ? "a socket"
+                       : (S_ISCHR(m) || S_ISBLK(m)) ? "a device" : "not a regular file";
+    throw IoError(fmt::format("{}: is {}; geotex reads only regular files", name, kind));
+  };
+  require_regular(st.st_mode);
+  // O_NONBLOCK: if a FIFO took the file's place since the stat, open and read return at once.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw IoError(fmt::format("{}: cannot open for reading ({})", name, std::strerror(errno)));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  if (::fstat(fd, &st) != 0) throw IoError(fmt::format("{}: cannot read ({})", name, std::strerror(errno)));
+  require_regular(st.st_mode);
+  auto too_large = [&]() {
+    return IoError(fmt::format("{}: larger than {}, the limit for {}", name, human_bytes(max_bytes), limit_of));
+  };
+  if (static_cast<uint64_t>(st.st_size) > max_bytes) throw too_large();
+  auto read_some = [&](char* buf, size_t len) -> size_t {
+    for (;;) {
+      const ssize_t n = ::read(fd, buf, len);
+      if (n >= 0) return static_cast<size_t>(n);
+      const int e = errno;
+      if (e == EINTR) continue;
+      if (e == EAGAIN) throw IoError(fmt::format("{}: reading would block; geotex reads only regular files", name));
+      throw IoError(fmt::format("{}: read failed ({})", name, std::strerror(e)));
+    }
+  };
+  std::string data(static_cast<size_t>(st.st_size), '\0');
+  size_t got = 0;
+  while (got < data.size()) {
+    const size_t n = read_some(data.data() + got, data.size() - got);
+    if (n == 0) break;  // the file shrank
+    got += n;
+  }
+  data.resize(got);
+  // The file grew since the stat, or has no size (/proc): read on, up to the limit.
+  std::vector<char> chunk(65536);
+  for (size_t n; (n = read_some(chunk.data(), chunk.size())) > 0;) {
+    if (data.size() + n > max_bytes) throw too_large();
+    data.append(chunk.data(), n);
+  }
+  return data;
+}
+
 const PlyElement* PlyData::find(const std::string& name) const {
   for (const auto& e : elements)
     if (e.name == name) return &e;
@@ -915,8 +1073,8 @@ Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOp
   // cannot always tell a truncated file from a complete one; a missing final newline is the one sign.
   // (ASCII STL has its 'endsolid' for that.) A comment as the last line is no sign.
   const bool text = format == MeshFormat::Obj || format == MeshFormat::Off || rep.format == "ply (ascii)";
-  if (text && data.back() != '\n') {
-    const size_t nl = data.rfind('\n');
+  if (text && data.back() != '\n' && data.back() != '\r') {
+    const size_t nl = data.find_last_of("\r\n");
     std::string_view last = data.substr(nl == std::string_view::npos ? 0 : nl + 1);
     const std::string_view key = next_token(last);
     if (!key.empty() && key.front() != '#')
@@ -937,16 +1095,18 @@ PlyData parse_ply_bytes(std::string_view data, const std::string& name) { return
 
 void write_mesh(const Mesh& mesh, const fs::path& path, const WriteOptions& options) {
   const MeshFormat f = format_from_path(path);
+  require_finite_points(mesh, path);
   switch (f) {
     case MeshFormat::Obj: write_bytes_atomic(path, obj_text(mesh)); break;
     case MeshFormat::Off: write_bytes_atomic(path, off_text(mesh)); break;
-    case MeshFormat::Stl: write_bytes_atomic(path, stl_bytes(mesh, options.binary)); break;
-    case MeshFormat::Ply: write_bytes_atomic(path, ply_bytes(mesh, {}, options.binary)); break;
+    case MeshFormat::Stl: write_bytes_atomic(path, stl_bytes(mesh, options.binary, path)); break;
+    case MeshFormat::Ply: write_bytes_atomic(path, ply_bytes(mesh, {}, options.binary, path)); break;
   }
 }
 
 void write_ply(const Mesh& mesh, const fs::path& path, const PlyExtras& extras, bool binary) {
-  write_bytes_atomic(path, ply_bytes(mesh, extras, binary));
+  require_finite_points(mesh, path);
+  write_bytes_atomic(path, ply_bytes(mesh, extras, binary, path));
 }
 
 void write_text_atomic(const fs::path& path, const std::string& text) { write_bytes_atomic(path, text); }
@@ -975,6 +1135,8 @@ EdgeValues read_edge_values(const fs::path& path, const std::string& property) {
   for (size_t i = 0; i < e->count; ++i) {
     out.edges(i, 0) = index(v1[i], i);
     out.edges(i, 1) = index(v2[i], i);
+    if (!std::isfinite(values[i]))
+      throw InvalidInput(fmt::format("{}: edge {} has a non-finite '{}' ({})", path.string(), i, property, values[i]));
     out.values[i] = values[i];
   }
   return out;
@@ -1004,6 +1166,9 @@ void write_polylines_obj(const MatrixX3d& V, const MatrixX2i& segments, const fs
       const int v = segments(i, k);
       if (v < 0 || v >= V.rows()) throw InvalidInput("write_polylines_obj: segment index out of range");
       if (remap[v] >= 0) continue;
+      if (!V.row(v).allFinite())
+        throw InvalidInput(fmt::format("{}: not written: vertex {} has a non-finite coordinate ({}, {}, {})",
+                                       path.string(), v, V(v, 0), V(v, 1), V(v, 2)));
       remap[v] = next++;
       s += "v ";
       append_double(s, V(v, 0)); s += ' ';

@@ -61,12 +61,14 @@ std::string Bounds::describe() const {
   return fmt::format("in {}{}, {}{}", lo_open ? "(" : "[", number(lo), number(hi), hi_open ? ")" : "]");
 }
 
-std::string OptionInfo::cli_flag() const {
+std::string cli_flag(const std::string& name) {
   std::string f = "--" + name;
   for (char& c : f)
     if (c == '_') c = '-';
   return f;
 }
+
+std::string OptionInfo::cli_flag() const { return geotex::cli_flag(name); }
 
 void check_option_value(const OptionInfo& info, const OptionValue& value) {
   const auto bad = [&](const std::string& why) {

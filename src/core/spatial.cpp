@@ -1,5 +1,7 @@
 #include "geotex/core/spatial.h"
 
+#include <queue>
+
 #include <algorithm>
 #include <limits>
 
@@ -130,6 +132,37 @@ void TriangleTree::faces_near(const Vec3& p, double radius, std::vector<int>& ou
     } else {
       stack.push_back(n.left);
       stack.push_back(n.right);
+    }
+  }
+}
+
+void TriangleTree::visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit) const {
+  if (nodes_.empty()) return;
+  // A min-heap of nodes and faces by squared box distance; faces are entered as ~face.
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  double r2 = radius * radius;
+  heap.emplace(nodes_[0].box.squaredExteriorDistance(p), 0);
+  while (!heap.empty()) {
+    const auto [d2, id] = heap.top();
+    heap.pop();
+    if (d2 > r2) break;
+    if (id < 0) {
+      const double r = visit(~id, std::sqrt(d2));
+      r2 = std::min(r2, r * r);
+      continue;
+    }
+    const Node& n = nodes_[id];
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i) {
+        const double fd = face_box_[order_[i]].squaredExteriorDistance(p);
+        if (fd <= r2) heap.emplace(fd, ~order_[i]);
+      }
+    } else {
+      for (int c : {n.left, n.right}) {
+        const double cd = nodes_[c].box.squaredExteriorDistance(p);
+        if (cd <= r2) heap.emplace(cd, c);
+      }
     }
   }
 }

@@ -23,15 +23,14 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string read_text(const fs::path& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("{}: cannot open", path.string()));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw IoError(fmt::format("{}: read failed", path.string()));
-  return ss.str();
+// Only regular files, up to a limit (read_regular_file in io.h): a FIFO or /dev/zero is refused at once.
+std::string read_text(const fs::path& path, size_t max_bytes, const char* what) {
+  return read_regular_file(path, max_bytes, what);
+}
+
+// A UTF-8 byte order mark (some Windows editors write one) is not part of the text.
+std::string_view without_bom(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
 }
 
 std::string lower_extension(const fs::path& path) {
@@ -40,17 +39,16 @@ std::string lower_extension(const fs::path& path) {
   return e;
 }
 
-// Lines of a text, without their '\n' (and '\r').
+// Lines of a text (after any byte order mark), without their end: LF, CRLF or a lone CR.
 template <class F>
 void for_each_line(std::string_view text, F&& f) {
+  text = without_bom(text);
   size_t line_no = 0;
   while (!text.empty()) {
-    const size_t end = text.find('\n');
-    std::string_view line = text.substr(0, end);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    f(line, ++line_no);
+    const size_t end = text.find_first_of("\r\n");
+    f(text.substr(0, end), ++line_no);
     if (end == std::string_view::npos) break;
-    text.remove_prefix(end + 1);
+    text.remove_prefix(end + (text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n' ? 2 : 1));
   }
 }
 
@@ -218,7 +216,7 @@ HandleSet parse_handles(std::string_view json_text, const MatrixX3d& X, double d
 }
 
 HandleSet read_handles(const fs::path& path, const MatrixX3d& X, double default_weight) {
-  return parse_handles(read_text(path), X, default_weight, path.string());
+  return parse_handles(read_text(path, kMaxHandlesFileBytes, "a handles file"), X, default_weight, path.string());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -266,7 +264,7 @@ Eigen::VectorXd features_from_ply(const PlyData& ply, const Mesh& mesh, const Fe
 
 Eigen::VectorXd read_feature_file(const fs::path& path, const Mesh& mesh, const FeatureFileOptions& options) {
   if (lower_extension(path) == ".ply") return features_from_ply(read_ply_data(path), mesh, options, path.string());
-  return parse_feature_weights(read_text(path), mesh.n_vertices(), path.string());
+  return parse_feature_weights(read_text(path, kMaxTextFileBytes, "a feature file"), mesh.n_vertices(), path.string());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -322,7 +320,7 @@ MatrixX3d read_point_file(const fs::path& path) {
   const std::string e = lower_extension(path);
   if (e == ".ply") return points_from_ply(read_ply_data(path), path.string());
   if (!is_point_file(path)) throw IoError(fmt::format("{}: not a point file (.ply .obj .xyz .pts .txt)", path.string()));
-  return parse_point_text(read_text(path), e == ".obj", path.string());
+  return parse_point_text(read_text(path, kMaxTextFileBytes, "a point file"), e == ".obj", path.string());
 }
 
 }  // namespace geotex

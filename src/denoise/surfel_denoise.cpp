@@ -36,11 +36,15 @@ const OptionTable<SurfelDenoiseOptions>& SurfelDenoiseOptions::table() {
       .add("iterations", &O::iterations, "threshold values (ICM iterations) from t_start down to t_end", non_negative(),
            "Sec. 7.4.3.5")
       .add("per_threshold", &O::per_threshold, "ICM sweeps at each threshold", between(1, 1000))
+      .alias("surfel_per_threshold")
       .add("candidates", &O::candidates,
            "also try the weights of each neighbouring orientation, keep the surfel of least energy (not in the thesis)")
+      .alias("surfel_candidates")
       .add("guided", &O::guided, "weights from guidance normals of the most consistent one-ring patch (not in the thesis)")
+      .alias("surfel_guided")
       .choice("weights", &O::weights, surfel_weight_names(),
               "weights held in each local minimisation: lagged (thesis, w) or irls (w^2, keeps edges sharp)", "Eq. (7.12-7.14)")
+      .alias("surfel_weights")
       .add("cluster_moves", &O::cluster_moves,
            "move whole clusters of parallel surfels where that lowers the energy (not in the thesis)")
       .choice("retrieval", &O::retrieval, surfel_retrieval_names(),
@@ -49,10 +53,13 @@ const OptionTable<SurfelDenoiseOptions>& SurfelDenoiseOptions::table() {
               "Sec. 7.4.4")
       .choice("neighborhood", &O::neighborhood, surfel_neighborhood_names(),
               "ring: mesh one-ring (thesis); knn: k nearest vertices, connectivity ignored", "Sec. 7.4.3.2")
+      .alias("surfel_neighborhood")
       .add("neighbors", &O::neighbors, "k of the knn neighbourhood (and of its PCA normals)", between(1, 1000))
       .add("fit_iterations", &O::fit_iterations, "fit retrieval: vertex updates (Sun et al. 2007)", between(0, 100000))
+      .alias("surfel_fit_iterations")
       .add("eigen_threshold", &O::eigen_threshold,
            "dual retrieval: relative eigenvalue below which plane intersections are ill-determined", unit_interval())
+      .alias("surfel_eigen_threshold")
       .preset("thesis", "the thesis' runs: alpha 0.1, beta 100, t 45 -> 10 deg over 10 iterations, lagged weights, dual mesh",
               [](O& o) {
                 o.alpha = 0.1;  // Sec. 7.4.3.4 ("0.1 and 0.01 were typically used"; Fig. 7.5, fandisk: 0.1)
@@ -67,7 +74,8 @@ const OptionTable<SurfelDenoiseOptions>& SurfelDenoiseOptions::table() {
                 o.cluster_moves = false;
                 o.retrieval = SurfelRetrieval::Dual;  // Sec. 7.4.4
                 o.neighborhood = SurfelNeighborhood::OneRing;  // Sec. 7.4.3.2: "a one-ring"
-              });
+              })
+      .preset("tuned", "the defaults (the name of the tuned settings before they became the defaults)", [](O&) {});
   return t;
 }
 

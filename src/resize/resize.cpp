@@ -1,19 +1,18 @@
 #include "geotex/resize/resize.h"
 
 #include <algorithm>
+#include <array>
+#include <memory>
 #include <cmath>
 
 #include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 
-#include "geotex/toolkit/diffusion.h"
-#include "geotex/toolkit/editing.h"
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
-#include "geotex/toolkit/linear_solver.h"
-#include "geotex/tools/shapes.h"
-#include "geotex/toolkit/smoothing.h"
 #include "geotex/core/spatial.h"
+#include "geotex/toolkit/editing.h"
+#include "geotex/toolkit/linear_solver.h"
 
 namespace geotex {
 
@@ -30,6 +29,99 @@ SpaceMap twist_map(double tau, double x0) {
     const double a = tau * (x.x() - x0), c = std::cos(a), s = std::sin(a);
     return {x.x(), c * x.y() - s * x.z(), s * x.y() + c * x.z()};
   };
+}
+
+SpaceMap arc_map(double radius, double x0, double z0) {
+  return [radius, x0, z0](const Vec3& x) -> Vec3 {
+    const double theta = (x.x() - x0) / radius, r = radius - (x.z() - z0);
+    return {x0 + r * std::sin(theta), x.y(), z0 + radius - r * std::cos(theta)};
+  };
+}
+
+const OptionTable<SpaceMapOptions>& SpaceMapOptions::table() {
+  using O = SpaceMapOptions;
+  static const auto t = OptionTable<O>()
+      .add("scale", &O::scale, "anisotropic scale sx,sy,sz about the bounding-box centre", positive())
+      .add("twist", &O::twist, "twist about the x axis through the box centre, radians per unit length")
+      .add("bend", &O::bend, "shear bend along x: z += K (x - x_centre)^2 / 2")
+      .add("arc_radius", &O::arc_radius, "bend the x axis into an arc of this radius about the box centre (0: none)",
+           non_negative());
+  return t;
+}
+
+SpaceMap space_map(const SpaceMapOptions& o, const BoundingBox& box) {
+  check_options(o);
+  const Vec3 c = box.center();
+  std::vector<SpaceMap> parts;
+  if (o.scale != Vec3::Ones()) parts.push_back(scale_map(o.scale, c));
+  if (o.twist != 0) {  // about the line through the centre along x
+    const SpaceMap tw = twist_map(o.twist, c.x());
+    parts.push_back([tw, c](const Vec3& x) -> Vec3 {
+      const Vec3 off(0, c.y(), c.z());
+      return tw(x - off) + off;
+    });
+  }
+  if (o.bend != 0) parts.push_back(bend_map(o.bend, c.x()));
+  if (o.arc_radius > 0) parts.push_back(arc_map(o.arc_radius, c.x(), c.z()));
+  return [parts](const Vec3& x) -> Vec3 {
+    Vec3 y = x;
+    for (const SpaceMap& m : parts) y = m(y);
+    return y;
+  };
+}
+
+MatrixX3d apply_space_map(const SpaceMap& map, const MatrixX3d& X) {
+  MatrixX3d C(X.rows(), 3);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < X.rows(); ++i) C.row(i) = map(X.row(i).transpose()).transpose();
+  if (!C.allFinite()) throw InvalidInput("the space map gives non-finite positions");
+  return C;
+}
+
+const EnumNames<ResizeMethod>& resize_method_names() {
+  static const EnumNames<ResizeMethod> names = {{"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis}};
+  return names;
+}
+
+const OptionTable<ResizeOptions>& ResizeOptions::table() {
+  using O = ResizeOptions;
+  static const auto t = OptionTable<O>()
+      .choice("method", &O::method, resize_method_names(),
+              "sliding (background slides along the surface, default) or thesis (Eq. 9.2-9.3)", "Sec. 9.4")
+      .add("position_weight", &O::position_weight, "w: weight of the position terms against the feature terms",
+           positive(), "Eq. (9.2)")
+      .add("keep_feature_size", &O::keep_feature_size,
+           "features keep their size (T_i rotations); false: T_i similarities, features scale with the map", {},
+           "Sec. 9.4")
+      .add("square_weights", &O::square_weights,
+           "thesis: weigh the energy by f_i^2 and (w p_i)^2, as the least-squares system of Eq. (9.3) does", {},
+           "Eq. (9.3)")
+      .add("background_smoothness", &O::background_smoothness, "sliding: weight of the background's membrane term",
+           positive())
+      .add("transition", &O::transition,
+           "sliding: width of the band around features where the stretch passes to the space map's, in units of "
+           "sqrt(area / 4 pi)", non_negative())
+      .add("frame_weight", &O::frame_weight, "sliding: weight pinning the frame (boundary, box extremes) to the map",
+           positive())
+      .add("frame_band", &O::frame_band,
+           "sliding: a feature this many mean edge lengths from a box face reaches it (and is pushed to keep the box)",
+           non_negative())
+      .add("refinements", &O::refinements, "sliding: extra re-projections onto the deformed surface", non_negative())
+      .add("taper", &O::taper, "sliding: feature weights fall off linearly over this many vertex rings outside features",
+           non_negative())
+      .add("bend_features", &O::bend_features,
+           "sliding: elongated features (ridges) bend with their base; false: every feature turns as one rigid piece")
+      .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",
+              "Eq. (9.1)")
+      .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
+              "(rotation and scale), umbrella Laplacian",
+              [](O& o) {
+                o.method = ResizeMethod::Thesis;
+                o.square_weights = true;
+                o.keep_feature_size = false;
+                o.laplacian = LaplacianType::Umbrella;
+              });
+  return t;
 }
 
 namespace {
@@ -56,135 +148,397 @@ MatrixX3d unstack(const Eigen::VectorXd& v) {
   return X;
 }
 
-// Frame of the Sliding method: boundary vertices, and vertices within a band of a bounding-box face
-// along every axis the mesh really extends in.
-std::vector<char> frame_vertices(const Mesh& mesh, const MatrixX3d& X, double band_edges) {
+// Frame of the Sliding method: the mesh boundary (a plate's rim), pinned to the map. The box is kept
+// by pinning single extreme vertices along their axis (and by pushing features at the extremes, see
+// sliding_resize), not by pinning a band at the box's faces: extremes are often features' tips (ears,
+// horns), which a pinned band would stretch.
+struct Frame {
+  std::vector<char> vertex;  // #V: 1 for boundary vertices
+  Vec3 lo, hi;               // the box
+  double band = 0;           // a feature within this distance of a box face reaches it
+  std::array<bool, 3> axis{};  // axes the mesh really extends along
+};
+
+Frame frame_of(const Mesh& mesh, const MatrixX3d& X, double band_edges) {
   const int n = static_cast<int>(X.rows());
-  std::vector<char> frame(n, 0);
+  Frame fr;
+  fr.vertex.assign(n, 0);
   for (auto v : mesh.vertices())
-    if (mesh.is_boundary(v)) frame[v.idx()] = 1;
-  const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
-  const Vec3 ext = hi - lo;
-  const double band = band_edges * mean_edge_length(mesh);
-  for (int a = 0; a < 3; ++a) {
-    if (ext[a] < 0.25 * ext.maxCoeff()) continue;
-    for (int i = 0; i < n; ++i)
-      if (X(i, a) <= lo[a] + band || X(i, a) >= hi[a] - band) frame[i] = 1;
-  }
-  return frame;
+    if (mesh.is_boundary(v)) fr.vertex[v.idx()] = 1;
+  fr.lo = X.colwise().minCoeff();
+  fr.hi = X.colwise().maxCoeff();
+  const Vec3 ext = fr.hi - fr.lo;
+  fr.band = band_edges * mean_edge_length(mesh);
+  for (int a = 0; a < 3; ++a) fr.axis[a] = ext[a] >= 0.25 * ext.maxCoeff();
+  return fr;
 }
 
-// One similarity per vertex: for vertices of a feature region (connected vertices with f > 0), the
-// fit (original → deformed) over the region's foot ring, or over the region if it has no foot ring;
-// identity elsewhere.
-std::vector<Similarity> region_similarities(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C,
-                                            const Eigen::VectorXd& f, bool allow_scale) {
-  const int n = static_cast<int>(X.rows());
-  std::vector<Similarity> T(n);
-  std::vector<int> region(n, -1), stack, members, foot;
-  std::vector<int> foot_mark(n, -1);
-  int count = 0;
+// Connected feature regions (vertices with f > 0) and their foot rings (the background vertices next
+// to them).
+struct Regions {
+  std::vector<int> id;  // #V: region of each vertex, −1 for the background
+  std::vector<std::vector<int>> members, foot;
+};
+
+Regions feature_regions(const Mesh& mesh, const Eigen::VectorXd& f) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  Regions r;
+  r.id.assign(n, -1);
+  std::vector<int> stack, foot_mark(n, -1);
   for (int seed = 0; seed < n; ++seed) {
-    if (f[seed] <= 0 || region[seed] >= 0) continue;
-    members.clear();
-    foot.clear();
-    region[seed] = count;
+    if (f[seed] <= 0 || r.id[seed] >= 0) continue;
+    const int k = static_cast<int>(r.members.size());
+    r.members.emplace_back();
+    r.foot.emplace_back();
+    r.id[seed] = k;
     stack.assign(1, seed);
     while (!stack.empty()) {
       const int v = stack.back();
       stack.pop_back();
-      members.push_back(v);
+      r.members[k].push_back(v);
       for (auto w : mesh.vv_range(mesh.vertex_handle(v))) {
         const int j = w.idx();
         if (f[j] > 0) {
-          if (region[j] < 0) { region[j] = count; stack.push_back(j); }
-        } else if (foot_mark[j] != count) {
-          foot_mark[j] = count;
-          foot.push_back(j);
+          if (r.id[j] < 0) { r.id[j] = k; stack.push_back(j); }
+        } else if (foot_mark[j] != k) {
+          foot_mark[j] = k;
+          r.foot[k].push_back(j);
         }
       }
     }
-    const std::vector<int>& fit = foot.size() >= 3 ? foot : members;
-    Eigen::MatrixX3d P(fit.size(), 3), Q(fit.size(), 3);
-    for (size_t k = 0; k < fit.size(); ++k) {
-      P.row(k) = X.row(fit[k]);
-      Q.row(k) = C.row(fit[k]);
-    }
-    const Similarity S = fit_similarity(P, Q, allow_scale);
-    for (int v : members) T[v] = S;
-    ++count;
   }
+  return r;
+}
+
+// The features with a taper: every vertex within \p rings rings of a feature region (ring distance d)
+// gets weight (1 − d / (rings + 1)) f_s from its nearest feature vertex s and belongs to that vertex's
+// region. Regions stay apart where their tapers meet (no rigid bridge between two features).
+Regions tapered_regions(const Mesh& mesh, const Eigen::VectorXd& features, int rings, Eigen::VectorXd& f) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  Regions r = feature_regions(mesh, features);
+  f = features;
+  std::vector<int> dist(n, -1), source(n, -1), queue;
+  for (int i = 0; i < n; ++i)
+    if (r.id[i] >= 0) {
+      dist[i] = 0;
+      source[i] = i;
+      queue.push_back(i);
+    }
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const int v = queue[q];
+    if (dist[v] >= rings) continue;
+    for (auto w : mesh.vv_range(mesh.vertex_handle(v))) {
+      const int j = w.idx();
+      if (dist[j] >= 0) continue;
+      dist[j] = dist[v] + 1;
+      source[j] = source[v];
+      r.id[j] = r.id[v];
+      f[j] = (1.0 - dist[j] / (rings + 1.0)) * features[source[v]];
+      queue.push_back(j);
+    }
+  }
+  for (auto& m : r.members) m.clear();
+  for (auto& ft : r.foot) ft.clear();
+  std::vector<int> foot_mark(n, -1);
+  for (int i = 0; i < n; ++i)
+    if (r.id[i] >= 0) r.members[r.id[i]].push_back(i);
+  for (size_t k = 0; k < r.members.size(); ++k)
+    for (int v : r.members[k])
+      for (auto w : mesh.vv_range(mesh.vertex_handle(v))) {
+        const int j = w.idx();
+        if (r.id[j] != static_cast<int>(k) && foot_mark[j] != static_cast<int>(k)) {
+          foot_mark[j] = static_cast<int>(k);
+          r.foot[k].push_back(j);
+        }
+      }
+  return r;
+}
+
+Similarity fit_rows(const MatrixX3d& X, const MatrixX3d& C, const std::vector<int>& rows, bool allow_scale) {
+  Eigen::MatrixX3d P(rows.size(), 3), Q(rows.size(), 3);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    P.row(k) = X.row(rows[k]);
+    Q.row(k) = C.row(rows[k]);
+  }
+  return fit_similarity(P, Q, allow_scale);
+}
+
+// The space map's local linear part J_i at every vertex: the least-squares linear map of the closed
+// 1-ring's edge vectors (about its centroid) onto the deformed ones, with the vertex normal mapped to
+// the deformed normal (a 1-ring is nearly planar and leaves the normal direction undetermined).
+std::vector<Eigen::Matrix3d> local_jacobians(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C) {
+  const int n = static_cast<int>(X.rows());
+  Mesh deformed = mesh;
+  set_positions(deformed, C);
+  const MatrixX3d N0 = vertex_normals(mesh), N1 = vertex_normals(deformed);
+  std::vector<Eigen::Matrix3d> J(n, Eigen::Matrix3d::Identity());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int i = 0; i < n; ++i) {
+    const auto vh = mesh.vertex_handle(i);
+    if (mesh.is_isolated(vh)) continue;
+    Vec3 cx = X.row(i).transpose(), cc = C.row(i).transpose();
+    int k = 1;
+    for (auto w : mesh.vv_range(vh)) {
+      cx += X.row(w.idx()).transpose();
+      cc += C.row(w.idx()).transpose();
+      ++k;
+    }
+    cx /= k;
+    cc /= k;
+    Eigen::Matrix3d XX = Eigen::Matrix3d::Zero(), CX = Eigen::Matrix3d::Zero();
+    double len2 = 0;
+    auto add = [&](int j) {
+      const Vec3 dx = X.row(j).transpose() - cx, dc = C.row(j).transpose() - cc;
+      XX += dx * dx.transpose();
+      CX += dc * dx.transpose();
+      len2 += dx.squaredNorm();
+    };
+    add(i);
+    for (auto w : mesh.vv_range(vh)) add(w.idx());
+    const double s2 = len2 / k;  // the normal weighs like a ring vertex; deformed normal scaled by the ring's stretch
+    const Vec3 n0 = N0.row(i).transpose(), n1 = N1.row(i).transpose();
+    const double stretch = std::sqrt(CX.squaredNorm() / std::max(XX.squaredNorm(), 1e-300));
+    XX += s2 * n0 * n0.transpose();
+    CX += s2 * std::max(stretch, 1e-12) * n1 * n0.transpose();
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(XX);
+    if (lu.isInvertible()) J[i] = CX * lu.inverse();
+  }
+  return J;
+}
+
+// The nearest similarity's linear part s R to a 3×3 matrix (polar decomposition by SVD).
+Eigen::Matrix3d nearest_similarity(const Eigen::Matrix3d& M, bool allow_scale) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Vector3d S(1, 1, (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1);
+  const Eigen::Matrix3d R = svd.matrixU() * S.asDiagonal() * svd.matrixV().transpose();
+  return allow_scale ? Eigen::Matrix3d(svd.singularValues().dot(S) / 3.0 * R) : R;
+}
+
+// Is a region much longer than wide (principal extents e1 > 2 e2), a ridge rather than a bump?
+bool elongated(const MatrixX3d& X, const std::vector<int>& rows) {
+  if (rows.size() < 3) return false;
+  Vec3 mean = Vec3::Zero();
+  for (int v : rows) mean += X.row(v).transpose();
+  mean /= static_cast<double>(rows.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int v : rows) {
+    const Vec3 d = X.row(v).transpose() - mean;
+    cov += d * d.transpose();
+  }
+  const Vec3 ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();  // ascending
+  return ev[2] > 4 * ev[1];
+}
+
+// The linear part T_i (rotation, or similarity with allow_scale) that turns each feature vertex's
+// edges; identity for the background.
+//  - rigid (compact features, and every feature without bend): one fit per region over its foot ring
+//    (or over the region itself if it has none);
+//  - bend (elongated features, a ridge): each foot vertex gets the rotation of the space map's local linear part J there (polar
+//    decomposition: the base's own rotation, well defined under any stretch), and the feature vertices
+//    the harmonic (umbrella) interpolation of those 3×3 matrices, projected back to rotations. Linear in the position along a uniformly bent base, so a wide
+//    feature follows the base's bending; near-constant along a protrusion's shaft, so a protrusion turns
+//    with the mean rotation of its foot.
+std::vector<Eigen::Matrix3d> feature_transforms(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C,
+                                                const std::vector<Eigen::Matrix3d>& J, const Regions& reg,
+                                                bool allow_scale, bool bend) {
+  const int n = static_cast<int>(X.rows());
+  std::vector<Eigen::Matrix3d> T(n, Eigen::Matrix3d::Identity());
+  std::vector<int> unknown(n, -1);
+  int m = 0;
+  for (size_t k = 0; k < reg.members.size(); ++k) {
+    const bool has_foot = reg.foot[k].size() >= 3;
+    if (!bend || !has_foot || !elongated(X, reg.members[k])) {
+      const Eigen::Matrix3d L = fit_rows(X, C, has_foot ? reg.foot[k] : reg.members[k], allow_scale).linear();
+      for (int v : reg.members[k]) T[v] = L;
+      continue;
+    }
+    for (int v : reg.members[k]) unknown[v] = m++;
+  }
+  if (m == 0) return T;
+  // Dirichlet values on the foot rings of the regions solved for.
+  std::vector<int> foot_vertices;
+  for (size_t k = 0; k < reg.members.size(); ++k)
+    if (!reg.members[k].empty() && unknown[reg.members[k][0]] >= 0)
+      foot_vertices.insert(foot_vertices.end(), reg.foot[k].begin(), reg.foot[k].end());
+  std::sort(foot_vertices.begin(), foot_vertices.end());
+  foot_vertices.erase(std::unique(foot_vertices.begin(), foot_vertices.end()), foot_vertices.end());
+  for (int v : foot_vertices) T[v] = nearest_similarity(J[v], allow_scale);
+  std::vector<Triplet> t;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m, 9);
+  for (int i = 0; i < n; ++i) {
+    const int r = unknown[i];
+    if (r < 0) continue;
+    double d = 0;
+    for (auto w : mesh.vv_range(mesh.vertex_handle(i))) {
+      const int j = w.idx();
+      d += 1;
+      if (unknown[j] >= 0) t.emplace_back(r, unknown[j], -1.0);
+      else B.row(r) += Eigen::Map<const Eigen::Matrix<double, 1, 9>>(T[j].data());
+    }
+    t.emplace_back(r, r, d);
+  }
+  SparseMatrix A(m, m);
+  A.setFromTriplets(t.begin(), t.end());
+  SpdSolver solver;
+  solver.compute(A);
+  const Eigen::MatrixXd Mx = solver.solve(B);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) {
+      Eigen::Matrix3d M;
+      Eigen::Map<Eigen::Matrix<double, 1, 9>>(M.data()) = Mx.row(unknown[i]);
+      T[i] = nearest_similarity(M, allow_scale);
+    }
   return T;
 }
 
-}  // namespace
+// Screened Poisson over the background with values fixed on the features (f > 0):
+//   Σ_edges |v_i − v_j|² + μ Σ_background |v_i − v⁰_i|²,  μ = (h / ℓ)², ℓ = transition · R,
+// R = √(area / 4π). Near a feature the solution takes the feature's values, beyond ~ℓ its own v⁰.
+// It spreads T from the features' rotations to the space map's J (so the stretch the features refuse
+// is spread over a band of width ~ℓ instead of piling up at their rims), and the push U that moves
+// the surroundings of a feature at the box's extremes along with it. One factor serves both.
+class BackgroundSpread {
+ public:
+  BackgroundSpread(const Mesh& mesh, const Eigen::VectorXd& f, double transition) : mesh_(mesh) {
+    const int n = static_cast<int>(mesh.n_vertices());
+    index_.assign(n, -1);
+    bool any_feature = false;
+    for (int i = 0; i < n; ++i) {
+      if (f[i] <= 0) index_[i] = m_++;
+      else any_feature = true;
+    }
+    if (!any_feature || !(transition > 0) || m_ == 0) return;  // nothing to spread: v = v⁰
+    const double ell = transition * std::sqrt(surface_area(mesh) / (4 * M_PI)) / mean_edge_length(mesh);
+    mu_ = 1.0 / (ell * ell);
+    std::vector<Triplet> t;
+    for (int i = 0; i < n; ++i) {
+      const int r = index_[i];
+      if (r < 0) continue;
+      double d = mu_;
+      for (auto w : mesh.vv_range(mesh.vertex_handle(i))) {
+        d += 1;
+        if (index_[w.idx()] >= 0) t.emplace_back(r, index_[w.idx()], -1.0);
+      }
+      t.emplace_back(r, r, d);
+    }
+    SparseMatrix A(m_, m_);
+    A.setFromTriplets(t.begin(), t.end());
+    solver_.compute(A);
+    active_ = true;
+  }
 
-MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& f,
-                               const ResizeOptions& o) {
-  require_valid(mesh, "resize input");
-  const int n = static_cast<int>(mesh.n_vertices());
-  if (C.rows() != n) throw InvalidInput(fmt::format("deformed positions: {} rows for {} vertices", C.rows(), n));
-  if (f.size() != n) throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", f.size(), n));
-  if (!C.allFinite()) throw InvalidInput("deformed positions must be finite");
-  if (!f.allFinite() || f.minCoeff() < 0 || f.maxCoeff() > 1) throw InvalidInput("feature weights must lie in [0, 1]");
-  if (!(o.position_weight > 0)) throw InvalidInput("position weight w must be positive");
-  report(o.progress, 0.0, "transforms");
-
-  const MatrixX3d X = positions(mesh);
-  const SparseMatrix L = editing_laplacian(mesh, o.laplacian);
-  const double w = o.position_weight;
-  const double eps = 1e-6 * w;  // keeps the system definite when every vertex is a feature
-  const Eigen::VectorXd p = Eigen::VectorXd::Ones(n) - f;  // p_i = 1 − f_i
-
-  if (o.method == ResizeMethod::Thesis) {
-    const MatrixX3d D = L * X;  // Eq. (9.1)
-    // T_i by SVD between the original and the deformed 1-rings; δ^t_i = T_i δ_i (Eq. 9.3's D^t).
-    const std::vector<Similarity> T = one_ring_similarities(mesh, X, C, !o.keep_feature_size);
-    MatrixX3d Dt(n, 3);
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < n; ++i) Dt.row(i) = (T[i].linear() * D.row(i).transpose()).transpose();
-    // Eq. (9.2–9.3) in normal-equation form: (Lᵀ F L + w P) X = Lᵀ F D^t + w P C.
-    report(o.progress, 0.3, "factor");
-    const Eigen::VectorXd pw = (w * p).array() + eps;
-    SparseMatrix A = SparseMatrix(L.transpose() * f.asDiagonal() * L);
-    for (int i = 0; i < n; ++i) A.coeffRef(i, i) += pw[i];
-    SpdSolver solver;
-    solver.compute(A);
-    report(o.progress, 0.7, "solve");
-    const MatrixX3d rhs = L.transpose() * (f.asDiagonal() * Dt) + pw.asDiagonal() * C;
-    MatrixX3d out = solver.solve(rhs);
-    report(o.progress, 1.0, "done");
+  //! \p V: #V by k; the rows of feature vertices are fixed, those of background vertices are v⁰.
+  //! \return V with the background rows replaced by the solution.
+  Eigen::MatrixXd operator()(const Eigen::MatrixXd& V) const {
+    if (!active_) return V;
+    Eigen::MatrixXd B(m_, V.cols());
+    for (int i = 0; i < static_cast<int>(index_.size()); ++i) {
+      const int r = index_[i];
+      if (r < 0) continue;
+      B.row(r) = mu_ * V.row(i);
+      for (auto w : mesh_.vv_range(mesh_.vertex_handle(i)))
+        if (index_[w.idx()] < 0) B.row(r) += V.row(w.idx());
+    }
+    const Eigen::MatrixXd S = solver_.solve(B);
+    Eigen::MatrixXd out = V;
+    for (int i = 0; i < static_cast<int>(index_.size()); ++i)
+      if (index_[i] >= 0) out.row(i) = S.row(index_[i]);
     return out;
   }
 
-  // Sliding. Unknowns stacked [x; y; z]. Energy:
-  //   Σ_edges f_ij |(x'_i − x'_j) − T_r (x_i − x_j)|²  features stay rigid (rotated with their base, region r)
-  // + β Σ_edges p_ij |(x'_i − x'_j) − (c_i − c_j)|²  background: a weak membrane spreading the stretch
-  // + w Σ p_i (n_iᵀ (x'_i − q_i))²                background held to the deformed surface along its normal
-  // + w_F Σ_{frame} p_i |x'_i − c_i|²             the outer frame follows the space map
-  // + ε Σ |x'_i − c_i|²
-  // with q_i = c_i and n_i the deformed base's vertex normal, then q_i, n_i re-taken at the closest
-  // point of the deformed base and the system re-solved (refinements) while a plane changes.
-  const double beta = o.background_smoothness;
-  if (!(beta > 0)) throw InvalidInput("background smoothness must be positive");
-  const std::vector<char> frame = frame_vertices(mesh, X, o.frame_band);
+ private:
+  const Mesh& mesh_;
+  std::vector<int> index_;
+  int m_ = 0;
+  double mu_ = 0;
+  bool active_ = false;
+  SpdSolver solver_;
+};
+
+// Eq. (9.2–9.3): feature vertices keep their Laplacian coordinates turned by T_i, every vertex is
+// pulled to c_i with weight w p_i.
+MatrixX3d thesis_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& f,
+                        const ResizeOptions& o) {
+  const int n = static_cast<int>(X.rows());
+  const double w = o.position_weight;
+  const double eps = 1e-6 * w;  // keeps the system definite when every vertex is a feature
+  const Eigen::VectorXd p = Eigen::VectorXd::Ones(n) - f;  // p_i = 1 − f_i
+  const SparseMatrix L = editing_laplacian(mesh, o.laplacian);
+  const MatrixX3d D = L * X;  // Eq. (9.1)
+  // T_i by SVD between the original and the deformed 1-rings; δ^t_i = T_i δ_i (Eq. 9.3's D^t).
+  const std::vector<Similarity> T = one_ring_similarities(mesh, X, C, !o.keep_feature_size);
+  MatrixX3d Dt(n, 3);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) Dt.row(i) = (T[i].linear() * D.row(i).transpose()).transpose();
+  // Eq. (9.2) in normal-equation form: (Lᵀ F L + w P) X = Lᵀ F D^t + w P C. Eq. (9.3) as written,
+  // W [L; I] X = W [D^t; C] solved in the least-squares sense, squares the weights: F², (w P)².
+  report(o.progress, 0.3, "factor");
+  const Eigen::VectorXd fw = o.square_weights ? Eigen::VectorXd(f.cwiseAbs2()) : f;
+  const Eigen::VectorXd pw =
+      (o.square_weights ? Eigen::VectorXd((w * p).cwiseAbs2()) : Eigen::VectorXd(w * p)).array() + eps;
+  SparseMatrix A = SparseMatrix(L.transpose() * fw.asDiagonal() * L);
+  for (int i = 0; i < n; ++i) A.coeffRef(i, i) += pw[i];
+  SpdSolver solver;
+  solver.compute(A);
+  report(o.progress, 0.7, "solve");
+  const MatrixX3d rhs = L.transpose() * (fw.asDiagonal() * Dt) + pw.asDiagonal() * C;
+  return solver.solve(rhs);
+}
+
+// A feature at the box's extreme along one axis: it must put its outermost vertex where the map
+// puts it, or the box is not scaled as asked.
+struct Push {
+  int region = -1;   // tapered region
+  int axis = 0;
+  int extreme = -1;  // outermost vertex
+  double delta = 0;  // how far the region and its surroundings are pushed along the axis
+};
+
+// Sliding. Unknowns stacked [x; y; z]. Energy:
+//   Σ_edges f_ij |(x'_i − x'_j) − T_ij (x_i − x_j)|²   features keep their shape, turned by T (see
+//                                                       feature_transforms), T_ij = (T_i + T_j) / 2
+// + β Σ_edges p_ij |(x'_i − x'_j) − (c_i − c_j) − (T_ij − J_ij)(x_i − x_j)|²
+//                                                       the background follows the map, its stretch
+//                                                       passing from the features' T to the map's own J
+//                                                       (BackgroundSpread)
+// + w Σ p_i (n_iᵀ (x'_i − q_i))²                  background held to the deformed surface along its normal
+// + w_F Σ_{frame} p_i |x'_i − c'_i|²              the outer frame follows the space map
+// + w_F Σ_{extremes} (x'_i − c'_i)_a²             closed meshes: extreme background vertices along a
+// + ε Σ |x'_i − c'_i|²
+// with c' = c + U (U: pushes, below), q_i = c'_i and n_i the deformed base's vertex normal; then q_i,
+// n_i re-taken at the closest point of the deformed base and the system re-solved (refinements) while
+// a plane changes. f_ij = min(f_i, f_j) within one region (0 between two), p_ij = max(p_i, p_j).
+MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& features,
+                         const ResizeOptions& o) {
+  const int n = static_cast<int>(X.rows());
+  const double w = o.position_weight, beta = o.background_smoothness;
+  const double eps = 1e-6 * w;  // keeps the system definite when every vertex is a feature
+  // A feature's weight falls off over a few rings outside it, so that its rim passes from rigid to
+  // held-to-the-base gradually instead of in one crease.
+  Eigen::VectorXd f;
+  const Regions regions = tapered_regions(mesh, features, o.taper, f);
+  const Eigen::VectorXd p = Eigen::VectorXd::Ones(n) - f;
+  const Frame frame = frame_of(mesh, X, o.frame_band);
   const double h_mean = mean_edge_length(mesh);
-  Mesh deformed = mesh;
-  set_positions(deformed, C);
-  // The base: faces whose vertices are all background (f < ½). The background slides along the
+
+  // The base: faces whose vertices are all background (f < ½ before the taper). The background slides along the
   // deformed base, not along a feature's deformed (e.g. stretched) surface, and its normals are the
   // base's own: a vertex normal averaged with a feature's faces would tilt toward the feature and
   // drag the feature's foot along it. Vertices without a base face keep their vertex normal.
   MatrixX3i Fb;
-  MatrixX3d Nv = vertex_normals(deformed);
+  MatrixX3d Nv;
   {
+    Mesh deformed = mesh;
+    set_positions(deformed, C);
+    Nv = vertex_normals(deformed);
     const MatrixX3i F = faces(mesh);
     const MatrixX3d Fn = face_normals(deformed);
     const Eigen::VectorXd area = face_areas(deformed);
     std::vector<int> base_faces;
     MatrixX3d acc = MatrixX3d::Zero(n, 3);
     for (Eigen::Index k = 0; k < F.rows(); ++k) {
-      if (f[F(k, 0)] >= 0.5 || f[F(k, 1)] >= 0.5 || f[F(k, 2)] >= 0.5) continue;
+      if (features[F(k, 0)] >= 0.5 || features[F(k, 1)] >= 0.5 || features[F(k, 2)] >= 0.5) continue;
       base_faces.push_back(static_cast<int>(k));
       for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area[k] * Fn.row(k);
     }
@@ -193,18 +547,65 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     for (int i = 0; i < n; ++i)
       if (acc.row(i).norm() > 0) Nv.row(i) = acc.row(i).normalized();
   }
-  MatrixX3d Nrm = Nv;
-  MatrixX3d Q = C;
 
-  // Features: one rotation (similarity) per connected feature region, fitted on the region's foot
-  // ring (the background vertices around it, nearly planar, so the fit turns the region with the
-  // tangent plane of its base) or, without a foot ring, on the region itself; then every edge inside a
-  // feature keeps its rotated original vector (a rigid region, unlike Laplacian coordinates, which a
-  // stretched rim stretches along).
-  const std::vector<Similarity> Tc = region_similarities(mesh, X, C, f, !o.keep_feature_size);
-  // Edge terms, one 1-ring stencil for both: feature edges keep their rotated original vectors
-  // (weight f_ij = min(f_i, f_j)); background edges follow the deformed edge vectors with the small
-  // weight β p_ij (a membrane that spreads the stretch; p_ij = max(p_i, p_j)).
+  // T: features by feature_transforms, the background spread from them to the map's J.
+  report(o.progress, 0.05, "transforms");
+  const std::vector<Eigen::Matrix3d> J = local_jacobians(mesh, X, C);
+  std::vector<Eigen::Matrix3d> T = feature_transforms(mesh, X, C, J, regions, !o.keep_feature_size, o.bend_features);
+  const BackgroundSpread spread(mesh, f, o.transition);
+  {
+    Eigen::MatrixXd V(n, 9);
+    for (int i = 0; i < n; ++i) V.row(i) = Eigen::Map<const Eigen::Matrix<double, 1, 9>>((f[i] > 0 ? T[i] : J[i]).data());
+    V = spread(V);
+    for (int i = 0; i < n; ++i) Eigen::Map<Eigen::Matrix<double, 1, 9>>(T[i].data()) = V.row(i);
+  }
+
+  // Features at the box's extremes: a feature region (as given, before the taper) reaching one box
+  // face along axis a (within the band), or whose taper holds the extreme vertex along a. A region
+  // reaching both faces spans the model and is left free (a rigid copy is what its weights ask for).
+  // Extreme background vertices are pulled to c along a.
+  std::vector<Push> pushes;
+  MatrixX3d pin_w = MatrixX3d::Zero(n, 3);
+  {
+    const Regions cores = feature_regions(mesh, features);
+    for (size_t k = 0; k < cores.members.size(); ++k)
+      for (int a = 0; a < 3; ++a) {
+        if (!frame.axis[a]) continue;
+        int lo = -1, hi = -1;
+        for (int v : cores.members[k]) {
+          if (X(v, a) <= frame.lo[a] + frame.band && (lo < 0 || X(v, a) < X(lo, a))) lo = v;
+          if (X(v, a) >= frame.hi[a] - frame.band && (hi < 0 || X(v, a) > X(hi, a))) hi = v;
+        }
+        if ((lo >= 0) != (hi >= 0)) {
+          const int e = lo >= 0 ? lo : hi;
+          pushes.push_back({regions.id[e], a, e, 0.0});
+        }
+      }
+    for (int a = 0; a < 3; ++a) {
+      if (!frame.axis[a]) continue;
+      int lo = -1, hi = -1;
+      for (int i = 0; i < n; ++i) {
+        if (mesh.is_isolated(mesh.vertex_handle(i))) continue;
+        if (lo < 0 || X(i, a) < X(lo, a)) lo = i;
+        if (hi < 0 || X(i, a) > X(hi, a)) hi = i;
+      }
+      for (int v : {lo, hi}) {
+        if (v < 0) continue;
+        const int r = regions.id[v];  // a feature's taper reaches the extreme: push the feature
+        if (r >= 0) {
+          const int other = v == lo ? hi : lo;
+          if (regions.id[other] == r) continue;  // spans the model
+          auto q = std::find_if(pushes.begin(), pushes.end(), [&](const Push& q) { return q.region == r && q.axis == a; });
+          if (q == pushes.end()) pushes.push_back({r, a, v, 0.0});
+          else q->extreme = v;  // the region's outermost vertex is the model's
+        } else {
+          pin_w(v, a) = o.frame_weight;
+        }
+      }
+    }
+  }
+
+  // Edge terms, one 1-ring stencil.
   SparseMatrix G(n, n);
   MatrixX3d lap_rhs = MatrixX3d::Zero(n, 3);
   {
@@ -212,12 +613,16 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     t.reserve(4 * mesh.n_edges());
     for (auto e : mesh.edges()) {
       const int a = e.v0().idx(), b = e.v1().idx();
-      const double fe = std::min(f[a], f[b]);
+      const double fe = regions.id[a] == regions.id[b] ? std::min(f[a], f[b]) : 0.0;
       const double be = beta * std::max(p[a], p[b]);
       const double we = fe + be;
       if (we <= 0) continue;
-      const Eigen::RowVector3d r = fe * (Tc[a].linear() * (X.row(a) - X.row(b)).transpose()).transpose() +
-                                   be * (C.row(a) - C.row(b));
+      // Feature edges: T Δx. Background edges: the deformed edge Δc corrected by (T − J) Δx, which
+      // is T Δx plus the map's own curvature, and exactly Δc where T = J (far from features).
+      const Vec3 dx = (X.row(a) - X.row(b)).transpose();
+      const Vec3 tdx = 0.5 * (T[a] + T[b]) * dx;
+      const Vec3 bg = (C.row(a) - C.row(b)).transpose() + tdx - 0.5 * (J[a] + J[b]) * dx;
+      const Eigen::RowVector3d r = (fe * tdx + be * bg).transpose();
       t.emplace_back(a, a, we);
       t.emplace_back(b, b, we);
       t.emplace_back(a, b, -we);
@@ -227,48 +632,96 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     }
     G.setFromTriplets(t.begin(), t.end());
   }
-  Eigen::VectorXd diag_w(n);  // isotropic pull to c_i
-  for (int i = 0; i < n; ++i) diag_w[i] = eps + (frame[i] ? o.frame_weight * p[i] : 0.0);
-
+  Eigen::VectorXd diag_w(n);  // isotropic pull to c'_i
+  {
+    // The frame yields near features as the background does (1 − s, s the features' indicator spread
+    // over the transition band): a boundary next to a feature (a scan's hole beside a foot) would
+    // otherwise hold the feature's surroundings to the plain map and stretch the feature.
+    Eigen::MatrixXd V = Eigen::MatrixXd::Zero(n, 1);
+    for (int i = 0; i < n; ++i) V(i, 0) = f[i] > 0 ? 1.0 : 0.0;
+    const Eigen::VectorXd s = spread(V).col(0);
+    for (int i = 0; i < n; ++i)
+      diag_w[i] = eps + (frame.vertex[i] ? o.frame_weight * p[i] * std::clamp(1.0 - s[i], 0.0, 1.0) : 0.0);
+  }
   std::vector<Triplet> base;
   add_blocks(base, G, n);
   for (int i = 0; i < n; ++i)
-    for (int d = 0; d < 3; ++d) base.emplace_back(d * n + i, d * n + i, diag_w[i]);
+    for (int d = 0; d < 3; ++d) base.emplace_back(d * n + i, d * n + i, diag_w[i] + pin_w(i, d));
 
+  MatrixX3d Cp = C;  // c' = c + U
+  MatrixX3d Nrm = Nv, Q = C;  // normals and points of the background's constraint planes
   SpdSolver solver;
-  std::unique_ptr<TriangleTree> tree;
-  MatrixX3d out = C;
-  const int rounds = 1 + std::max(0, o.refinements);
-  for (int round = 0; round < rounds; ++round) {
-    report(o.progress, 0.1 + 0.8 * round / rounds, "factor");
+  auto assemble = [&] {  // the normal terms change with Nrm
     std::vector<Triplet> t = base;
     t.reserve(base.size() + 9 * n);
-    Eigen::VectorXd b = stack(lap_rhs + diag_w.asDiagonal() * C);
     for (int i = 0; i < n; ++i) {
       const double wi = w * p[i];
-      const Vec3 nv = Nrm.row(i);
-      const double nq = nv.dot(Q.row(i));
-      for (int d = 0; d < 3; ++d) {
-        for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + i, wi * nv[d] * nv[e]);
-        b[d * n + i] += wi * nv[d] * nq;
-      }
+      for (int d = 0; d < 3; ++d)
+        for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + i, wi * Nrm(i, d) * Nrm(i, e));
     }
     SparseMatrix A(3 * n, 3 * n);
     A.setFromTriplets(t.begin(), t.end());
-    if (round == 0) solver.analyze(A, 3);  // x, y, z of a vertex together (see SpdSolver::analyze)
+    return A;
+  };
+  auto solve = [&] {
+    Eigen::VectorXd b = stack(lap_rhs + diag_w.asDiagonal() * Cp + MatrixX3d(pin_w.cwiseProduct(Cp)));
+    for (int i = 0; i < n; ++i) {
+      const double wi = w * p[i] * Nrm.row(i).dot(Q.row(i));
+      for (int d = 0; d < 3; ++d) b[d * n + i] += wi * Nrm(i, d);
+    }
+    return unstack(solver.solve(b).col(0));
+  };
+
+  // Pushes: a feature at an extreme is moved, with its surroundings fading over the transition band,
+  // until its outermost vertex lands where the map puts it: δ += c_e − x'_e along the axis, U spread
+  // from the pushed regions, c' = c + U (and q moved along), solve again with the same factor. The
+  // response to δ is a little below 1 (the region is partly held by what is not pushed), so a few
+  // rounds close the gap.
+  MatrixX3d U = MatrixX3d::Zero(n, 3), out;
+  const Vec3 c_lo = C.colwise().minCoeff(), c_hi = C.colwise().maxCoeff();
+  auto push = [&] {
+    for (int round = 0; round < 6 && !pushes.empty(); ++round) {
+      double worst = 0;
+      for (Push& q : pushes) {
+        const double gap = C(q.extreme, q.axis) - out(q.extreme, q.axis);
+        q.delta += gap;
+        worst = std::max(worst, std::abs(gap));
+      }
+      if (worst < 1e-3 * h_mean) break;
+      Eigen::MatrixXd V = Eigen::MatrixXd::Zero(n, 3);
+      for (const Push& q : pushes)
+        for (int v : regions.members[q.region]) V(v, q.axis) = q.delta;
+      MatrixX3d U_new = spread(V);
+      // The push fades over the band around a feature, whose surroundings may hold the model's true
+      // extreme: keep the pushed surface within the map's box.
+      for (const Push& q : pushes) {
+        const int a = q.axis;
+        for (int i = 0; i < n; ++i) U_new(i, a) = std::clamp(C(i, a) + U_new(i, a), c_lo[a], c_hi[a]) - C(i, a);
+      }
+      Q += U_new - U;
+      U = U_new;
+      Cp = C + U;
+      out = solve();
+    }
+  };
+  report(o.progress, 0.2, "factor");
+  {
+    const SparseMatrix A = assemble();
+    solver.analyze(A, 3);  // x, y, z of a vertex together (see SpdSolver::analyze)
     solver.factorize(A);
-    report(o.progress, 0.1 + 0.8 * (round + 0.5) / rounds, "solve");
-    out = unstack(solver.solve(b).col(0));
-    if (round + 1 == rounds) break;
-    // Re-take q_i and n_i at the closest point of the deformed base (curved bases); stop when no
-    // constraint plane changes (flat bases: the system, and so the solution, would be the same).
-    if (Fb.rows() == 0) break;
-    if (!tree) tree = std::make_unique<TriangleTree>(C, Fb);
+  }
+  report(o.progress, 0.5, "solve");
+  out = solve();
+  push();
+  // Refinements: re-take q_i and n_i at the closest point of the deformed (pushed) base (curved
+  // bases); stop when no constraint plane changes (flat bases: the solution would be the same).
+  for (int round = 0; round < o.refinements && Fb.rows() > 0; ++round) {
+    const TriangleTree tree(Cp, Fb);
     double change = 0;
 #pragma omp parallel for schedule(static) reduction(max : change)
     for (int i = 0; i < n; ++i) {
       if (p[i] <= 0) continue;
-      const TriangleTree::Hit hit = tree->closest(out.row(i).transpose());
+      const TriangleTree::Hit hit = tree.closest(out.row(i).transpose());
       const Eigen::Vector3i F = Fb.row(hit.face);
       Vec3 nv = hit.bary[0] * Vec3(Nv.row(F[0])) + hit.bary[1] * Vec3(Nv.row(F[1])) + hit.bary[2] * Vec3(Nv.row(F[2]));
       if (nv.norm() < 1e-12) continue;
@@ -280,115 +733,38 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       Nrm.row(i) = nv.transpose();
     }
     if (change < 1e-9) break;
+    report(o.progress, 0.6 + 0.3 * round / std::max(1, o.refinements), "refine");
+    solver.factorize(assemble());
+    out = solve();
+    push();
   }
+  return out;
+}
+
+}  // namespace
+
+MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
+                               const ResizeOptions& o) {
+  require_valid(mesh, "resize input");
+  check_options(o);
+  const int n = static_cast<int>(mesh.n_vertices());
+  if (C.rows() != n) throw InvalidInput(fmt::format("deformed positions: {} rows for {} vertices", C.rows(), n));
+  if (features.size() != n)
+    throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", features.size(), n));
+  if (!C.allFinite()) throw InvalidInput("deformed positions must be finite");
+  if (!features.allFinite() || features.minCoeff() < 0 || features.maxCoeff() > 1)
+    throw InvalidInput("feature weights must lie in [0, 1]");
+  report(o.progress, 0.0, "transforms");
+  const MatrixX3d X = positions(mesh);
+  MatrixX3d out = o.method == ResizeMethod::Thesis ? thesis_resize(mesh, X, C, features, o)
+                                                   : sliding_resize(mesh, X, C, features, o);
   report(o.progress, 1.0, "done");
   return out;
 }
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
                                const ResizeOptions& options) {
-  const MatrixX3d X = positions(mesh);
-  MatrixX3d C(X.rows(), 3);
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index i = 0; i < X.rows(); ++i) C.row(i) = map(X.row(i).transpose()).transpose();
-  return feature_aware_resize(mesh, C, features, options);
-}
-
-// ---------------------------------------------------------------------------------------------
-
-Eigen::VectorXd dilate_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
-  Eigen::VectorXd g = f;
-  for (int r = 0; r < rings; ++r) {
-    Eigen::VectorXd h = g;
-    for (auto e : mesh.edges()) {
-      const int a = e.v0().idx(), b = e.v1().idx();
-      h[a] = std::max(h[a], g[b]);
-      h[b] = std::max(h[b], g[a]);
-    }
-    g = h;
-  }
-  return g;
-}
-
-Eigen::VectorXd features_from_values(const Mesh& mesh, const Eigen::VectorXd& height, double threshold, int dilate) {
-  if (height.size() != static_cast<Eigen::Index>(mesh.n_vertices()))
-    throw InvalidInput(fmt::format("{} height values for {} vertices", height.size(), mesh.n_vertices()));
-  Eigen::VectorXd f = (height.array().abs() > threshold).cast<double>();
-  return dilate_features(mesh, f, dilate);
-}
-
-Eigen::VectorXd features_from_height(const Mesh& mesh, const FeatureMapOptions& o) {
-  SmoothingOptions s;
-  s.laplacian = LaplacianType::Cotangent;
-  s.lambda = o.smoothing_time;
-  s.steps = 1;
-  s.update_weights = false;
-  Mesh base = mesh;
-  set_positions(base, smooth(mesh, s));
-  const MatrixX3d N = vertex_normals(base);
-  const MatrixX3d d = positions(mesh) - positions(base);
-  const double h = mean_edge_length(mesh);
-  const Eigen::VectorXd height = (d.cwiseProduct(N)).rowwise().sum() / h;
-  return features_from_values(mesh, height, o.height_threshold, o.dilate);
-}
-
-Eigen::VectorXd features_from_adf(const Mesh& mesh, double t, int eigenpairs, double threshold, int dilate) {
-  const Eigen::VectorXd adf = auto_diffusion_function(mesh, {t, eigenpairs});
-  const double lo = adf.minCoeff(), hi = adf.maxCoeff();
-  const Eigen::VectorXd a = hi > lo ? Eigen::VectorXd((adf.array() - lo) / (hi - lo)) : Eigen::VectorXd::Zero(adf.size());
-  return features_from_values(mesh, a, threshold, dilate);
-}
-
-// ---------------------------------------------------------------------------------------------
-
-BumpyPlate bumpy_plate(const BumpyPlateOptions& o) {
-  if (o.n < 2 || o.bumps < 0 || !(o.radius > 0)) throw InvalidInput("bumpy_plate: bad options");
-  BumpyPlate b;
-  b.mesh = plane(o.n, 2.0);
-  b.radius = o.radius;
-  b.height = o.height;
-  for (int i = 0; i < o.bumps; ++i)
-    for (int j = 0; j < o.bumps; ++j)
-      b.centres.emplace_back((i - 0.5 * (o.bumps - 1)) * o.spacing, (j - 0.5 * (o.bumps - 1)) * o.spacing, 0.0);
-  MatrixX3d X = positions(b.mesh);
-  b.truth = Eigen::VectorXd::Zero(X.rows());
-  for (Eigen::Index v = 0; v < X.rows(); ++v)
-    for (const Vec3& c : b.centres) {
-      const double r = (X.row(v).head<2>() - c.head<2>().transpose()).norm();
-      if (r < o.radius) {
-        const double s = 1.0 - r * r / (o.radius * o.radius);
-        X(v, 2) += o.height * s * s;
-        b.truth[v] = 1;
-      }
-    }
-  set_positions(b.mesh, X);
-  return b;
-}
-
-BumpShape measure_bump(const MatrixX3d& X0, const MatrixX3d& X1, const Vec3& centre, double radius) {
-  std::vector<int> rim;
-  int tip = -1;
-  double best = 1e300;
-  for (Eigen::Index i = 0; i < X0.rows(); ++i) {
-    const double r = (X0.row(i).head<2>() - centre.head<2>().transpose()).norm();
-    if (r >= 0.7 * radius && r <= 0.95 * radius) rim.push_back(static_cast<int>(i));
-    if (r < best) { best = r; tip = static_cast<int>(i); }
-  }
-  if (rim.size() < 3 || tip < 0) throw InvalidInput("measure_bump: too few vertices in the bump's rim ring");
-  Eigen::MatrixX3d P(rim.size(), 3);
-  for (size_t k = 0; k < rim.size(); ++k) P.row(k) = X1.row(rim[k]);
-  const Eigen::RowVector3d c = P.colwise().mean();
-  const Eigen::MatrixX3d Pc = P.rowwise() - c;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(Pc.transpose() * Pc / static_cast<double>(rim.size()));
-  // eigenvalues ascending: [0] is the plane normal's, [1], [2] the in-plane spreads.
-  Vec3 nrm = es.eigenvectors().col(0);
-  const Vec3 up = X1.row(tip).transpose() - c.transpose();
-  if (nrm.dot(up) < 0) nrm = -nrm;
-  BumpShape s;
-  s.aspect = std::sqrt(es.eigenvalues()[2] / es.eigenvalues()[1]);
-  s.height = nrm.dot(up);
-  s.tilt_deg = std::acos(std::clamp(nrm.dot(up.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
-  return s;
+  return feature_aware_resize(mesh, apply_space_map(map, positions(mesh)), features, options);
 }
 
 }  // namespace geotex

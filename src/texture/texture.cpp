@@ -1,5 +1,5 @@
-// Height-and-tilt geometric texture: base shape, extraction, reconstruction, editing, file I/O
-// (thesis Sec. 8.3–8.4). Transfer is in texture_transfer.cpp.
+// Height-and-tilt geometric texture: extraction, reconstruction, editing, file I/O (thesis Sec. 8.3–8.4).
+// The base shape is in base_shape.cpp, transfer in texture_transfer.cpp.
 
 #include "geotex/texture/texture.h"
 
@@ -8,10 +8,54 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
-#include "geotex/toolkit/phong_projection.h"
-#include "geotex/toolkit/smoothing.h"
 
 namespace geotex {
+
+const EnumNames<TiltEncoding>& tilt_encoding_names() {
+  static const EnumNames<TiltEncoding> n = {
+      {"lean", TiltEncoding::Lean}, {"one-form", TiltEncoding::OneForm}, {"thesis", TiltEncoding::OneForm}};
+  return n;
+}
+
+const EnumNames<TiltSolver>& tilt_solver_names() {
+  static const EnumNames<TiltSolver> n = {{"iterative", TiltSolver::Iterative}, {"direct", TiltSolver::Direct}};
+  return n;
+}
+
+const OptionTable<TextureOptions>& TextureOptions::table() {
+  using O = TextureOptions;
+  static const auto t = OptionTable<O>()
+      .choice("tilt_encoding", &O::encoding, tilt_encoding_names(),
+              "lean (the lean angle per vertex, kept under any deformation of the base) or one-form (the thesis: "
+              "the lean's size from the 1-form, divided by the base's area scale)",
+              "Eq. (8.6-8.8)")
+      .add("tangential_fit", &O::tangential_fit,
+           "fit only the tilt's tangent components (all that decoding reads); false: the full fit of Eq. (5.81)",
+           {}, "Eq. (8.2), (5.81)")
+      .add("bound_tilt", &O::bound_tilt, "keep |c_ij| <= |e_ij| in the tilt fit", {}, "Sec. 8.5")
+      .add("regularization", &O::regularization, "pull of the tilt fit towards the averaging estimate", non_negative(),
+           "Eq. (5.80)")
+      .add("height_weighted", &O::height_weighted, "weight each vertex's tilt equation by its height")
+      .choice("tilt_solver", &O::solver, tilt_solver_names(),
+              "iterative (CGLS to fit_tolerance, falls back to direct) or direct (sparse Cholesky)", "Eq. (8.2)")
+      .add("fit_tolerance", &O::fit_tolerance,
+           "iterative: stop when every reconstructed vertex is within this many mean edge lengths", positive())
+      .add("max_iterations", &O::max_iterations, "iterative: CGLS iterations before falling back to direct",
+           non_negative())
+      .add("stall_iterations", &O::stall_iterations,
+           "iterative: fall back to direct when the error shrank by less than 10 % over this many iterations",
+           at_least(1))
+      .preset("thesis", "the 1-form encoding of the lean (Eq. 8.6-8.8), full fit (Eq. 5.81), |c_ij| <= |e_ij| (Sec. 8.5), "
+                        "direct solve",
+              [](O& o) {
+                o.encoding = TiltEncoding::OneForm;
+                o.tangential_fit = false;
+                o.bound_tilt = true;
+                o.solver = TiltSolver::Direct;
+              });
+  return t;
+}
+
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
@@ -41,30 +85,24 @@ Vec3 turn_towards(const Vec3& x, const Vec3& n, const Vec3& m, double theta) {
   return Eigen::AngleAxisd(theta, axis) * x;
 }
 
-// A texture whose directions are \p D (#V by 3 unit) with the heights' magnitudes of \p texture.
-Texture from_directions(TextureCodec& codec, const Texture& texture, const MatrixX3d& D) {
-  const MatrixX3d& N = codec.normals();
-  Texture out;
-  out.height.resize(texture.height.size());
-  MatrixX3d T(D.rows(), 3);
-  for (Eigen::Index i = 0; i < D.rows(); ++i) {
-    const Vec3 d = D.row(i), n = N.row(i);
-    out.height[i] = nonzero_sign(d.dot(n)) * std::abs(texture.height[i]);  // Eq. (8.5)
-    T.row(i) = d.cross(n).transpose();                                      // Eq. (8.6)
-  }
-  out.tilt = codec.encode_tilt(T, out.height);
-  return out;
-}
-
-// Unit displacement direction from a vertex tilt t (made tangent, clamped to length ≤ 1) and the
-// normal n: d̂ = cos α n + n × t with sin α = ‖t‖, cos α = sign √(1 − ‖t‖²) (Eq. 8.8, DESIGN.md).
-Vec3 direction_from_tilt(Vec3 t, const Vec3& n, double sign) {
+// Unit displacement direction from a vertex tilt t and the normal n (Eq. 8.8, DESIGN.md): t is made
+// tangent; with lean < 0 (the thesis' encoding) it is clamped to length ≤ 1 and d̂ = cos α n + n × t,
+// sin α = ‖t‖, cos α = sign √(1 − ‖t‖²); with a lean α ≥ 0 only t's direction counts:
+// d̂ = sign cos α n + sin α (n × t)/‖t‖ (a vanishing t leaves d̂ = sign n).
+Vec3 direction_from_tilt(Vec3 t, const Vec3& n, double sign, double lean = -1) {
   t -= t.dot(n) * n;
   const double l = t.norm();
+  if (lean >= 0) {
+    if (!(l > 1e-12)) return sign * n;
+    return sign * std::cos(lean) * n + std::sin(lean) / l * n.cross(t);
+  }
   if (l > 1) t /= l;
   const double s = std::min(1.0, l);
   return sign * std::sqrt(std::max(0.0, 1 - s * s)) * n + n.cross(t);
 }
+
+// Lean α ∈ [0, π/2] of a unit direction d from sign·n (Eq. 8.8): sin α = ‖d × n‖, cos α = |d·n|.
+double lean_of(const Vec3& d, const Vec3& n) { return std::atan2(d.cross(n).norm(), std::abs(d.dot(n))); }
 
 double max_abs_height(const Texture& t) { return t.height.size() ? t.height.cwiseAbs().maxCoeff() : 0.0; }
 
@@ -74,42 +112,6 @@ Vec3 unit_or_throw(const Vec3& v, const char* what) {
 }
 
 }  // namespace
-
-MatrixX3d extract_base_shape(const Mesh& textured, const BaseShapeOptions& o) {
-  require_valid(textured, "base shape: textured mesh");
-  if (!(o.lambda > 0) || o.steps < 0 || o.max_steps < 1 || !(o.stop_tolerance > 0))
-    throw InvalidInput("base shape: lambda and tolerance must be positive, steps non-negative");
-  SmoothingOptions s;
-  s.laplacian = o.laplacian;
-  s.implicit = true;
-  s.lambda = o.lambda;
-  if (o.steps > 0) {
-    s.steps = o.steps;
-    s.progress = o.progress;
-    return smooth(textured, s);
-  }
-  // Automatic (Sec. 8.3.1): step until the shape stops changing; one factorization for all steps.
-  s.steps = o.max_steps;
-  s.stop_tolerance = o.stop_tolerance;
-  s.progress = o.progress;
-  return smooth(textured, s);
-}
-
-Mesh project_onto_base(const Mesh& textured, const Mesh& base, size_t* missed) {
-  require_valid(textured, "projection: textured mesh");
-  const PhongProjector proj(base);
-  const std::vector<PhongHit> hits = proj.project(positions(textured));
-  MatrixX3d X(hits.size(), 3);
-  size_t miss = 0;
-  for (size_t i = 0; i < hits.size(); ++i) {
-    X.row(i) = hits[i].point.transpose();
-    miss += !hits[i].found;
-  }
-  if (missed) *missed = miss;
-  Mesh out = textured;
-  set_positions(out, X);
-  return out;
-}
 
 TextureCodec::TextureCodec(const Mesh& base, const TextureOptions& options)
     : base_(base),
@@ -128,8 +130,10 @@ Texture TextureCodec::extract(const MatrixX3d& textured) {
                        " vertices, the base " + std::to_string(X_.rows()) + " (same connectivity needed)");
   if (!textured.allFinite()) throw InvalidInput("texture extraction: non-finite coordinates");
   const Eigen::Index n = X_.rows();
+  const bool lean = options_.encoding == TiltEncoding::Lean;
   Texture tex;
   tex.height.resize(n);
+  if (lean) tex.lean.resize(n);
   MatrixX3d T(n, 3);
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -138,8 +142,9 @@ Texture TextureCodec::extract(const MatrixX3d& textured) {
     const double len = d.norm();
     tex.height[i] = nonzero_sign(d.dot(nrm)) * len;                                // Eq. (8.5)
     T.row(i) = len > 0 ? Eigen::RowVector3d((d / len).cross(nrm).transpose()) : Eigen::RowVector3d::Zero();  // Eq. (8.6)
+    if (lean) tex.lean[i] = len > 0 ? lean_of(d / len, nrm) : 0.0;
   }
-  tex.tilt = encode_tilt(T, tex.height);  // Eq. (8.2)
+  tex.tilt = encode_tilt(T, tex.height, tex.lean);  // Eq. (8.2)
   return tex;
 }
 
@@ -163,9 +168,11 @@ MatrixX3d TextureCodec::tilt_vectors(const Eigen::VectorXd& tilt) const {
   return T;
 }
 
-Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::VectorXd& heights) {
+Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::VectorXd& heights,
+                                          const Eigen::VectorXd& lean) {
   if (T.rows() != X_.rows()) throw InvalidInput("texture: expected one tilt vector per vertex");
   if (heights.size() != 0 && heights.size() != T.rows()) throw InvalidInput("texture: expected one height per vertex");
+  if (lean.size() != 0 && lean.size() != T.rows()) throw InvalidInput("texture: expected one lean per vertex");
   const double hmax = heights.size() ? heights.cwiseAbs().maxCoeff() : 0.0;
   Eigen::VectorXd w;  // empty: unweighted
   if (options_.height_weighted && hmax > 0) {
@@ -176,7 +183,12 @@ Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::Vecto
     w = (options_.tangential_fit ? r : r.square()) + 1e-4;
   }
   last_fit_ = TiltFitReport();
-  if (options_.solver == TiltSolver::Direct || options_.bound_tilt) return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);
+  // The tangential system is consistent (2#V equations, #E ≈ 3#V unknowns): its exact minimiser does
+  // not depend on the weights, so the unweighted normal equations, factored once per base, serve every
+  // fit (editing, animation frames) with one back-substitution.
+  const bool weights_matter = w.size() && (!options_.tangential_fit || options_.bound_tilt);
+  auto direct = [&] { return weights_matter ? fitter_.fit(T, w) : fitter_.fit(T); };
+  if (options_.solver == TiltSolver::Direct || options_.bound_tilt) return direct();
 
   // Iterative: stop once the displacement directions the fitted tilt gives (Eq. 8.8) put every vertex
   // within fit_tolerance mean edges of where the target tilt puts it (|h_i| × direction error; with
@@ -188,7 +200,8 @@ Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::Vecto
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
     const double sign = heights.size() ? nonzero_sign(heights[i]) : 1.0;
-    D.row(i) = direction_from_tilt(T.row(i).transpose(), N_.row(i).transpose(), sign).transpose();
+    const double a = lean.size() ? lean[i] : -1.0;
+    D.row(i) = direction_from_tilt(T.row(i).transpose(), N_.row(i).transpose(), sign, a).transpose();
     scale[i] = heights.size() ? std::abs(heights[i]) / mean_edge_ : 1.0;
   }
   const int window = std::max(1, options_.stall_iterations / 10);  // in checks (one every 10 iterations)
@@ -199,7 +212,8 @@ Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::Vecto
 #pragma omp parallel for schedule(static) reduction(max : err) if (n > 30000)
     for (Eigen::Index i = 0; i < n; ++i) {
       const double sign = heights.size() ? nonzero_sign(heights[i]) : 1.0;
-      const Vec3 d = direction_from_tilt(Vec3(Pc[i], Pc[n + i], Pc[2 * n + i]), N_.row(i).transpose(), sign);
+      const double a = lean.size() ? lean[i] : -1.0;
+      const Vec3 d = direction_from_tilt(Vec3(Pc[i], Pc[n + i], Pc[2 * n + i]), N_.row(i).transpose(), sign, a);
       err = std::max(err, scale[i] * (d - Vec3(D.row(i).transpose())).norm());
     }
     history.push_back(err);
@@ -223,24 +237,30 @@ Eigen::VectorXd TextureCodec::encode_tilt(const MatrixX3d& T, const Eigen::Vecto
     last_fit_.iterative = true;
     return r.c;
   }
-  return w.size() ? fitter_.fit(T, w) : fitter_.fit(T);  // stalled or out of iterations: the exact minimiser
+  return direct();  // stalled or out of iterations: the exact minimiser
 }
 
 MatrixX3d TextureCodec::directions(const Texture& tex) const {
-  if (tex.height.size() != X_.rows())
-    throw InvalidInput("texture: expected one height per base vertex (" + std::to_string(X_.rows()) + "), got " +
-                       std::to_string(tex.height.size()));
-  const MatrixX3d T = tilt_vectors(tex.tilt);
   const Eigen::Index n = X_.rows();
+  if (tex.height.size() != n)
+    throw InvalidInput("texture: expected one height per base vertex (" + std::to_string(n) + "), got " +
+                       std::to_string(tex.height.size()));
+  const bool lean = options_.encoding == TiltEncoding::Lean && tex.lean.size() != 0;
+  if (lean && tex.lean.size() != n)
+    throw InvalidInput("texture: expected one lean per base vertex (" + std::to_string(n) + "), got " +
+                       std::to_string(tex.lean.size()));
+  if (tex.tilt.size() != static_cast<Eigen::Index>(base_.n_edges()))
+    throw InvalidInput("texture: expected one tilt per base edge (" + std::to_string(base_.n_edges()) + "), got " +
+                       std::to_string(tex.tilt.size()));
+  const Eigen::VectorXd t = fitter_.matrix() * tex.tilt;  // Eq. (5.79)
   MatrixX3d D(n, 3);
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
-    const Vec3 nrm = N_.row(i), t = T.row(i);
-    const double s = std::min(1.0, t.norm());
-    const double c = nonzero_sign(tex.height[i]) * std::sqrt(std::max(0.0, 1 - s * s));  // Eq. (8.8)
     // With t = d̂ × n, d̂ = cos α n + n × t: the rotation of n is about t, not about n × t as printed in
     // Sec. 8.3.3 (see DESIGN.md; the round-trip test settles it).
-    D.row(i) = (c * nrm + nrm.cross(t)).transpose();
+    const Vec3 ti(t[i], t[n + i], t[2 * n + i]);
+    D.row(i) = direction_from_tilt(ti, N_.row(i).transpose(), nonzero_sign(tex.height[i]), lean ? tex.lean[i] : -1.0)
+                   .transpose();  // Eq. (8.8)
   }
   return D;
 }
@@ -266,7 +286,31 @@ MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureO
 Texture height_field_only(const Texture& texture) {
   Texture t = texture;
   t.tilt.setZero();
+  t.lean.setZero();
   return t;
+}
+
+Texture TextureCodec::from_directions(const MatrixX3d& D, const Eigen::VectorXd& height) {
+  const Eigen::Index n = X_.rows();
+  if (D.rows() != n || height.size() != n)
+    throw InvalidInput("texture: expected one direction and one height per base vertex (" + std::to_string(n) + ")");
+  const bool lean = options_.encoding == TiltEncoding::Lean;
+  Texture out;
+  out.height.resize(n);
+  if (lean) out.lean.resize(n);
+  MatrixX3d T(n, 3);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 nrm = N_.row(i);
+    Vec3 d = D.row(i).transpose();
+    const double len = d.norm();
+    if (len > 0) d /= len;
+    out.height[i] = nonzero_sign(d.dot(nrm)) * std::abs(height[i]);  // Eq. (8.5)
+    T.row(i) = d.cross(nrm).transpose();                              // Eq. (8.6)
+    if (lean) out.lean[i] = len > 0 ? lean_of(d, nrm) : 0.0;
+  }
+  out.tilt = encode_tilt(T, out.height, out.lean);
+  return out;
 }
 
 Texture set_tilt(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
@@ -280,39 +324,136 @@ Texture set_tilt(TextureCodec& codec, const Texture& texture, const Vec3& direct
     const double theta = angle_deg * kDeg * nonzero_sign(texture.height[i]);
     D.row(i) = turn_towards(base, n, tangent_direction(dir, n), theta).transpose();
   }
-  return from_directions(codec, texture, D);
+  return codec.from_directions(D, texture.height);
 }
+
+namespace {
+
+// Turn every direction D_i (in place) towards the tangent part of \p dir at n_i by theta(i) radians
+// (OpenMP: theta must be thread-safe).
+template <class Theta>
+void turn_all(MatrixX3d& D, const MatrixX3d& N, const Vec3& dir, const Theta& theta) {
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const Vec3 n = N.row(i);
+    D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta(i)).transpose();
+  }
+}
+
+// Wrap: θ_i = angle × |h_i| / max|h|.
+void wrap_directions(MatrixX3d& D, const MatrixX3d& N, const Eigen::VectorXd& h, const Vec3& dir, double angle_deg) {
+  const double hmax = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
+  if (hmax > 0) turn_all(D, N, dir, [&](Eigen::Index i) { return angle_deg * kDeg * std::abs(h[i]) / hmax; });
+}
+
+// Wiggle: θ_i = amplitude × sin(2π (x_i·d̂ / wavelength − phase)) × |h_i| / max|h|.
+void wiggle_directions(MatrixX3d& D, const MatrixX3d& N, const MatrixX3d& X, const Eigen::VectorXd& h, const Vec3& dir,
+                       double amplitude_deg, double wavelength, double phase) {
+  const double hmax = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
+  if (hmax > 0)
+    turn_all(D, N, dir, [&](Eigen::Index i) {
+      const double wave = std::sin(2 * M_PI * (X.row(i).dot(dir) / wavelength - phase));
+      return amplitude_deg * kDeg * wave * std::abs(h[i]) / hmax;
+    });
+}
+
+}  // namespace
 
 Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
   const Vec3 dir = unit_or_throw(direction, "wrap");
-  const double hmax = max_abs_height(texture);
   MatrixX3d D = codec.directions(texture);
-  const MatrixX3d& N = codec.normals();
-  if (hmax > 0)
-    for (Eigen::Index i = 0; i < N.rows(); ++i) {
-      const Vec3 n = N.row(i);
-      const double theta = angle_deg * kDeg * std::abs(texture.height[i]) / hmax;
-      D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta).transpose();
-    }
-  return from_directions(codec, texture, D);
+  wrap_directions(D, codec.normals(), texture.height, dir, angle_deg);
+  return codec.from_directions(D, texture.height);
 }
 
 Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& direction, double amplitude_deg,
                double wavelength, double phase) {
   const Vec3 dir = unit_or_throw(direction, "wiggle");
   if (!(wavelength > 0)) throw InvalidInput("wiggle: wavelength must be positive");
-  const double hmax = max_abs_height(texture);
   MatrixX3d D = codec.directions(texture);
-  const MatrixX3d& N = codec.normals();
-  const MatrixX3d X = positions(codec.base());
-  if (hmax > 0)
-    for (Eigen::Index i = 0; i < N.rows(); ++i) {
-      const Vec3 n = N.row(i);
-      const double wave = std::sin(2 * M_PI * (X.row(i).dot(dir) / wavelength - phase));
-      const double theta = amplitude_deg * kDeg * wave * std::abs(texture.height[i]) / hmax;
-      D.row(i) = turn_towards(D.row(i).transpose(), n, tangent_direction(dir, n), theta).transpose();
-    }
-  return from_directions(codec, texture, D);
+  wiggle_directions(D, codec.normals(), positions(codec.base()), texture.height, dir, amplitude_deg, wavelength, phase);
+  return codec.from_directions(D, texture.height);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Animation
+
+const EnumNames<AnimationKind>& animation_kind_names() {
+  static const EnumNames<AnimationKind> n = {
+      {"wiggle", AnimationKind::Wiggle}, {"wrap", AnimationKind::Sway}, {"sway", AnimationKind::Sway}, {"grow", AnimationKind::Grow}};
+  return n;
+}
+
+const OptionTable<AnimationOptions>& AnimationOptions::table() {
+  using O = AnimationOptions;
+  static const auto t = OptionTable<O>()
+      .choice("op", &O::kind, animation_kind_names(),
+              "wiggle (travelling wave), wrap (sway back and forth) or grow (heights 0 -> 1 -> 0)", "Sec. 8.4.1")
+      .add("frames", &O::frames, "number of frames (one period)", at_least(1))
+      .add("direction", &O::direction, "direction the texture leans or the wave travels (projected onto each tangent plane)")
+      .add("angle", &O::angle_deg, "degrees: wave amplitude or sway angle at the highest point", any_value())
+      .add("wavelength", &O::wavelength, "wiggle: wavelength along the direction (0: a quarter of the box diagonal)",
+           non_negative())
+      .add("refit", &O::refit,
+           "fit each frame's tilt 1-form (factored once per base); false: displace along the edited directions");
+  return t;
+}
+
+struct TextureAnimator::Impl {
+  TextureCodec codec;
+  Texture texture;
+  AnimationOptions options;
+  MatrixX3d X, D;  // base positions, decoded directions (once)
+  Vec3 dir;
+  double wavelength = 1;
+  Impl(const Mesh& base, const TextureOptions& o) : codec(base, o) {}
+};
+
+TextureAnimator::TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options,
+                                 const TextureOptions& texture_options) {
+  AnimationOptions::table().check(options);
+  TextureOptions o = texture_options;
+  // One factorization of the tilt system for every frame (the tangential fit's exact minimiser does not
+  // depend on the weights: TextureCodec::encode_tilt); CGLS would restart from scratch each frame.
+  o.solver = TiltSolver::Direct;
+  impl_ = std::make_unique<Impl>(base, o);
+  Impl& m = *impl_;
+  m.texture = texture;
+  m.options = options;
+  m.X = geotex::positions(base);
+  m.D = m.codec.directions(texture);
+  m.dir = unit_or_throw(options.direction, "animation");
+  m.wavelength = options.wavelength > 0 ? options.wavelength : 0.25 * bounding_box(base).diagonal();
+}
+
+TextureAnimator::~TextureAnimator() = default;
+TextureAnimator::TextureAnimator(TextureAnimator&&) noexcept = default;
+TextureAnimator& TextureAnimator::operator=(TextureAnimator&&) noexcept = default;
+
+int TextureAnimator::frames() const { return impl_->options.frames; }
+
+Texture TextureAnimator::texture(int frame) {
+  Impl& m = *impl_;
+  const double s = double(frame) / m.options.frames;
+  if (m.options.kind == AnimationKind::Grow) return scale_height(m.texture, 0.5 * (1 - std::cos(2 * M_PI * s)));
+  MatrixX3d D = m.D;
+  if (m.options.kind == AnimationKind::Wiggle)
+    wiggle_directions(D, m.codec.normals(), m.X, m.texture.height, m.dir, m.options.angle_deg, m.wavelength, s);
+  else
+    wrap_directions(D, m.codec.normals(), m.texture.height, m.dir, m.options.angle_deg * std::sin(2 * M_PI * s));
+  return m.codec.from_directions(D, m.texture.height);
+}
+
+MatrixX3d TextureAnimator::positions(int frame) {
+  Impl& m = *impl_;
+  if (m.options.refit || m.options.kind == AnimationKind::Grow) return m.codec.apply(texture(frame));
+  const double s = double(frame) / m.options.frames;
+  MatrixX3d D = m.D;
+  if (m.options.kind == AnimationKind::Wiggle)
+    wiggle_directions(D, m.codec.normals(), m.X, m.texture.height, m.dir, m.options.angle_deg, m.wavelength, s);
+  else
+    wrap_directions(D, m.codec.normals(), m.texture.height, m.dir, m.options.angle_deg * std::sin(2 * M_PI * s));
+  return m.X + m.texture.height.cwiseAbs().asDiagonal() * D;
 }
 
 Texture scale_height(const Texture& texture, double factor) {
@@ -324,10 +465,13 @@ Texture scale_height(const Texture& texture, double factor) {
 
 void write_texture(const std::filesystem::path& path, const Mesh& base, const Texture& texture, bool binary) {
   if (texture.height.size() != static_cast<Eigen::Index>(base.n_vertices()) ||
-      texture.tilt.size() != static_cast<Eigen::Index>(base.n_edges()))
+      texture.tilt.size() != static_cast<Eigen::Index>(base.n_edges()) ||
+      (texture.lean.size() != 0 && texture.lean.size() != texture.height.size()))
     throw InvalidInput("write texture: sizes do not match the base mesh");
   PlyExtras ex;
   ex.vertex_scalars["height"] = std::vector<double>(texture.height.data(), texture.height.data() + texture.height.size());
+  if (texture.lean.size())
+    ex.vertex_scalars["lean"] = std::vector<double>(texture.lean.data(), texture.lean.data() + texture.lean.size());
   PlyExtras::Element e;
   e.name = "edge";
   const MatrixX2i E = edges(base);
@@ -354,6 +498,11 @@ TextureFile read_texture(const std::filesystem::path& path) {
   const auto& h = v->scalars.at("height");
   if (h.size() != out.base.n_vertices()) throw IoError(path.string() + ": height count does not match the vertices");
   out.texture.height = Eigen::Map<const Eigen::VectorXd>(h.data(), h.size());
+  if (v->scalars.count("lean")) {  // absent in the thesis' encoding and older files
+    const auto& a = v->scalars.at("lean");
+    if (a.size() != h.size()) throw IoError(path.string() + ": lean count does not match the vertices");
+    out.texture.lean = Eigen::Map<const Eigen::VectorXd>(a.data(), a.size());
+  }
   const EdgeValues ev = read_edge_values(path, "tilt");
   if (ev.values.size() != static_cast<Eigen::Index>(out.base.n_edges()))
     throw IoError(path.string() + ": " + std::to_string(ev.values.size()) + " tilt values for " +

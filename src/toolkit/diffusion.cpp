@@ -11,6 +11,15 @@
 
 namespace geotex {
 
+const OptionTable<DiffusionOptions>& DiffusionOptions::table() {
+  using O = DiffusionOptions;
+  static const auto t = OptionTable<O>()
+      .add("t", &O::t, "diffusion time in units of 1/lambda_1 (small t shows small features)", positive(),
+           "Sec. 9.4 (Gebal et al. 2009)")
+      .add("eigenpairs", &O::eigenpairs, "number of Laplace eigenpairs summed", at_least(2));
+  return t;
+}
+
 namespace {
 
 // Shift-invert operator of the symmetric standard problem A y = λ y with A = M^{-1/2} K M^{-1/2},
@@ -43,11 +52,32 @@ class ShiftInvertOp {
 
 LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
   require_valid(mesh, "spectrum input");
-  const int n = static_cast<int>(mesh.n_vertices());
+  const int n_all = static_cast<int>(mesh.n_vertices());
+  // Isolated vertices (in no face) carry no Laplacian: each would add a spurious λ = 0 mode that
+  // crowds out the real ones. Solve on the others and give isolated vertices φ = 0.
+  std::vector<int> keep;
+  keep.reserve(n_all);
+  for (auto v : mesh.vertices())
+    if (!mesh.is_isolated(v)) keep.push_back(v.idx());
+  const int n = static_cast<int>(keep.size());
   if (count < 2 || count >= n)
     throw InvalidInput(fmt::format("eigenpair count {} must lie in [2, {})", count, n));
-  const SparseMatrix K = -cotan_matrix(mesh);
-  const Eigen::VectorXd m = mass_diagonal(mesh, MassType::Voronoi);
+  SparseMatrix K = -cotan_matrix(mesh);
+  Eigen::VectorXd m = mass_diagonal(mesh, MassType::Voronoi);
+  if (n < n_all) {
+    std::vector<int> index(n_all, -1);
+    for (int k = 0; k < n; ++k) index[keep[k]] = k;
+    std::vector<Triplet> t;
+    t.reserve(K.nonZeros());
+    for (int c = 0; c < K.outerSize(); ++c)
+      for (SparseMatrix::InnerIterator it(K, c); it; ++it)
+        if (index[it.row()] >= 0 && index[it.col()] >= 0) t.emplace_back(index[it.row()], index[it.col()], it.value());
+    K.resize(n, n);
+    K.setFromTriplets(t.begin(), t.end());
+    Eigen::VectorXd mk(n);
+    for (int k = 0; k < n; ++k) mk[k] = m[keep[k]];
+    m = mk;
+  }
   // All λ ≥ 0: a small negative shift makes K − σM positive definite and picks the smallest λ.
   const double sigma = -1e-6 * (K.diagonal().array() / m.array()).mean();
   ShiftInvertOp op(K, m);
@@ -59,8 +89,14 @@ LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
     throw SolverError(fmt::format("Laplace eigenproblem: Lanczos did not converge for {} eigenpairs", count));
   LaplaceSpectrum s;
   s.values = eigs.eigenvalues();
-  s.vectors = eigs.eigenvectors();                          // y, orthonormal
-  s.vectors = m.cwiseSqrt().cwiseInverse().asDiagonal() * s.vectors;  // φ = M^{-1/2} y, M-orthonormal
+  const Eigen::MatrixXd y = eigs.eigenvectors();              // orthonormal
+  const Eigen::MatrixXd phi = m.cwiseSqrt().cwiseInverse().asDiagonal() * y;  // φ = M^{-1/2} y, M-orthonormal
+  if (n == n_all) {
+    s.vectors = phi;
+  } else {
+    s.vectors = Eigen::MatrixXd::Zero(n_all, phi.cols());
+    for (int k = 0; k < n; ++k) s.vectors.row(keep[k]) = phi.row(k);
+  }
   return s;
 }
 
@@ -80,7 +116,9 @@ Eigen::VectorXd auto_diffusion_function(const LaplaceSpectrum& s, double t) {
 }
 
 Eigen::VectorXd auto_diffusion_function(const Mesh& mesh, const DiffusionOptions& options) {
-  const int n = static_cast<int>(mesh.n_vertices());
+  check_options(options);
+  int n = 0;
+  for (auto v : mesh.vertices()) n += !mesh.is_isolated(v);
   return auto_diffusion_function(laplace_spectrum(mesh, std::min(options.eigenpairs, n - 1)), options.t);
 }
 

@@ -10,6 +10,33 @@
 
 namespace geotex {
 
+const EnumNames<EditMethod>& edit_method_names() {
+  static const EnumNames<EditMethod> n = {
+      {"plain", EditMethod::Plain}, {"membrane-fit", EditMethod::MembraneFit}, {"linear", EditMethod::Linear}};
+  return n;
+}
+
+const OptionTable<EditOptions>& EditOptions::table() {
+  using O = EditOptions;
+  static const auto t = OptionTable<O>()
+      .choice("method", &O::method, edit_method_names(),
+              "plain (Eq. 5.20), membrane-fit (T_i fitted to a membrane, Eq. 5.23-5.24) or linear (T_i linear in the "
+              "positions, Sorkine et al. 2004)", "Sec. 5.1.4")
+      .choice("laplacian", &O::laplacian, laplacian_names(), "umbrella (Eq. 5.8) or cotan (row-normalised cotangent weights)",
+              "Eq. (5.21)")
+      .add("handle_weight", &O::handle_weight, "handle weight w_i of a handle vertex that has none of its own", positive(),
+           "Eq. (5.19)")
+      .alias("weight")
+      .add("allow_scale", &O::allow_scale, "T_i a similarity (rotation and isotropic scale); false: a rotation",
+           {}, "Eq. (5.22)")
+      .alias("no_scale", "false")
+      .add("fit_to_rest_membrane", &O::fit_to_rest_membrane,
+           "membrane-fit: fit T_i between the rest membrane and the deformed one (false: the original 1-ring, as Eq. "
+           "5.24 reads)", {}, "Eq. (5.24)")
+      .alias("literal_fit", "false");
+  return t;
+}
+
 namespace {
 
 // Closed 1-ring {i} ∪ N_i of every vertex, flat (CSR).
@@ -118,9 +145,8 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
 
   if (options.method != EditMethod::Linear) {
     // Normal equations of Eq. (5.20): (LᵀL + W²) X = Lᵀ D + W² C.
-    const SparseMatrix A = SparseMatrix(L_.transpose() * L_) + Wd;
     try {
-      solver_.compute(A);
+      solver_.compute(L_, Eigen::VectorXd(Wd.diagonal()));
     } catch (const SolverError&) {
       throw SolverError(pin_msg);
     }
@@ -170,14 +196,11 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
   for (auto& t : local) all.insert(all.end(), t.begin(), t.end());
   SparseMatrix G(3 * n, 3 * n);
   G.setFromTriplets(all.begin(), all.end());
-  std::vector<Triplet> wt;
+  Eigen::VectorXd w3 = Eigen::VectorXd::Zero(3 * n);
   for (size_t h = 0; h < handles_.size(); ++h)
-    for (int d = 0; d < 3; ++d) wt.emplace_back(d * n + handles_[h], d * n + handles_[h], w2_[h]);
-  SparseMatrix W3(3 * n, 3 * n);
-  W3.setFromTriplets(wt.begin(), wt.end());
-  const SparseMatrix A = SparseMatrix(G.transpose() * G) + W3;
+    for (int d = 0; d < 3; ++d) w3[d * n + handles_[h]] += w2_[h];
   try {
-    linear_solver_.compute(A);
+    linear_solver_.compute(G, w3);
   } catch (const SolverError&) {
     throw SolverError(pin_msg);
   }

@@ -148,4 +148,92 @@ const char* SpdSolver::backend() {
 #endif
 }
 
+void LeastSquaresSolver::compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size, int dense_row_nnz) {
+  if (d.size() != G.cols()) throw SolverError("LeastSquaresSolver: the diagonal must have one entry per unknown");
+  // Row lengths, then the long rows as columns of U and the rest as G_s.
+  const SparseMatrix Gr = G;  // column major: count per row
+  Eigen::VectorXi nnz = Eigen::VectorXi::Zero(G.rows());
+  for (int c = 0; c < Gr.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(Gr, c); it; ++it) ++nnz[it.row()];
+  std::vector<int> long_index(G.rows(), -1);
+  int m = 0;
+  for (Eigen::Index r = 0; r < G.rows(); ++r)
+    if (nnz[r] > dense_row_nnz) long_index[r] = m++;
+  std::vector<Triplet> ts, tu;
+  for (int c = 0; c < Gr.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(Gr, c); it; ++it) {
+      if (long_index[it.row()] < 0) ts.emplace_back(it.row(), c, it.value());
+      else tu.emplace_back(c, long_index[it.row()], it.value());
+    }
+  SparseMatrix Gs(G.rows(), G.cols());
+  Gs.setFromTriplets(ts.begin(), ts.end());
+  U_.resize(G.cols(), m);
+  U_.setFromTriplets(tu.begin(), tu.end());
+  SparseMatrix D(G.cols(), G.cols());
+  std::vector<Triplet> td;
+  for (Eigen::Index i = 0; i < d.size(); ++i) td.emplace_back(i, i, d[i]);
+  D.setFromTriplets(td.begin(), td.end());
+  SparseMatrix S = SparseMatrix(Gs.transpose() * Gs) + D;
+  G_ = G;
+  d_ = d;
+  regularized_ = false;
+  base_.analyze(S, block_size);
+  try {
+    base_.factorize(S);
+  } catch (const SolverError&) {
+    if (m == 0) throw;
+    // Taking the long rows out may leave S singular (an unknown only they constrain): factor it with a
+    // tiny shift; solve() refines against the true matrix.
+    const double shift = 1e-8 * std::max(S.diagonal().cwiseAbs().mean(), 1e-300);
+    SparseMatrix I(S.rows(), S.cols());
+    I.setIdentity();
+    S += shift * I;
+    base_.factorize(S);
+    regularized_ = true;
+  }
+  if (m > 0) {
+    Z_ = base_.solve(Eigen::MatrixXd(U_));
+    Eigen::MatrixXd C = Eigen::MatrixXd::Identity(m, m) + Eigen::MatrixXd(U_.transpose() * Z_);
+    capacitance_inverse_ = C.ldlt().solve(Eigen::MatrixXd::Identity(m, m));
+  } else {
+    Z_.resize(0, 0);
+    capacitance_inverse_.resize(0, 0);
+  }
+}
+
+Eigen::MatrixXd LeastSquaresSolver::solve(const Eigen::MatrixXd& B) const {
+  const auto apply_inverse = [&](const Eigen::MatrixXd& R) -> Eigen::MatrixXd {
+    Eigen::MatrixXd Y = base_.solve(R);
+    if (U_.cols() > 0) Y -= Z_ * (capacitance_inverse_ * Eigen::MatrixXd(U_.transpose() * Y));
+    return Y;
+  };
+  Eigen::MatrixXd X = apply_inverse(B);
+  if (regularized_) {
+    // The factor is of the shifted matrix: conjugate gradients on the true GᵀG + diag(d), preconditioned
+    // by it (the preconditioned spectrum is λ/(λ + shift), so a few iterations do).
+    const auto A = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+      return G_.transpose() * (G_ * x) + d_.cwiseProduct(x);
+    };
+    for (Eigen::Index c = 0; c < B.cols(); ++c) {
+      Eigen::VectorXd x = X.col(c), r = B.col(c) - A(x);
+      Eigen::VectorXd z = apply_inverse(r), p = z;
+      double rz = r.dot(z);
+      const double stop = 1e-14 * B.col(c).squaredNorm();
+      for (int it = 0; it < 100 && r.squaredNorm() > stop; ++it) {
+        const Eigen::VectorXd Ap = A(p);
+        const double alpha = rz / p.dot(Ap);
+        x += alpha * p;
+        r -= alpha * Ap;
+        z = apply_inverse(r);
+        const double rz_next = r.dot(z);
+        p = z + (rz_next / rz) * p;
+        rz = rz_next;
+      }
+      X.col(c) = x;
+    }
+  }
+  if (!X.allFinite()) throw SolverError("least-squares solve failed (non-finite result)");
+  return X;
+}
+
 }  // namespace geotex

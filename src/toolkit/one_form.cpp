@@ -13,6 +13,19 @@
 #include "geotex/core/geometry.h"
 
 namespace geotex {
+
+const OptionTable<OneFormFitOptions>& OneFormFitOptions::table() {
+  using O = OneFormFitOptions;
+  static const auto t = OptionTable<O>()
+      .add("tangential", &O::tangential, "fit only the field's components tangent to the vertex normals", {}, "Eq. (5.81)")
+      .add("bound_by_edge_length", &O::bound_by_edge_length, "keep |c_ij| <= |e_ij| (a tilt has magnitude at most one)",
+           {}, "Sec. 8.5")
+      .add("regularization", &O::regularization, "pull towards the averaging estimate, relative to the mean diagonal",
+           non_negative(), "Eq. (5.80)")
+      .add("bound_rounds", &O::bound_rounds, "active-set rounds that pin violating coefficients", non_negative())
+      .add("bound_stiffness", &O::bound_stiffness, "penalty pinning a violator, relative to the mean diagonal", positive());
+  return t;
+}
 namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;

@@ -14,6 +14,26 @@
 
 namespace geotex {
 
+const EnumNames<ParamMethod>& param_method_names() {
+  static const EnumNames<ParamMethod> n = {{"conformal", ParamMethod::Conformal},
+                                           {"authalic", ParamMethod::Authalic},
+                                           {"combined", ParamMethod::Combined},
+                                           {"natural", ParamMethod::NaturalConformal}};
+  return n;
+}
+
+const OptionTable<ParametrizationOptions>& ParametrizationOptions::table() {
+  using O = ParametrizationOptions;
+  static const auto t = OptionTable<O>()
+      .choice("method", &O::method, param_method_names(),
+              "conformal (cotangent harmonic), authalic, combined (Desbrun et al. 2002), or natural (free-boundary "
+              "conformal)", "Eq. (5.84-5.88)")
+      .add("conformal_weight", &O::conformal_weight, "combined: weight of the conformal energy (the authalic one gets 1 - it)",
+           unit_interval())
+      .alias("lambda");
+  return t;
+}
+
 namespace {
 
 constexpr double kMaxCot = 1e4;

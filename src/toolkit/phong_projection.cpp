@@ -10,6 +10,15 @@
 #include "geotex/core/geometry.h"
 
 namespace geotex {
+
+const OptionTable<PhongProjectionOptions>& PhongProjectionOptions::table() {
+  using O = PhongProjectionOptions;
+  static const auto t = OptionTable<O>()
+      .add("search_factor", &O::search_factor, "candidate triangles within this x the closest distance (+ margin)", positive())
+      .add("search_margin", &O::search_margin, "candidate search margin, in mean edge lengths", non_negative())
+      .add("inside_tol", &O::inside_tol, "barycentric tolerance for a point inside a triangle", non_negative(), "Sec. 5.2");
+  return t;
+}
 namespace {
 
 double triple(const Vec3& x, const Vec3& y, const Vec3& z) { return x.dot(y.cross(z)); }  // Eq. (5.55)
@@ -253,13 +262,13 @@ PhongProjector::PhongProjector(const Mesh& mesh, const MatrixX3d& normals, const
 PhongHit PhongProjector::project(const Vec3& p) const {
   const TriangleTree::Hit closest = tree_.closest(p);
   double radius = options_.search_factor * std::sqrt(closest.sq_distance) + options_.search_margin * mean_edge_;
-  std::vector<int> near;
+  // Faces nearest first: a face's Phong projection q of p satisfies p − q = d n(q) with |n| <= 1, so
+  // |d| >= |p − q| >= the face's box distance; once the best |d| is below the next box distance, no
+  // farther face can beat it (the search ends: linear cost even on a fan of thousands of triangles).
   PhongHit best;
   for (int attempt = 0; attempt < 5 && !best.found; ++attempt, radius *= 2) {
-    near.clear();
-    tree_.faces_near(p, radius, near);
     double best_abs = std::numeric_limits<double>::infinity();
-    for (int f : near) {
+    tree_.visit_nearest(p, radius, [&](int f, double) {
       for (const PhongCandidate& c : phong_project_analytic(p, tris_[f], options_.inside_tol)) {
         if (!c.inside || std::abs(c.d) >= best_abs) continue;
         best_abs = std::abs(c.d);
@@ -272,7 +281,8 @@ PhongHit PhongProjector::project(const Vec3& p) const {
         best.normal = nn > 0 ? Vec3(c.normal / nn) : Vec3::Zero();
         best.distance = std::copysign((p - c.point).norm(), c.d);
       }
-    }
+      return std::min(radius, best_abs);
+    });
   }
   if (!best.found) {
     best.face = -1;

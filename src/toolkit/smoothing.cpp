@@ -14,13 +14,16 @@ const OptionTable<SmoothingOptions>& SmoothingOptions::table() {
   static const auto t = OptionTable<O>()
       .choice("laplacian", &O::laplacian, laplacian_names(), "umbrella (Eq. 5.8) or cotan (Eq. 5.11) Laplacian", "Eq. (5.8), (5.11)")
       .add("implicit", &O::implicit, "backward Euler steps (stable for any lambda); false: forward Euler", {}, "Eq. (5.12), (5.14)")
+      .alias("explicit", "false")
       .add("lambda", &O::lambda, "step size: dimensionless for umbrella; in squared mean edge lengths for cotan",
            positive(), "Eq. (5.12), (5.14)")
       .add("steps", &O::steps, "number of steps", non_negative())
       .choice("mass", &O::mass, mass_names(), "cotan mass matrix: voronoi, barycentric, or thesis (Eq. 5.11 verbatim)", "Eq. (5.11)")
       .add("fix_boundary", &O::fix_boundary, "keep boundary vertices where they are (open meshes)")
+      .alias("move_boundary", "false")
       .add("rescale", &O::rescale, "restore volume (closed) or area (open) and centroid after each step")
       .add("update_weights", &O::update_weights, "cotan implicit: recompute the weights each step (false: factor once)")
+      .alias("freeze_weights", "false")
       .add("stop_tolerance", &O::stop_tolerance,
            "stop once a step moves no vertex by more than this many mean edge lengths (0: run every step)", non_negative());
   return t;

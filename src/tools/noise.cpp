@@ -8,6 +8,19 @@
 
 namespace geotex {
 
+const OptionTable<NoiseOptions>& NoiseOptions::table() {
+  using O = NoiseOptions;
+  static const auto t = OptionTable<O>()
+      .add("sigma", &O::sigma, "standard deviation, in mean edge lengths", non_negative())
+      .add("along_normal", &O::along_normal, "displace along vertex normals (else along random directions)")
+      .alias("normal")
+      .add("impulsive_fraction", &O::impulsive_fraction, "fraction of vertices hit (impulsive noise); 0 = all",
+           unit_interval())
+      .alias("impulsive")
+      .add("seed", &O::seed, "random seed: same seed, same noise");
+  return t;
+}
+
 MatrixX3d add_noise(const Mesh& mesh, const NoiseOptions& opt) {
   require_valid(mesh, "noise: input mesh");
   if (!(opt.sigma >= 0) || !std::isfinite(opt.sigma)) throw InvalidInput("noise: sigma must be >= 0");

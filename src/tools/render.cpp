@@ -1,4 +1,4 @@
-// Software rendering of meshes and a self-contained PNG writer (see render.h).
+// Software rendering of meshes and PNG files (see render.h).
 
 #include "geotex/tools/render.h"
 
@@ -9,6 +9,7 @@
 #include <limits>
 
 #include <fmt/format.h>
+#include <png.h>
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
@@ -90,173 +91,134 @@ void draw_text(Image& img, int x, int y, const std::string& s, int px, const Vec
 
 uint8_t to_byte(double v) { return static_cast<uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0))); }
 
-// ------------------------------------------------------------------------------------------------
-// Deflate (RFC 1951) with LZ77 over a 32 KiB window and the fixed Huffman codes, wrapped in zlib
-// (RFC 1950). Fixed codes need no code tables in the stream and compress rendered pictures (large
-// uniform areas, filtered rows) well enough.
-
-class BitWriter {
- public:
-  explicit BitWriter(std::string& out) : out_(out) {}
-  void bits(uint32_t value, int n) {  // LSB first
-    acc_ |= static_cast<uint64_t>(value) << nbits_;
-    nbits_ += n;
-    while (nbits_ >= 8) {
-      out_.push_back(static_cast<char>(acc_ & 0xFF));
-      acc_ >>= 8;
-      nbits_ -= 8;
-    }
-  }
-  void huffman(uint32_t code, int n) {  // Huffman codes are packed most significant bit first
-    uint32_t rev = 0;
-    for (int i = 0; i < n; ++i) rev |= ((code >> i) & 1u) << (n - 1 - i);
-    bits(rev, n);
-  }
-  void flush() {
-    if (nbits_ > 0) out_.push_back(static_cast<char>(acc_ & 0xFF));
-    acc_ = 0;
-    nbits_ = 0;
-  }
-
- private:
-  std::string& out_;
-  uint64_t acc_ = 0;
-  int nbits_ = 0;
-};
-
-void fixed_literal(BitWriter& w, int sym) {
-  if (sym < 144) w.huffman(0x30 + sym, 8);
-  else if (sym < 256) w.huffman(0x190 + sym - 144, 9);
-  else if (sym < 280) w.huffman(sym - 256, 7);
-  else w.huffman(0xC0 + sym - 280, 8);
-}
-
-constexpr int kLenBase[29] = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,  15,  17,  19,  23, 27,
-                              31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258};
-constexpr int kLenExtra[29] = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
-constexpr int kDistBase[30] = {1,   2,   3,   4,   5,   7,    9,    13,   17,   25,   33,   49,   65,    97,    129,
-                               193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577};
-constexpr int kDistExtra[30] = {0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13};
-
-void write_match(BitWriter& w, int length, int distance) {
-  int li = 28;
-  while (kLenBase[li] > length) --li;
-  fixed_literal(w, 257 + li);
-  if (kLenExtra[li]) w.bits(length - kLenBase[li], kLenExtra[li]);
-  int di = 29;
-  while (kDistBase[di] > distance) --di;
-  w.huffman(di, 5);
-  if (kDistExtra[di]) w.bits(distance - kDistBase[di], kDistExtra[di]);
-}
-
-std::string deflate_fixed(const std::string& in) {
-  constexpr int kWindow = 32768, kHashBits = 15, kMaxChain = 32, kMinMatch = 3, kMaxMatch = 258;
-  std::string out;
-  out.reserve(in.size() / 4 + 64);
-  BitWriter w(out);
-  w.bits(1, 1);  // BFINAL: one block
-  w.bits(1, 2);  // BTYPE 01: fixed Huffman codes
-  const auto* s = reinterpret_cast<const uint8_t*>(in.data());
-  const int n = static_cast<int>(in.size());
-  std::vector<int> head(1 << kHashBits, -1), prev(kWindow, -1);
-  auto hash = [&](int i) {
-    return ((s[i] << 10) ^ (s[i + 1] << 5) ^ s[i + 2]) & ((1 << kHashBits) - 1);
-  };
-  auto insert = [&](int i) {
-    if (i + kMinMatch > n) return;
-    const int h = hash(i);
-    prev[i % kWindow] = head[h];
-    head[h] = i;
-  };
-  int i = 0;
-  while (i < n) {
-    int best_len = 0, best_dist = 0;
-    if (i + kMinMatch <= n) {
-      int cand = head[hash(i)];
-      const int max_len = std::min(kMaxMatch, n - i);
-      for (int chain = 0; cand >= 0 && i - cand <= kWindow - 1 && chain < kMaxChain; ++chain) {
-        if (s[cand + best_len] == s[i + best_len]) {
-          int len = 0;
-          while (len < max_len && s[cand + len] == s[i + len]) ++len;
-          if (len > best_len) {
-            best_len = len;
-            best_dist = i - cand;
-            if (len == max_len) break;
-          }
-        }
-        const int next = prev[cand % kWindow];
-        if (next >= cand) break;  // slot reused by a newer position: the chain ends here
-        cand = next;
-      }
-    }
-    if (best_len >= kMinMatch) {
-      write_match(w, best_len, best_dist);
-      for (int k = 0; k < best_len; ++k) insert(i + k);
-      i += best_len;
-    } else {
-      fixed_literal(w, s[i]);
-      insert(i);
-      ++i;
-    }
-  }
-  fixed_literal(w, 256);  // end of block
-  w.flush();
-  return out;
-}
-
-uint32_t adler32(const std::string& data) {
-  uint32_t a = 1, b = 0;
-  for (unsigned char c : data) {
-    a = (a + c) % 65521;
-    b = (b + a) % 65521;
-  }
-  return (b << 16) | a;
-}
-
-void put_be32(std::string& out, uint32_t v) {
-  for (int k = 3; k >= 0; --k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFF));
-}
-
-void put_chunk(std::string& out, const char* type, const std::string& data) {
-  put_be32(out, static_cast<uint32_t>(data.size()));
-  std::string body(type, 4);
-  body += data;
-  out += body;
-  put_be32(out, png_crc32(reinterpret_cast<const uint8_t*>(body.data()), body.size()));
-}
-
 }  // namespace
 
 // --------------------------------------------------------------------------------------------------
 
-ViewDirection view_direction_from_name(const std::string& name) {
-  if (name == "iso") return ViewDirection::Iso;
-  if (name == "front") return ViewDirection::Front;
-  if (name == "top") return ViewDirection::Top;
-  throw InvalidInput(fmt::format("unknown view '{}' (expected iso, front or top)", name));
+const EnumNames<ViewDirection>& view_direction_names() {
+  static const EnumNames<ViewDirection> names{
+      {"iso", ViewDirection::Iso}, {"front", ViewDirection::Front}, {"top", ViewDirection::Top}};
+  return names;
 }
 
-Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin, const Vec3& up) {
-  if (V.rows() == 0) throw InvalidInput("fit_camera: no vertices");
-  if (width <= 0 || height <= 0) throw InvalidInput(fmt::format("bad picture size {}x{}", width, height));
-  Camera c;
-  view_axes(view, up, c.right, c.up, c.forward);
-  const Vec3 c0 = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff()).transpose();
-  double r0 = std::numeric_limits<double>::max(), r1 = -r0, u0 = r0, u1 = -r0;
-  for (Eigen::Index i = 0; i < V.rows(); ++i) {
-    const Vec3 d = V.row(i).transpose() - c0;
-    r0 = std::min(r0, d.dot(c.right));
-    r1 = std::max(r1, d.dot(c.right));
-    u0 = std::min(u0, d.dot(c.up));
-    u1 = std::max(u1, d.dot(c.up));
+ViewDirection view_direction_from_name(const std::string& name) {
+  return parse_enum(view_direction_names(), name, "view");
+}
+
+const EnumNames<UpAxis>& up_axis_names() {
+  static const EnumNames<UpAxis> names{{"auto", UpAxis::Auto}, {"x", UpAxis::X},     {"y", UpAxis::Y},
+                                       {"z", UpAxis::Z},       {"-x", UpAxis::NegX}, {"-y", UpAxis::NegY},
+                                       {"-z", UpAxis::NegZ}};
+  return names;
+}
+
+const EnumNames<Framing>& framing_names() {
+  static const EnumNames<Framing> names{{"tight", Framing::Tight}, {"sphere", Framing::Sphere}};
+  return names;
+}
+
+const OptionTable<RenderOptions>& RenderOptions::table() {
+  using O = RenderOptions;
+  static const auto t = OptionTable<O>()
+      .add("width", &O::width, "picture width in pixels", between(1, 16384))
+      .add("height", &O::height, "picture height in pixels", between(1, 16384))
+      .choice("view", &O::view, view_direction_names(), "camera direction: iso, front (from -y for up z) or top")
+      .choice("up", &O::up, up_axis_names(),
+              "the model's up axis; auto: the thin axis of a flat model, else the axis it rests on at 0, else y")
+      .choice("frame", &O::frame, framing_names(),
+              "tight: fit the mesh as seen; sphere: fit its bounding sphere (same scale from every direction)")
+      .add("zoom", &O::zoom, "magnification of the fitted camera (2: twice as large)", positive())
+      .add("centre", &O::centre, "point x,y,z at the picture's centre (auto: the centre of the framed mesh)")
+      .alias("center")
+      .add("margin", &O::margin, "free border at zoom 1, fraction of the smaller side", between(0, 0.45))
+      .add("smooth", &O::smooth, "interpolate vertex normals (false: flat shading, one normal per face)")
+      .alias("flat", "false")
+      .add("supersampling", &O::supersampling, "anti-aliasing: k x k samples per pixel", between(1, 8))
+      .add("background", &O::background, "background colour r,g,b in [0, 1]", unit_interval())
+      .add("base_colour", &O::base_colour, "surface colour r,g,b in [0, 1] where no field is shown", unit_interval())
+      .add("ambient", &O::ambient, "ambient light", unit_interval())
+      .add("specular", &O::specular, "Blinn-Phong highlight strength (0: Lambert only)", non_negative())
+      .add("shininess", &O::shininess, "Blinn-Phong exponent", positive())
+      .add("line_width", &O::line_width, "edge-line width in pixels", positive())
+      .add("legend", &O::legend, "draw a colour bar with the field's range when a field is shown");
+  return t;
+}
+
+Vec3 up_vector(UpAxis up, const Vec3& lo, const Vec3& hi) {
+  switch (up) {
+    case UpAxis::X: return Vec3::UnitX();
+    case UpAxis::Y: return Vec3::UnitY();
+    case UpAxis::Z: return Vec3::UnitZ();
+    case UpAxis::NegX: return -Vec3::UnitX();
+    case UpAxis::NegY: return -Vec3::UnitY();
+    case UpAxis::NegZ: return -Vec3::UnitZ();
+    case UpAxis::Auto: break;
   }
-  c.centre = c0 + 0.5 * (r0 + r1) * c.right + 0.5 * (u0 + u1) * c.up;
-  const double free = 2.0 * margin * std::min(width, height);
-  const double extent_r = std::max(r1 - r0, 1e-12), extent_u = std::max(u1 - u0, 1e-12);
-  c.scale = std::max(1e-12, std::min((width - free) / extent_r, (height - free) / extent_u));
+  const Vec3 e = (hi - lo).cwiseMax(0.0);
+  int axis[3] = {0, 1, 2};  // by extent, thinnest first
+  std::sort(axis, axis + 3, [&](int a, int b) { return e[a] < e[b]; });
+  if (e[axis[0]] < 0.3 * e[axis[1]]) return Vec3::Unit(axis[0]);
+  const double tol = 1e-6 * e.norm();
+  const bool rests_y = std::abs(lo.y()) <= tol, rests_z = std::abs(lo.z()) <= tol;
+  if (rests_z && !rests_y) return Vec3::UnitZ();
+  return Vec3::UnitY();
+}
+
+int legend_width(int width) { return std::min(110, width / 4); }
+
+MatrixX3d face_vertices(const Mesh& mesh) {
+  std::vector<char> used(mesh.n_vertices(), 0);
+  size_t n = 0;
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f))
+      if (!used[v.idx()]) used[v.idx()] = 1, ++n;
+  if (n == 0) return positions(mesh);
+  MatrixX3d P(n, 3);
+  Eigen::Index k = 0;
+  for (auto v : mesh.vertices())
+    if (used[v.idx()]) P.row(k++) = to_eigen(mesh.point(v)).transpose();
+  return P;
+}
+
+Camera fit_camera(const MatrixX3d& V, const RenderOptions& o, int reserved_right) {
+  if (V.rows() == 0) throw InvalidInput("fit_camera: no vertices");
+  const int width = o.width - reserved_right, height = o.height;
+  if (width <= 0 || height <= 0) throw InvalidInput(fmt::format("bad picture size {}x{}", width, height));
+  if (!(o.zoom > 0) || !std::isfinite(o.zoom)) throw InvalidInput(fmt::format("zoom {} is not positive", o.zoom));
+  Camera c;
+  const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
+  view_axes(o.view, up_vector(o.up, lo, hi), c.right, c.up, c.forward);
+  const Vec3 c0 = 0.5 * (lo + hi);
+  double extent_r = 0, extent_u = 0;
+  if (o.frame == Framing::Sphere) {
+    const double radius = (V.rowwise() - c0.transpose()).rowwise().norm().maxCoeff();
+    c.centre = c0;
+    extent_r = extent_u = 2 * radius;
+  } else {
+    double r0 = std::numeric_limits<double>::max(), r1 = -r0, u0 = r0, u1 = -r0;
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      const Vec3 d = V.row(i).transpose() - c0;
+      r0 = std::min(r0, d.dot(c.right));
+      r1 = std::max(r1, d.dot(c.right));
+      u0 = std::min(u0, d.dot(c.up));
+      u1 = std::max(u1, d.dot(c.up));
+    }
+    // The projected extent's centre, not the box centre: from an oblique view they differ.
+    c.centre = c0 + 0.5 * (r0 + r1) * c.right + 0.5 * (u0 + u1) * c.up;
+    extent_r = r1 - r0;
+    extent_u = u1 - u0;
+  }
+  if (o.centre) c.centre = *o.centre;
+  const double free = 2.0 * o.margin * std::min(width, height);
+  c.scale = o.zoom * std::max(1e-12, std::min((width - free) / std::max(extent_r, 1e-12),
+                                              (height - free) / std::max(extent_u, 1e-12)));
   c.width = width;
   c.height = height;
   return c;
+}
+
+Camera fit_camera(const Mesh& mesh, const RenderOptions& options, int reserved_right) {
+  return fit_camera(face_vertices(mesh), options, reserved_right);
 }
 
 Vec3 colour_map(double t) {
@@ -297,8 +259,7 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
 
   Rendering out;
   const bool show_legend = has_field && o.legend;
-  const int legend_w = show_legend ? std::min(110, o.width / 4) : 0;
-  out.camera = o.camera ? *o.camera : fit_camera(V, o.view, o.width - legend_w, o.height, o.margin, o.up);
+  out.camera = o.camera ? *o.camera : fit_camera(mesh, o, show_legend ? legend_width(o.width) : 0);
   const Camera& cam = out.camera;
 
   // Colour-map range.
@@ -445,6 +406,7 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
 
   // Legend: a vertical colour bar with the range's ends.
   if (show_legend) {
+    const int legend_w = legend_width(o.width);
     const int bar_w = std::max(8, legend_w / 7);
     const int bx = o.width - legend_w + 8, by0 = o.height / 8, by1 = o.height - o.height / 8;
     for (int y = by0; y <= by1; ++y) {
@@ -474,64 +436,23 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
   return out;
 }
 
-uint32_t png_crc32(const uint8_t* data, size_t n, uint32_t crc) {
-  static const std::array<uint32_t, 256> table = [] {
-    std::array<uint32_t, 256> t{};
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (size_t i = 0; i < n; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-  return ~crc;
-}
-
 std::string encode_png(const Image& img) {
   if (img.width <= 0 || img.height <= 0 || img.rgb.size() != static_cast<size_t>(img.width) * img.height * 3)
     throw InvalidInput("encode_png: image size and pixel data disagree");
-  // Per row, the filter (None, Sub or Up) with the smallest sum of |signed residuals|, the usual
-  // heuristic of the PNG specification (section 12.8).
-  const size_t stride = static_cast<size_t>(img.width) * 3;
-  std::string raw;
-  raw.reserve((stride + 1) * img.height);
-  std::string candidate[3];
-  for (int y = 0; y < img.height; ++y) {
-    const uint8_t* row = img.rgb.data() + y * stride;
-    const uint8_t* above = y > 0 ? row - stride : nullptr;
-    long best_cost = -1;
-    int best = 0;
-    for (int filter = 0; filter < 3; ++filter) {
-      std::string& c = candidate[filter];
-      c.resize(stride);
-      long cost = 0;
-      for (size_t i = 0; i < stride; ++i) {
-        const uint8_t pred = filter == 1 ? (i >= 3 ? row[i - 3] : 0) : filter == 2 ? (above ? above[i] : 0) : 0;
-        const uint8_t v = static_cast<uint8_t>(row[i] - pred);
-        c[i] = static_cast<char>(v);
-        cost += std::abs(static_cast<int8_t>(v));
-      }
-      if (best_cost < 0 || cost < best_cost) best_cost = cost, best = filter;
-    }
-    raw.push_back(static_cast<char>(best));
-    raw += candidate[best];
-  }
-  std::string z;
-  z.push_back(static_cast<char>(0x78));  // zlib: deflate, 32 KiB window
-  z.push_back(static_cast<char>(0x01));  // no dictionary; (0x78 << 8 | 0x01) % 31 == 0
-  z += deflate_fixed(raw);
-  put_be32(z, adler32(raw));
-
-  std::string png("\x89PNG\r\n\x1a\n", 8);
-  std::string ihdr;
-  put_be32(ihdr, static_cast<uint32_t>(img.width));
-  put_be32(ihdr, static_cast<uint32_t>(img.height));
-  ihdr += std::string("\x08\x02\x00\x00\x00", 5);  // 8 bits, RGB, deflate, adaptive filters, no interlace
-  put_chunk(png, "IHDR", ihdr);
-  put_chunk(png, "IDAT", z);
-  put_chunk(png, "IEND", "");
+  // libpng's simplified API: no setjmp here; libpng picks the row filters adaptively (PNG spec 12.8).
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(img.width);
+  image.height = static_cast<png_uint_32>(img.height);
+  image.format = PNG_FORMAT_RGB;
+  png_alloc_size_t size = 0;
+  const auto* pixels = img.rgb.data();
+  if (!png_image_write_to_memory(&image, nullptr, &size, 0, pixels, 0, nullptr))
+    throw IoError(fmt::format("libpng: {}", image.message));
+  std::string png(size, '\0');
+  if (!png_image_write_to_memory(&image, png.data(), &size, 0, pixels, 0, nullptr))
+    throw IoError(fmt::format("libpng: {}", image.message));
+  png.resize(size);
   return png;
 }
 

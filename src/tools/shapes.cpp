@@ -10,6 +10,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/random.h"
+#include "geotex/resize/measure.h"
 
 namespace geotex {
 
@@ -192,6 +193,200 @@ Mesh plane(int n, double size) {
   return from_lists(V, F);
 }
 
+namespace {
+// A ring of vertices around the x axis: indices and the angular offset of vertex 0 (fraction of a step).
+struct Ring {
+  std::vector<int> v;
+  double offset = 0;
+};
+
+// Triangles between ring a and ring b (b at larger x), outward for rings ordered by increasing angle
+// about +x: march around both rings, always advancing the one whose next edge midpoint comes first.
+void stitch(const Ring& a, const Ring& b, std::vector<std::array<int, 3>>& F) {
+  const int na = static_cast<int>(a.v.size()), nb = static_cast<int>(b.v.size());
+  int i = 0, j = 0;
+  while (i < na || j < nb) {
+    const double ta = (i + 0.5 + a.offset) / na, tb = (j + 0.5 + b.offset) / nb;
+    const bool advance_a = nb == 1 ? true : na == 1 ? false : (j >= nb || (i < na && ta <= tb));
+    if (advance_a) {
+      if (na > 1) F.push_back({a.v[i % na], a.v[(i + 1) % na], b.v[j % nb]});
+      ++i;
+    } else {
+      if (nb > 1) F.push_back({a.v[i % na], b.v[(j + 1) % nb], b.v[j % nb]});
+      ++j;
+    }
+    if (na == 1 && j >= nb) break;
+    if (nb == 1 && i >= na) break;
+  }
+}
+}  // namespace
+
+Mesh capsule(double radius, double length, int segments) {
+  if (!(radius > 0) || !(length >= 0) || segments < 6) throw InvalidInput("capsule: needs radius > 0, length >= 0, segments >= 6");
+  const double edge = 2 * M_PI * radius / segments, spacing = edge * std::sqrt(3.0) / 2;
+  const int n_cyl = std::max(1, static_cast<int>(std::round(length / spacing)));
+  const int n_cap = std::max(2, static_cast<int>(std::round(0.5 * M_PI * radius / spacing)));
+  std::vector<Vec3> V;
+  std::vector<std::array<int, 3>> F;
+  auto make_ring = [&](double x, double r, int m, double offset) {
+    Ring ring;
+    ring.offset = offset;
+    for (int k = 0; k < m; ++k) {
+      const double psi = 2 * M_PI * (k + offset) / m;
+      ring.v.push_back(static_cast<int>(V.size()));
+      V.emplace_back(x, r * std::cos(psi), r * std::sin(psi));
+    }
+    return ring;
+  };
+  // Rings from the pole at −x to the pole at +x; cap latitude rings shrink with cos(latitude).
+  std::vector<Ring> rings;
+  for (int k = n_cap; k >= 1; --k) {
+    const double phi = 0.5 * M_PI * k / n_cap;
+    const int m = k == n_cap ? 1 : std::max(6, static_cast<int>(std::round(segments * std::cos(phi))));
+    rings.push_back(make_ring(-0.5 * length - radius * std::sin(phi), radius * std::cos(phi), m, 0.5 * (k % 2)));
+  }
+  for (int k = 0; k <= n_cyl; ++k)
+    rings.push_back(make_ring(length * (double(k) / n_cyl - 0.5), radius, segments, 0.5 * ((n_cap + k) % 2)));
+  for (int k = 1; k <= n_cap; ++k) {
+    const double phi = 0.5 * M_PI * k / n_cap;
+    const int m = k == n_cap ? 1 : std::max(6, static_cast<int>(std::round(segments * std::cos(phi))));
+    rings.push_back(make_ring(0.5 * length + radius * std::sin(phi), radius * std::cos(phi), m, 0.5 * ((n_cap + n_cyl + k) % 2)));
+  }
+  for (size_t k = 0; k + 1 < rings.size(); ++k) stitch(rings[k], rings[k + 1], F);
+  return from_lists(V, F);
+}
+
+TexturedShape tentacles(const Mesh& base, const TentacleOptions& o, std::vector<int> feet, std::vector<Vec3> leans,
+                        std::vector<double> bend_deg, std::vector<Tentacle>* info) {
+  require_valid(base, "tentacles: base mesh");
+  if (!(o.radius > 0) || !(o.length > 0) || !(o.thickness > 0) || o.thickness >= o.radius || !(o.foot > 0 && o.foot < 1))
+    throw InvalidInput("tentacles: needs 0 < thickness < radius, length > 0 and foot in (0, 1)");
+  const double R = o.radius, L = o.length, rho = o.thickness;
+  const MatrixX3d X = positions(base);
+  const MatrixX3d N = vertex_normals(base, NormalWeighting::Area);
+  const int n = static_cast<int>(base.n_vertices());
+  Rng rng(o.seed);
+  if (feet.empty()) {  // random interior vertices, footprints well apart and away from the boundary
+    std::vector<char> near_boundary(n, 0);
+    for (auto v : base.vertices())
+      if (base.is_boundary(v))
+        for (int w = 0; w < n; ++w)
+          if ((X.row(w) - X.row(v.idx())).norm() < 1.5 * R) near_boundary[w] = 1;
+    for (int attempt = 0; attempt < 200 * o.count && static_cast<int>(feet.size()) < o.count; ++attempt) {
+      const int c = static_cast<int>(rng.below(n));
+      if (near_boundary[c] || base.is_isolated(base.vertex_handle(c))) continue;
+      bool ok = true;
+      for (int f : feet) ok = ok && (X.row(f) - X.row(c)).norm() >= 3 * R;
+      if (ok) feet.push_back(c);
+    }
+  }
+  for (int f : feet)
+    if (f < 0 || f >= n) throw InvalidInput(fmt::format("tentacles: foot vertex {} out of range", f));
+  while (leans.size() < feet.size()) leans.emplace_back(rng.normal(), rng.normal(), rng.normal());
+  while (bend_deg.size() < feet.size()) bend_deg.push_back(40 + 40 * rng.uniform());
+
+  TexturedShape out;
+  out.base = base;
+  out.textured = base;
+  MatrixX3d Y = X;
+  std::vector<Tentacle> made;
+  for (size_t k = 0; k < feet.size(); ++k) {
+    const int c = feet[k];
+    const Vec3 xc = X.row(c), nc = N.row(c).normalized();
+    Vec3 l = leans[k] - leans[k].dot(nc) * nc;
+    l = l.norm() > 1e-9 ? Vec3(l.normalized()) : nc.unitOrthogonal();
+    const Vec3 b = nc.cross(l);
+    const double kappa = bend_deg[k] * M_PI / 180.0 / L;  // the centreline turns at a constant rate
+    for (int i = 0; i < n; ++i) {
+      const Vec3 d = X.row(i).transpose() - xc;
+      const double r = d.norm();
+      if (r >= R) continue;
+      const double t = 1.0 - r / R;  // 0 at the rim, 1 at the centre
+      double s, radius;
+      if (t < o.foot) {  // the foot: rises by one shaft radius while narrowing to the shaft
+        const double u = t / o.foot;
+        s = rho * u * u;
+        radius = rho + (R - rho) * (1 - u) * (1 - u);
+      } else {  // the shaft, slightly tapered, with a rounded tip
+        const double v = (t - o.foot) / (1 - o.foot);
+        s = rho + (L - rho) * v;
+        radius = rho * (1 - 0.35 * v);
+        const double w = (s - (L - radius)) / radius;
+        if (w > 0) radius *= std::sqrt(std::max(0.0, 1 - w * w));
+      }
+      const double theta = kappa * s;
+      const Vec3 C = kappa > 1e-12 ? Vec3(xc + nc * std::sin(theta) / kappa + l * (1 - std::cos(theta)) / kappa)
+                                   : Vec3(xc + nc * s);
+      const Vec3 across = std::cos(theta) * l - std::sin(theta) * nc;  // the centreline's normal in the lean plane
+      const Vec3 dt = d - d.dot(nc) * nc;
+      const double psi = dt.norm() > 1e-12 * R ? std::atan2(dt.dot(b), dt.dot(l)) : 0.0;
+      const Vec3 now = C + radius * (std::cos(psi) * across + std::sin(psi) * b);
+      const Vec3 flat = xc + r * (std::cos(psi) * l + std::sin(psi) * b);
+      Y.row(i) += (now - flat).transpose();
+    }
+    out.spike_centres.push_back(c);
+    out.lean.push_back(l);
+    Tentacle tk;
+    tk.foot = c;
+    tk.lean = l;
+    tk.bend_deg = bend_deg[k];
+    const Vec3 tip = Y.row(c).transpose() - xc;
+    tk.length = tip.norm();
+    tk.lean_deg = std::acos(std::clamp(tip.normalized().dot(nc), -1.0, 1.0)) * 180.0 / M_PI;
+    made.push_back(tk);
+  }
+  set_positions(out.textured, Y);
+  if (info) *info = made;
+  return out;
+}
+
+namespace {
+int nearest_vertex(const MatrixX3d& X, const Vec3& p) {
+  Eigen::Index best;
+  (X.rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&best);
+  return static_cast<int>(best);
+}
+}  // namespace
+
+TexturedShape tentacle_stick(int level, std::vector<Tentacle>* info) {
+  if (level < 0 || level > 4) throw InvalidInput("tentacle stick: level must be in [0, 4]");
+  const Mesh base = capsule(1.0, 6.0, 80 << level);
+  const MatrixX3d X = positions(base);
+  std::vector<int> feet;
+  std::vector<Vec3> leans;
+  std::vector<double> bend;
+  for (int k = 0; k < 9; ++k) {
+    const double x = -2.4 + 4.8 * k / 8, psi = 2.39996 * k;  // a spiral at the golden angle
+    feet.push_back(nearest_vertex(X, Vec3(x, std::cos(psi), std::sin(psi))));
+    const double a = k * 75.0 * M_PI / 180.0;                 // along the axis, around it, and between
+    leans.push_back(std::cos(a) * Vec3::UnitX() + std::sin(a) * Vec3(0, -std::sin(psi), std::cos(psi)));
+    bend.push_back(45.0 + 30.0 * ((5 * k) % 9) / 8.0);
+  }
+  return tentacles(base, {}, feet, leans, bend, info);
+}
+
+TexturedShape tentacle_plane(int level, std::vector<Tentacle>* info) {
+  if (level < 0 || level > 4) throw InvalidInput("tentacle plane: level must be in [0, 4]");
+  const Mesh base = plane(64 << level, 4.0);
+  const MatrixX3d X = positions(base);
+  std::vector<int> feet;
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j) feet.push_back(nearest_vertex(X, Vec3(1.2 * i, 1.2 * j, 0)));
+  TentacleOptions o;
+  o.length = 1.0;
+  return tentacles(base, o, feet, std::vector<Vec3>(feet.size(), Vec3::UnitX()), std::vector<double>(feet.size(), 60.0),
+                   info);
+}
+
+Eigen::VectorXd tentacle_truth(const Mesh& base, const std::vector<Tentacle>& tentacles, double radius) {
+  const MatrixX3d X = positions(base);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(X.rows());
+  for (const auto& t : tentacles)
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+      if ((X.row(i) - X.row(t.foot)).norm() < radius) f[i] = 1;
+  return f;
+}
+
 TexturedShape spiky(const Mesh& base, const SpikeOptions& opt) {
   require_valid(base, "spiky: base mesh");
   TexturedShape out;
@@ -246,7 +441,8 @@ TexturedShape spiky(const Mesh& base, const SpikeOptions& opt) {
 }
 
 std::vector<std::string> shape_names() {
-  return {"cube", "cylinder", "sphere", "torus", "plane", "spiky-sphere", "spiky-plane"};
+  return {"cube", "cylinder", "sphere", "torus", "plane", "capsule", "spiky-sphere", "spiky-plane", "tentacle-stick",
+          "tentacle-plane", "bumpy-plate", "ridge-plate"};
 }
 
 TexturedShape make_shape(const std::string& name, int level, uint64_t seed) {
@@ -258,6 +454,18 @@ TexturedShape make_shape(const std::string& name, int level, uint64_t seed) {
   else if (name == "sphere") s.base = icosphere(3 + level);
   else if (name == "torus") s.base = torus(1.0, 0.35, 32 * k, 12 * k);
   else if (name == "plane") s.base = plane(20 * k);
+  else if (name == "capsule") s.base = capsule(1.0, 6.0, 40 * k);
+  else if (name == "tentacle-stick") return tentacle_stick(level);
+  else if (name == "tentacle-plane") return tentacle_plane(level);
+  else if (name == "bumpy-plate" || name == "ridge-plate") {  // feature-aware resizing's plates (resize/measure.h)
+    const int n = std::min(40 * k, 4000);
+    const BumpyPlate b = name == "bumpy-plate" ? bumpy_plate({.n = n}) : ridge_plate(n);
+    s.base = plane(n, 2.0);
+    s.textured = b.mesh;
+    const MatrixX3d X = positions(s.base);
+    for (const Vec3& c : b.centres) s.spike_centres.push_back(nearest_vertex(X, c));
+    return s;
+  }
   else if (name == "spiky-sphere" || name == "spiky-plane") {
     SpikeOptions o;
     o.seed = seed;

@@ -5,11 +5,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <numeric>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <zlib.h>
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
@@ -42,9 +45,66 @@ std::string base64(const void* data, size_t n) {
   return out;
 }
 
-template <class T>
-std::string base64(const std::vector<T>& v) {
-  return base64(v.data(), v.size() * sizeof(T));
+// A zlib stream (RFC 1950, what the page's DecompressionStream('deflate') reads) in base64.
+std::string zlib_base64(const std::string& bytes) {
+  uLongf size = compressBound(bytes.size());
+  std::string z(size, '\0');
+  if (compress2(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(bytes.data()), bytes.size(),
+                Z_DEFAULT_COMPRESSION) != Z_OK)
+    throw IoError("viewer page: zlib failed to compress");
+  return base64(z.data(), size);
+}
+
+void put_varint(std::string& out, uint32_t v) {
+  while (v >= 0x80) {
+    out.push_back(static_cast<char>((v & 0x7F) | 0x80));
+    v >>= 7;
+  }
+  out.push_back(static_cast<char>(v));
+}
+
+uint32_t zigzag(int64_t v) { return static_cast<uint32_t>(v < 0 ? -2 * v - 1 : 2 * v); }
+
+// Faces in breadth-first order over shared vertices, so that consecutive faces are neighbours (scans
+// often list faces in no useful order; index deltas and position deltas then stay small).
+std::vector<int> coherent_face_order(const MatrixX3i& F, Eigen::Index n_vertices) {
+  const Eigen::Index nf = F.rows();
+  std::vector<int> start(n_vertices + 1, 0), around(3 * nf);
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) ++start[F(f, k) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) around[fill[F(f, k)]++] = static_cast<int>(f);
+  std::vector<int> order;
+  order.reserve(nf);
+  std::vector<char> queued(nf, 0);
+  for (Eigen::Index seed = 0; seed < nf; ++seed) {
+    if (queued[seed]) continue;
+    queued[seed] = 1;
+    size_t head = order.size();
+    order.push_back(static_cast<int>(seed));
+    for (; head < order.size(); ++head)  // order doubles as the queue
+      for (int k = 0; k < 3; ++k) {
+        const int v = F(order[head], k);
+        for (int i = start[v]; i < start[v + 1]; ++i)
+          if (!queued[around[i]]) {
+            queued[around[i]] = 1;
+            order.push_back(around[i]);
+          }
+      }
+  }
+  return order;
+}
+
+// Quantised codes, delta-coded along the array (mod 2^(8·planes)) and split into byte planes, low
+// byte first: neighbouring vertices differ little, so the high planes are mostly zeros for deflate.
+void put_planes(std::string& out, const std::vector<uint32_t>& codes, int planes) {
+  const uint32_t mask = planes >= 4 ? 0xFFFFFFFFu : (1u << (8 * planes)) - 1;
+  std::vector<uint32_t> d(codes.size());
+  for (size_t i = 0; i < codes.size(); ++i) d[i] = (codes[i] - (i ? codes[i - 1] : 0)) & mask;
+  for (int k = 0; k < planes; ++k)
+    for (uint32_t v : d) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFF));
 }
 
 std::string html_escape(const std::string& s) {
@@ -114,11 +174,9 @@ void read_edge_labels(const fs::path& path, size_t n_vertices, MeshLayers& layer
 }
 
 Eigen::VectorXd read_field_file(const fs::path& path, size_t n_vertices) {
-  std::ifstream in(path);
-  if (!in) throw IoError(fmt::format("{}: cannot read", path.string()));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
+  // Only a regular file, up to a limit: a FIFO or /dev/zero is refused at once. A UTF-8 BOM is skipped.
+  std::string text = read_regular_file(path, kMaxTextFileBytes, "a field file");
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
   for (char& c : text)
     if (c == ',' || c == ';') c = ' ';
   std::istringstream tokens(text);
@@ -163,52 +221,159 @@ std::string viewer_script() {
 #endif
 }
 
+const OptionTable<ViewerOptions>& ViewerOptions::table() {
+  using O = ViewerOptions;
+  static const auto t = OptionTable<O>()
+      .add("title", &O::title, "page title")
+      .add("initial_field", &O::initial_field, "field shown when the page opens (empty: plain colour)")
+      .alias("field")
+      .add("flat", &O::flat, "start in flat shading")
+      .add("wireframe", &O::wireframe, "start with the wireframe shown")
+      .choice("up", &O::up, up_axis_names(),
+              "the models' up axis; auto: the thin axis of a flat model, else the axis it rests on at 0, else y")
+      .add("position_bits", &O::position_bits,
+           "bits per coordinate over each mesh's box: error at most extent / 2^(bits+1)", between(8, 24))
+      .add("script_src", &O::script_src, "load the viewer script from this URL instead of inlining it");
+  return t;
+}
+
+namespace {
+
+// The page's order: faces breadth-first, vertices by first use in it (then the unused ones).
+struct PageOrder {
+  std::vector<int> faces;      // page face → mesh face
+  std::vector<int> perm;       // page vertex → mesh vertex
+  std::vector<int> new_index;  // mesh vertex → page vertex
+};
+
+PageOrder page_order(const MatrixX3i& F, Eigen::Index nv) {
+  PageOrder o;
+  o.faces = coherent_face_order(F, nv);
+  o.new_index.assign(nv, -1);
+  o.perm.reserve(nv);
+  auto take = [&](int v) {
+    if (o.new_index[v] >= 0) return;
+    o.new_index[v] = static_cast<int>(o.perm.size());
+    o.perm.push_back(v);
+  };
+  for (int f : o.faces)
+    for (int k = 0; k < 3; ++k) take(F(f, k));
+  for (int v = 0; v < nv; ++v) take(v);
+  return o;
+}
+
+// One mesh's page data (format: viewer.h, decoder: viewer/src/viewer.js).
+nlohmann::json mesh_data(const ViewerMesh& m, int bits) {
+  require_valid(m.mesh, m.name.c_str());
+  const MatrixX3d V = positions(m.mesh);
+  const MatrixX3i F = faces(m.mesh);
+  const Eigen::Index nv = V.rows();
+  for (const auto& [name, values] : m.layers.fields)
+    if (values.size() != nv)
+      throw InvalidInput(fmt::format("{}: field '{}' has {} values for {} vertices", m.name, name, values.size(), nv));
+  const MatrixX2i& S = m.layers.segments;
+  if (S.rows() > 0 && (S.minCoeff() < 0 || S.maxCoeff() >= nv))
+    throw InvalidInput(fmt::format("{}: a labelled edge refers to a vertex outside the mesh", m.name));
+
+  const PageOrder order = page_order(F, nv);
+  const std::vector<int>&perm = order.perm, &new_index = order.new_index;
+
+  // Indices: a vertex is either the next new one (code 0) or one seen `code` places before it.
+  std::string idx;
+  int next_new = 0;
+  for (int f : order.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int g = new_index[F(f, k)];
+      put_varint(idx, static_cast<uint32_t>(next_new - g));
+      next_new = std::max(next_new, g + 1);
+    }
+
+  // Frame: the box of the faces' vertices (stray vertices do not move the view), its centre is the
+  // origin of the page's coordinates, so that far-off meshes keep float32 precision.
+  const MatrixX3d P = face_vertices(m.mesh);
+  const Vec3 flo = P.colwise().minCoeff().transpose(), fhi = P.colwise().maxCoeff().transpose();
+  const Vec3 origin = 0.5 * (flo + fhi);
+  const double radius = (P.rowwise() - origin.transpose()).rowwise().norm().maxCoeff();
+
+  // Positions: q = round((x − lo) / step) on a grid of 2^bits − 1 steps over the box of all vertices.
+  const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
+  const double levels = std::ldexp(1.0, bits) - 1;
+  const int planes = (bits + 7) / 8;
+  std::string pos;
+  Vec3 step;
+  for (int j = 0; j < 3; ++j) {
+    step[j] = (hi[j] - lo[j]) / levels;
+    std::vector<uint32_t> q(nv);
+    for (int i = 0; i < nv; ++i)
+      q[i] = step[j] > 0 ? static_cast<uint32_t>(std::lround((V(perm[i], j) - lo[j]) / step[j])) : 0;
+    put_planes(pos, q, planes);
+  }
+  const Vec3 offset = lo - origin;
+  nlohmann::json jm{{"name", m.name},
+                    {"vertices", nv},
+                    {"faces", F.rows()},
+                    {"origin", {origin.x(), origin.y(), origin.z()}},
+                    {"radius", radius},
+                    {"box", {{"lo", {flo.x(), flo.y(), flo.z()}}, {"hi", {fhi.x(), fhi.y(), fhi.z()}}}},
+                    {"positions",
+                     {{"offset", {offset.x(), offset.y(), offset.z()}},
+                      {"step", {step.x(), step.y(), step.z()}},
+                      {"planes", planes},
+                      {"data", zlib_base64(pos)}}},
+                    {"indices", zlib_base64(idx)},
+                    {"fields", nlohmann::json::object()}};
+
+  // Fields: 16-bit codes over the finite range; the last code is NaN (no value).
+  for (const auto& [name, values] : m.layers.fields) {
+    double flo_v = std::numeric_limits<double>::infinity(), fhi_v = -flo_v;
+    for (Eigen::Index i = 0; i < nv; ++i)
+      if (std::isfinite(values[i])) flo_v = std::min(flo_v, values[i]), fhi_v = std::max(fhi_v, values[i]);
+    if (!(flo_v <= fhi_v)) flo_v = fhi_v = 0;
+    const double fstep = (fhi_v - flo_v) / 65534.0;
+    std::vector<uint32_t> q(nv);
+    for (int i = 0; i < nv; ++i) {
+      const double x = values[perm[i]];
+      q[i] = !std::isfinite(x) ? 65535u : fstep > 0 ? static_cast<uint32_t>(std::lround((x - flo_v) / fstep)) : 0u;
+    }
+    std::string bytes;
+    put_planes(bytes, q, 2);
+    jm["fields"][name] = {{"lo", flo_v}, {"step", fstep}, {"data", zlib_base64(bytes)}};
+  }
+
+  // Labelled edges: vertex pairs as zigzag varints of the change from the previous index; labels as varints.
+  if (S.rows() > 0) {
+    std::string e, l;
+    int64_t prev = 0;
+    for (Eigen::Index i = 0; i < S.rows(); ++i)
+      for (int k = 0; k < 2; ++k) {
+        const int64_t g = new_index[S(i, k)];
+        put_varint(e, zigzag(g - prev));
+        prev = g;
+      }
+    for (Eigen::Index i = 0; i < S.rows(); ++i)
+      put_varint(l, static_cast<uint32_t>(std::max(1, m.layers.labels.size() == S.rows() ? m.layers.labels[i] : 1)));
+    jm["edges"] = {{"count", S.rows()}, {"pairs", zlib_base64(e)}, {"labels", zlib_base64(l)}};
+  }
+  return jm;
+}
+
+}  // namespace
+
 std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptions& options, const std::string& script) {
   if (meshes.empty()) throw InvalidInput("viewer page: no meshes");
   if (script.empty() && options.script_src.empty()) throw InvalidInput("viewer page: empty script");
+  check_options(options);
   nlohmann::json data;
   data["title"] = options.title;
   data["initialField"] = options.initial_field;
   data["flat"] = options.flat;
   data["wireframe"] = options.wireframe;
-  data["up"] = {options.up.x(), options.up.y(), options.up.z()};
   data["meshes"] = nlohmann::json::array();
-  for (const ViewerMesh& m : meshes) {
-    require_valid(m.mesh, m.name.c_str());
-    const MatrixX3d V = positions(m.mesh);
-    const MatrixX3i F = faces(m.mesh);
-    std::vector<float> p(V.size());
-    for (Eigen::Index i = 0; i < V.rows(); ++i)
-      for (int j = 0; j < 3; ++j) p[3 * i + j] = static_cast<float>(V(i, j));
-    std::vector<uint32_t> f(F.size());
-    for (Eigen::Index i = 0; i < F.rows(); ++i)
-      for (int j = 0; j < 3; ++j) f[3 * i + j] = static_cast<uint32_t>(F(i, j));
-    nlohmann::json jm{{"name", m.name}, {"vertices", V.rows()}, {"faces", F.rows()},
-                      {"positions", base64(p)}, {"indices", base64(f)}, {"fields", nlohmann::json::object()}};
-    for (const auto& [name, values] : m.layers.fields) {
-      if (values.size() != V.rows())
-        throw InvalidInput(fmt::format("{}: field '{}' has {} values for {} vertices", m.name, name, values.size(), V.rows()));
-      std::vector<float> v(values.size());
-      for (Eigen::Index i = 0; i < values.size(); ++i)
-        v[i] = std::isfinite(values[i]) ? static_cast<float>(values[i]) : std::nanf("");
-      jm["fields"][name] = base64(v);
-    }
-    const MatrixX2i& S = m.layers.segments;
-    if (S.rows() > 0) {
-      if (S.minCoeff() < 0 || S.maxCoeff() >= V.rows())
-        throw InvalidInput(fmt::format("{}: a labelled edge refers to a vertex outside the mesh", m.name));
-      std::vector<uint32_t> e(S.size());
-      std::vector<int32_t> l(S.rows(), 1);
-      for (Eigen::Index i = 0; i < S.rows(); ++i) {
-        e[2 * i] = static_cast<uint32_t>(S(i, 0));
-        e[2 * i + 1] = static_cast<uint32_t>(S(i, 1));
-        if (m.layers.labels.size() == S.rows()) l[i] = m.layers.labels[i];
-      }
-      jm["edges"] = base64(e);
-      jm["edgeLabels"] = base64(l);
-    }
-    data["meshes"].push_back(std::move(jm));
-  }
+  for (const ViewerMesh& m : meshes) data["meshes"].push_back(mesh_data(m, options.position_bits));
+  const auto& box = data["meshes"][0]["box"];
+  const Vec3 up = up_vector(options.up, Vec3(box["lo"][0], box["lo"][1], box["lo"][2]),
+                            Vec3(box["hi"][0], box["hi"][1], box["hi"][2]));
+  data["up"] = {up.x(), up.y(), up.z()};
   // "</" inside the JSON would end the <script> element: escape it ("<\/" is the same JSON string).
   std::string json = data.dump();
   for (size_t at = 0; (at = json.find("</", at)) != std::string::npos; at += 3) json.replace(at, 2, "<\\/");

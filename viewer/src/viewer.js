@@ -1,7 +1,12 @@
 // geotex web viewer: meshes side by side (one scissored viewport each, one shared camera, so the
-// orbit controls are linked), flat/smooth shading, wireframe, edge labels as coloured lines, and
-// per-vertex fields as a colour map with a legend. The page embeds its data as JSON in
-// <script id="geotex-data">; geometry arrives as base64 typed arrays (float32 positions, uint32 indices).
+// orbit controls are linked and sizes compare), flat/smooth shading, wireframe, edge labels as
+// coloured lines, and per-vertex fields as a colour map with a legend. The page embeds its data as
+// JSON in <script id="geotex-data">; arrays are zlib streams in base64 (format: src/tools/viewer.cpp):
+//   positions  per axis, byte planes of delta-coded quantised values: x = offset + step * q, relative
+//              to the mesh's origin (the centre of its faces' box);
+//   indices    varints c: index = (next new index) − c, faces in the page's (breadth-first) order;
+//   fields     16-bit codes in byte planes (65535 = no value): value = lo + step * code;
+//   edges      vertex pairs as zigzag varints of the change from the previous index; labels as varints.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -26,12 +31,83 @@ function labelColour(label) {
   return LABEL_COLOURS[(((Math.max(label, 1) - 1) % n) + n) % n];
 }
 
-function decode(b64, Type) {
-  if (!b64) return new Type(0);
-  const bin = atob(b64);
+function bytesOf(b64) {
+  const bin = atob(b64 || '');
   const bytes = new Uint8Array(bin.length);
   for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
-  return new Type(bytes.buffer);
+  return bytes;
+}
+
+async function inflate(b64) {
+  if (typeof DecompressionStream === 'undefined')
+    throw new Error('this browser cannot read the page (no DecompressionStream; use a browser from 2023 or later)');
+  const stream = new Blob([bytesOf(b64)]).stream().pipeThrough(new DecompressionStream('deflate'));
+  return new Uint8Array(await new Response(stream).arrayBuffer());
+}
+
+function varints(bytes, n) {
+  const out = new Uint32Array(n);
+  let at = 0;
+  for (let i = 0; i < n; ++i) {
+    let v = 0, shift = 0, b;
+    do {
+      if (at >= bytes.length) throw new Error('truncated page data');
+      b = bytes[at++];
+      v += (b & 0x7f) * 2 ** shift;
+      shift += 7;
+    } while (b & 0x80);
+    out[i] = v;
+  }
+  return out;
+}
+
+// Codes from byte planes of deltas (low byte first), block `block` of a stream of such blocks.
+function planeCodes(bytes, n, planes, block) {
+  const out = new Uint32Array(n), base = block * planes * n, mod = 2 ** (8 * planes);
+  let q = 0;
+  for (let i = 0; i < n; ++i) {
+    let d = 0;
+    for (let k = 0; k < planes; ++k) d += bytes[base + k * n + i] * 2 ** (8 * k);
+    q = (q + d) % mod;
+    out[i] = q;
+  }
+  return out;
+}
+
+// Decode one mesh's arrays: positions relative to its origin, indices, fields, edges.
+async function decodeMesh(data) {
+  const n = data.vertices, p = data.positions;
+  const pos = await inflate(p.data), positions = new Float32Array(3 * n);
+  for (let j = 0; j < 3; ++j) {
+    const q = planeCodes(pos, n, p.planes, j);
+    for (let i = 0; i < n; ++i) positions[3 * i + j] = p.offset[j] + p.step[j] * q[i];
+  }
+  const codes = varints(await inflate(data.indices), 3 * data.faces);
+  const indices = new Uint32Array(codes.length);
+  let next = 0;
+  for (let i = 0; i < codes.length; ++i) {
+    const g = next - codes[i];
+    indices[i] = g;
+    if (g >= next) next = g + 1;
+  }
+  const fields = {};
+  for (const [name, f] of Object.entries(data.fields || {})) {
+    const q = planeCodes(await inflate(f.data), n, 2, 0), values = new Float32Array(n);
+    for (let i = 0; i < n; ++i) values[i] = q[i] === 65535 ? NaN : f.lo + f.step * q[i];
+    fields[name] = values;
+  }
+  let edges = new Uint32Array(0), labels = new Uint32Array(0);
+  if (data.edges) {
+    const z = varints(await inflate(data.edges.pairs), 2 * data.edges.count);
+    edges = new Uint32Array(z.length);
+    let prev = 0;
+    for (let i = 0; i < z.length; ++i) {
+      prev += z[i] % 2 ? -(z[i] + 1) / 2 : z[i] / 2;
+      edges[i] = prev;
+    }
+    labels = varints(await inflate(data.edges.labels), data.edges.count);
+  }
+  return { positions, indices, fields, edges, labels };
 }
 
 function formatNumber(v) {
@@ -41,7 +117,7 @@ function formatNumber(v) {
 }
 
 class View {
-  constructor(data, container) {
+  constructor(data, arrays, container) {
     this.data = data;
     this.element = document.createElement('div');
     this.element.className = 'view';
@@ -55,21 +131,20 @@ class View {
     this.element.appendChild(caption);
     container.appendChild(this.element);
 
-    const positions = decode(data.positions, Float32Array);
-    const indices = decode(data.indices, Uint32Array);
-    this.fields = {};
-    for (const [name, b64] of Object.entries(data.fields || {})) this.fields[name] = decode(b64, Float32Array);
-
-    // Geometry centred on its own bounding box, so that meshes at different places line up side by side.
+    // Positions arrive relative to the mesh's origin (the centre of its faces' box), which every
+    // view puts at the shared camera's target: each mesh is centred in its view, and far-off meshes
+    // keep float32 precision. The surface, its wireframe and the edge lines all hang from one group
+    // and use these same positions, so nothing drawn for a mesh is placed on its own.
+    const { positions, indices, fields, edges, labels } = arrays;
+    this.positions = positions;
+    this.indices = indices;
+    this.fields = fields;
+    this.radius = data.radius || 1;
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
     geometry.setIndex(new THREE.BufferAttribute(indices, 1));
-    geometry.computeBoundingBox();
-    this.centre = geometry.boundingBox.getCenter(new THREE.Vector3());
-    geometry.translate(-this.centre.x, -this.centre.y, -this.centre.z);
     geometry.computeVertexNormals();
     geometry.computeBoundingSphere();
-    this.radius = geometry.boundingSphere.radius || 1;
     this.colours = new THREE.BufferAttribute(new Float32Array(positions.length), 3);
     geometry.setAttribute('color', this.colours);
     this.geometry = geometry;
@@ -80,22 +155,23 @@ class View {
     });
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0xffffff);
-    this.scene.add(new THREE.Mesh(geometry, this.material));
+    this.group = new THREE.Group();
+    this.scene.add(this.group);
+    this.group.add(new THREE.Mesh(geometry, this.material));
     this.wire = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({
       color: 0x202020, wireframe: true, transparent: true, opacity: 0.35 }));
     this.wire.visible = false;
-    this.scene.add(this.wire);
+    this.group.add(this.wire);
     this.scene.add(new THREE.AmbientLight(0xffffff, 0.45));
     this.light = new THREE.DirectionalLight(0xffffff, 2.2);
     this.scene.add(this.light);
 
-    // Labelled edges as coloured line segments.
-    const edges = decode(data.edges, Uint32Array), labels = decode(data.edgeLabels, Int32Array);
+    // Labelled edges as coloured line segments (copies of the surface's positions: one colour per segment).
     this.edges = null;
     if (edges.length > 0) {
       const p = new Float32Array(edges.length * 3), c = new Float32Array(edges.length * 3);
       for (let i = 0; i < edges.length; ++i) {
-        for (let j = 0; j < 3; ++j) p[3 * i + j] = positions[3 * edges[i] + j] - this.centre.getComponent(j);
+        p.set(positions.subarray(3 * edges[i], 3 * edges[i] + 3), 3 * i);
         const col = new THREE.Color().setRGB(...labelColour(labels.length ? labels[i >> 1] : 1), THREE.SRGBColorSpace);
         c.set([col.r, col.g, col.b], 3 * i);
       }
@@ -103,8 +179,9 @@ class View {
       g.setAttribute('position', new THREE.BufferAttribute(p, 3));
       g.setAttribute('color', new THREE.BufferAttribute(c, 3));
       this.edges = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true }));
-      this.scene.add(this.edges);
+      this.group.add(this.edges);
     }
+    this.scene.updateMatrixWorld(true);
   }
 
   hasField(name) { return name in this.fields; }
@@ -123,7 +200,7 @@ class View {
   }
 }
 
-function main() {
+async function main() {
   const data = JSON.parse(document.getElementById('geotex-data').textContent);
   document.title = data.title || 'geotex';
   const canvas = document.getElementById('gl');
@@ -132,10 +209,12 @@ function main() {
   renderer.setScissorTest(true);
 
   const container = document.getElementById('views');
-  const views = data.meshes.map((m) => new View(m, container));
+  const arrays = await Promise.all(data.meshes.map(decodeMesh));
+  const views = data.meshes.map((m, k) => new View(m, arrays[k], container));
   const radius = Math.max(...views.map((v) => v.radius));
 
-  // One camera for every view: orbiting one orbits all.
+  // One camera for every view, framed on the largest mesh: orbiting one orbits all, and one scale
+  // holds for all, so that sizes compare.
   const camera = new THREE.PerspectiveCamera(35, 1, radius / 100, radius * 100);
   // geotex shapes are z-up; scans are often y-up (the page's "up"). The initial direction is given
   // for z-up and rotated with the up axis.
@@ -197,22 +276,39 @@ function main() {
     render();
   }
 
+  // The shared camera set up for one view's rectangle (page pixels).
+  function aimAt(v) {
+    const r = v.element.getBoundingClientRect();
+    camera.aspect = r.width / Math.max(1, r.height);
+    camera.zoom = Math.min(1, camera.aspect);  // narrow views zoom out so the mesh fits their width
+    camera.updateProjectionMatrix();
+    return r;
+  }
+
   function render() {
     const width = canvas.clientWidth, height = canvas.clientHeight;
     if (canvas.width !== Math.floor(width * renderer.getPixelRatio()) ||
         canvas.height !== Math.floor(height * renderer.getPixelRatio())) renderer.setSize(width, height, false);
     const top = canvas.getBoundingClientRect();
     for (const v of views) {
-      const r = v.element.getBoundingClientRect();
+      const r = aimAt(v);
       const x = r.left - top.left, y = height - (r.bottom - top.top);
       renderer.setViewport(x, y, r.width, r.height);
       renderer.setScissor(x, y, r.width, r.height);
-      camera.aspect = r.width / Math.max(1, r.height);
-      camera.zoom = Math.min(1, camera.aspect);  // narrow views zoom out so the mesh fits their width
-      camera.updateProjectionMatrix();
       v.light.position.copy(camera.position).add(camera.up.clone().multiplyScalar(radius));
       renderer.render(v.scene, camera);
     }
+  }
+
+  // Page pixels of the points of a drawn object (its own geometry through its world transform).
+  function screenPoints(v, object) {
+    const r = aimAt(v), p = object.geometry.getAttribute('position'), out = [];
+    const q = new THREE.Vector3();
+    for (let i = 0; i < p.count; ++i) {
+      q.fromBufferAttribute(p, i).applyMatrix4(object.matrixWorld).project(camera);
+      out.push([r.left + (q.x + 1) / 2 * r.width, r.top + (1 - q.y) / 2 * r.height]);
+    }
+    return out;
   }
 
   ui.field.addEventListener('change', applyField);
@@ -225,12 +321,24 @@ function main() {
   window.addEventListener('resize', render);
   applyToggles();
   applyField();
-  window.geotexViewer = { views: views.length, fields: fieldNames, ready: true };
+  // For tests (viewer/test/viewer_check.mjs): where the edge lines are drawn, and the decoded box of
+  // each mesh's faces in file coordinates (decoded positions + origin).
+  const boxes = () => views.map((v) => {
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    for (const i of v.indices)
+      for (let j = 0; j < 3; ++j) {
+        const x = v.positions[3 * i + j] + v.data.origin[j];
+        lo[j] = Math.min(lo[j], x); hi[j] = Math.max(hi[j], x);
+      }
+    return { lo, hi, expected: v.data.box };
+  });
+  window.geotexViewer = {
+    views: views.length, fields: fieldNames, ready: true, boxes,
+    labelScreenPoints: (k) => (views[k].edges ? screenPoints(views[k], views[k].edges) : []),
+  };
 }
 
-try {
-  main();
-} catch (e) {
+main().catch((e) => {
   document.getElementById('error').textContent = `geotex viewer: ${e.message}`;
   console.error(e);
-}
+});

@@ -1,15 +1,25 @@
 // Load a geotex viewer page in Debian's headless Chromium and check it:
-//   node test/viewer_check.mjs PAGE.html SCREENSHOT.png [EXPECTED_VIEWS]
+//   node test/viewer_check.mjs PAGE.html SCREENSHOT.png [EXPECTED_VIEWS] [--labels-on-mesh] [--size-ratio R]
 // Fails (exit 1) on a console error or page error, a missing canvas, a blank picture, a view without
-// its mesh, or toggles that do not change the picture. Exit 77 (skip) when Chromium or
-// playwright-core is absent.
+// its mesh, a decoded mesh whose box differs from the page's, or toggles that do not change the
+// picture. --labels-on-mesh: every view with edge labels draws them on its mesh (red pixels only
+// where the mesh is, and the page's own projections of the line points inside the mesh's pixels),
+// before and after orbiting. --size-ratio R: the last view's mesh looks R times as tall as the
+// first's (one shared scale). Exit 77 (skip) when Chromium or playwright-core is absent.
 import { existsSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
 
 const SKIP = 77;
-const [page_path, shot_path, expected_views = '1'] = process.argv.slice(2);
+const flags = process.argv.slice(2);
+const take = (name, arity) => {
+  const i = flags.indexOf(name);
+  return i < 0 ? null : flags.splice(i, 1 + arity).slice(1);
+};
+const labels_on_mesh = take('--labels-on-mesh', 0) !== null;
+const size_ratio = (take('--size-ratio', 1) || [null])[0];
+const [page_path, shot_path, expected_views = '1'] = flags;
 if (!page_path || !shot_path) {
   console.error('usage: node test/viewer_check.mjs PAGE.html SCREENSHOT.png [EXPECTED_VIEWS]');
   process.exit(2);
@@ -63,6 +73,16 @@ try {
   if (info.views !== Number(expected_views)) fail(`${info.views} views, expected ${expected_views}`);
   if (info.error) fail(`page shows an error: ${info.error}`);
 
+  // The decoded meshes have the boxes the page was written with (quantisation error only).
+  const boxes = await page.evaluate(() => window.geotexViewer.boxes());
+  boxes.forEach((b, k) => {
+    const diag = Math.hypot(...b.expected.hi.map((h, j) => h - b.expected.lo[j]));
+    for (let j = 0; j < 3; ++j)
+      for (const [got, want] of [[b.lo[j], b.expected.lo[j]], [b.hi[j], b.expected.hi[j]]])
+        if (!(Math.abs(got - want) <= 1e-4 * diag + 1e-6 * Math.abs(want)))
+          fail(`view ${k + 1}: decoded box ${JSON.stringify([b.lo, b.hi])} differs from ${JSON.stringify(b.expected)}`);
+  });
+
   // Statistics of the canvas, per view: fraction of non-background pixels and grey-level variance.
   const stats = () => page.evaluate(() => {
     const gl = document.getElementById('gl');
@@ -87,6 +107,86 @@ try {
     const mean = sum / n;
     return { variance: sum2 / n - mean * mean, covered: covered.map((c, k) => c / Math.max(1, total[k])), hash };
   });
+  // Labels lie on their meshes: with the labels hidden, the mesh's pixels (grown by 2 pixels for
+  // anti-aliasing) must hold every red pixel of the picture with labels, and every line point as the
+  // page projects it. Counted in the page (the pixels stay there).
+  async function checkLabels(when) {
+    const found = await page.evaluate(() => {
+      const gl = document.getElementById('gl'), toggle = document.getElementById('edges');
+      const top = gl.getBoundingClientRect(), s = gl.width / top.width, w = gl.width, h = gl.height;
+      const grab = (on) => {
+        toggle.checked = on;
+        toggle.dispatchEvent(new Event('change'));
+        const c = document.createElement('canvas');
+        c.width = w; c.height = h;
+        const ctx = c.getContext('2d');
+        ctx.drawImage(gl, 0, 0);
+        return ctx.getImageData(0, 0, w, h).data;
+      };
+      const bare = grab(false), lined = grab(true), grow = 2;
+      const mask = new Uint8Array(w * h);
+      for (let y = 0; y < h; ++y) for (let x = 0; x < w; ++x) {
+        const i = 4 * (y * w + x);
+        if (bare[i] < 250 || bare[i + 1] < 250 || bare[i + 2] < 250)
+          for (let dy = -grow; dy <= grow; ++dy) for (let dx = -grow; dx <= grow; ++dx) {
+            const X = x + dx, Y = y + dy;
+            if (X >= 0 && Y >= 0 && X < w && Y < h) mask[Y * w + X] = 1;
+          }
+      }
+      return [...document.querySelectorAll('.view')].map((v, k) => {
+        const pts = window.geotexViewer.labelScreenPoints(k);
+        const r = v.getBoundingClientRect();
+        let red = 0, off = 0, outside = 0;
+        for (let y = Math.max(0, Math.ceil((r.top - top.top) * s)); y < Math.min(h, (r.bottom - top.top) * s); ++y)
+          for (let x = Math.max(0, Math.ceil((r.left - top.left) * s)); x < Math.min(w, (r.right - top.left) * s); ++x) {
+            const i = 4 * (y * w + x);
+            if (!(lined[i] > 150 && lined[i + 1] < 90 && lined[i + 2] < 90)) continue;  // label 1's red
+            ++red;
+            if (!mask[y * w + x]) ++off;
+          }
+        for (const [px, py] of pts) {
+          const x = Math.floor((px - top.left) * s), y = Math.floor((py - top.top) * s);
+          if (x < 0 || y < 0 || x >= w || y >= h || !mask[y * w + x]) ++outside;
+        }
+        return { points: pts.length, red, off, outside };
+      });
+    });
+    found.forEach(({ points, red, off, outside }, k) => {
+      if (points === 0) return;
+      console.log(`${when}, view ${k + 1}: ${red} red pixels, ${off} off the mesh; ${points} line points, ${outside} off the mesh`);
+      if (red < 20) fail(`${when}, view ${k + 1}: only ${red} red pixels (labels not drawn?)`);
+      if (off > 0) fail(`${when}, view ${k + 1}: ${off} of ${red} red pixels lie off the mesh`);
+      if (outside > 0) fail(`${when}, view ${k + 1}: ${outside} of ${points} projected line points lie off the mesh`);
+    });
+  }
+  if (labels_on_mesh) await checkLabels('as opened');
+
+  // One scale for all views: the last mesh's height on screen over the first's.
+  if (size_ratio) {
+    const heights = await page.evaluate(() => {
+      const gl = document.getElementById('gl'), top = gl.getBoundingClientRect();
+      const s = gl.width / top.width, w = gl.width, h = gl.height;
+      const c = document.createElement('canvas');
+      c.width = w; c.height = h;
+      const ctx = c.getContext('2d');
+      ctx.drawImage(gl, 0, 0);
+      const px = ctx.getImageData(0, 0, w, h).data;
+      return [...document.querySelectorAll('.view')].map((v) => {
+        const r = v.getBoundingClientRect();
+        let y0 = Infinity, y1 = -Infinity;
+        for (let y = 0; y < h; ++y)
+          for (let x = Math.max(0, Math.ceil((r.left - top.left) * s)); x < Math.min(w, (r.right - top.left) * s); ++x) {
+            const i = 4 * (y * w + x);
+            if (px[i] < 250 || px[i + 1] < 250 || px[i + 2] < 250) { y0 = Math.min(y0, y); y1 = Math.max(y1, y); }
+          }
+        return y1 - y0 + 1;
+      });
+    });
+    const ratio = heights[heights.length - 1] / heights[0];
+    console.log(`heights on screen ${heights.join(', ')} pixels: ratio ${ratio.toFixed(3)} (expected about ${size_ratio})`);
+    if (!(Math.abs(ratio / Number(size_ratio) - 1) < 0.06)) fail(`size ratio ${ratio.toFixed(3)}, expected ${size_ratio}`);
+  }
+
   const plain = await stats();
   console.log(`canvas: grey variance ${plain.variance.toFixed(1)}, covered per view ${plain.covered.map((c) => c.toFixed(3)).join(', ')}`);
   if (!(plain.variance > 50)) fail(`canvas looks blank (grey variance ${plain.variance.toFixed(2)})`);
@@ -118,6 +218,7 @@ try {
   await page.mouse.up();
   const after = await stats();
   if (after.hash === before.hash) fail('dragging did not orbit the view');
+  if (labels_on_mesh) await checkLabels('after orbiting');
 
   await page.screenshot({ path: shot_path });
   console.log(`screenshot: ${shot_path}`);

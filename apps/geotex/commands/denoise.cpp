@@ -18,76 +18,72 @@ std::vector<DenoiseMethod>& denoise_methods() {
 namespace {
 
 struct Args {
-  std::string input, output, method, edges_ply, edges_obj, report;
+  std::string method = "mrf", edges_ply, edges_obj, report;
   double label_threshold = 0.5;
-  bool ascii = false;
-  DenoiseCommon common;
 };
 
-void run(const Args& a) {
-  const DenoiseMethod* method = nullptr;
+const DenoiseMethod& find_method(const std::string& name) {
   for (const auto& m : denoise_methods())
-    if (m.name == a.method) method = &m;
-  if (!method) throw InvalidInput(fmt::format("unknown denoising method '{}'", a.method));
-  check_output(a.input, a.output);
-  const Mesh input = load_mesh(a.input);
-  DenoiseCommon common = a.common;
-  common.progress = progress_printer("denoise " + a.method);
-  const auto t0 = std::chrono::steady_clock::now();
-  DenoiseResult r = method->run(input, common);
-  const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  info(fmt::format("denoised with {} in {:.2f} s", a.method, sec));
-  save_mesh(r.mesh, a.output, !a.ascii);
-  const bool have_labels = r.edge_labels.size() > 0;
-  if ((!a.edges_ply.empty() || !a.edges_obj.empty()) && !have_labels)
-    throw InvalidInput(fmt::format("method '{}' does not label edges", a.method));
-  if (!a.edges_ply.empty()) {
-    write_edge_values(r.mesh, r.edge_labels, "label", a.edges_ply, !a.ascii);
-    info(fmt::format("wrote {} (edge labels)", a.edges_ply));
-  }
-  if (!a.edges_obj.empty()) {
-    const MatrixX2i E = edges(r.mesh);
-    std::vector<int> rows;
-    for (Eigen::Index i = 0; i < E.rows(); ++i)
-      if (r.edge_labels[i] > a.label_threshold) rows.push_back(static_cast<int>(i));
-    MatrixX2i S(rows.size(), 2);
-    for (size_t k = 0; k < rows.size(); ++k) S.row(k) = E.row(rows[k]);
-    write_polylines_obj(positions(r.mesh), S, a.edges_obj);
-    info(fmt::format("wrote {} ({} sharp edges)", a.edges_obj, rows.size()));
-  }
-  if (!a.report.empty()) {
-    r.report["method"] = a.method;
-    r.report["input"] = a.input;
-    r.report["seconds"] = sec;
-    write_text_atomic(a.report, r.report.dump(2) + "\n");
-    info(fmt::format("wrote {}", a.report));
-  }
+    if (m.name == name) return m;
+  throw InvalidOption(fmt::format("unknown denoising method '{}'", name));
 }
 
 Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: see --method)", [](CLI::App& app) {
+  auto io = std::make_shared<MeshIo>(app);
   auto a = std::make_shared<Args>();
+  auto flags = std::make_shared<FlagSet>(app);
   std::vector<std::string> names;
   std::string help = "denoising method:";
   for (const auto& m : denoise_methods()) {
     names.push_back(m.name);
     help += "\n  " + m.name + ": " + m.help;
   }
-  app.add_option("IN", a->input, "input mesh")->required()->check(ExistingMeshFile);
-  app.add_option("-o,--output", a->output, "output mesh")->required();
-  auto* opt = app.add_option("--method", a->method, help)->check(CLI::IsMember(names));
-  if (!names.empty()) opt->default_val(names.front())->capture_default_str();
+  app.add_option("--method", a->method, help)->check(CLI::IsMember(names))->capture_default_str();
   app.add_option("--edges", a->edges_ply, "write edge labels as PLY (edge element: vertex1 vertex2 label)");
   app.add_option("--edges-obj", a->edges_obj, "write labelled sharp edges as OBJ line segments");
   app.add_option("--label-threshold", a->label_threshold, "label above which an edge counts as sharp (OBJ output)")
-      ->capture_default_str();
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   app.add_option("--report", a->report, "write a JSON report (energies per iteration, parameters, time)");
-  app.add_option("--alpha", a->common.alpha, "data (likelihood) weight; default: the method's thesis value");
-  app.add_option("--iterations", a->common.iterations, "iterations; default: the method's own");
-  app.add_option("--seed", a->common.seed, "random seed")->capture_default_str();
-  app.add_flag("--ascii", a->ascii, "ascii PLY output");
-  for (const auto& m : denoise_methods())
-    if (m.add_options) m.add_options(app);
-  app.callback([a] { run(*a); });
+  for (const auto& m : denoise_methods()) m.add_flags(*flags);
+  app.callback([io, a, flags] {
+    const DenoiseMethod& method = find_method(a->method);
+    const DenoiseRun run = method.prepare(*flags);  // options resolved (and refused) before any work
+    Outputs out({io->input}, {{io->output, "-o"}, {a->edges_ply, "--edges"}, {a->edges_obj, "--edges-obj"},
+                              {a->report, "--report"}});
+    if (method.outputs)
+      for (const auto& [path, flag] : method.outputs()) out.output(path, flag);
+    const Mesh input = load_mesh(io->input);
+    const auto t0 = std::chrono::steady_clock::now();
+    DenoiseOutput r = run(input, progress_printer("denoise " + a->method));
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    info(fmt::format("denoised with {} in {:.2f} s", a->method, sec));
+    const bool have_labels = r.edge_labels.size() > 0;
+    if ((!a->edges_ply.empty() || !a->edges_obj.empty()) && !have_labels)
+      throw InvalidInput(fmt::format("method '{}' does not label edges", a->method));
+    save_mesh(r.mesh, io->output, !io->ascii);
+    if (!a->edges_ply.empty()) {
+      write_edge_values(r.mesh, r.edge_labels, "label", a->edges_ply, !io->ascii);
+      info(fmt::format("wrote {} (edge labels)", a->edges_ply));
+    }
+    if (!a->edges_obj.empty()) {
+      const MatrixX2i E = edges(r.mesh);
+      std::vector<int> rows;
+      for (Eigen::Index i = 0; i < E.rows(); ++i)
+        if (r.edge_labels[i] > a->label_threshold) rows.push_back(static_cast<int>(i));
+      MatrixX2i S(rows.size(), 2);
+      for (size_t k = 0; k < rows.size(); ++k) S.row(k) = E.row(rows[k]);
+      write_polylines_obj(positions(r.mesh), S, a->edges_obj);
+      info(fmt::format("wrote {} ({} sharp edges)", a->edges_obj, rows.size()));
+    }
+    if (!a->report.empty()) {
+      r.report["method"] = a->method;
+      r.report["input"] = io->input;
+      r.report["seconds"] = sec;
+      write_text_atomic(a->report, r.report.dump(2) + "\n");
+      info(fmt::format("wrote {}", a->report));
+    }
+    out.commit();
+  });
 }};
 
 }  // namespace

@@ -2,47 +2,45 @@
 // The `geotex denoise` subcommand dispatches to methods that register themselves from their own
 // files (denoise_mrf.cpp, denoise_surfel.cpp, …):
 //
-//   DenoiseRegistrar r{"mrf", "help line", add_options, run};
+//   DenoiseRegistrar r{"mrf", "help line", add_flags, prepare};
 //
-// add_options adds the method's own flags to the shared subcommand (names must not collide with
-// the shared ones below or with another method's); run denoises and returns the result.
+// add_flags adds the method's option tables to the shared FlagSet under the method's name (a flag of
+// another method is refused); prepare resolves the options from the flags — before the input is read,
+// so that a bad flag costs nothing — and returns the run.
 
 #include <functional>
-#include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "geotex/core/mesh.h"
 #include "geotex/core/progress.h"
+#include "option_flags.h"
 
 namespace geotex::cli {
 
-// Flags shared by every method (parsed by cmd_denoise.cpp).
-struct DenoiseCommon {
-  std::optional<double> alpha;     // --alpha: data weight (each method has its thesis default)
-  std::optional<int> iterations;   // --iterations
-  uint64_t seed = 1;               // --seed
-  ProgressFn progress;             // progress lines on stderr
-};
-
-struct DenoiseResult {
+struct DenoiseOutput {
   Mesh mesh;                       // the denoised mesh (any connectivity)
   Eigen::VectorXd edge_labels;     // per edge of `mesh` in [0, 1] (empty when the method has none)
-  nlohmann::json report;           // energies per iteration, parameters, timings…
+  nlohmann::json report;           // parameters used, energies per iteration, timings…
 };
+
+using DenoiseRun = std::function<DenoiseOutput(const Mesh&, const ProgressFn&)>;
 
 struct DenoiseMethod {
   std::string name, help;
-  std::function<void(CLI::App&)> add_options;
-  std::function<DenoiseResult(const Mesh&, const DenoiseCommon&)> run;
+  std::function<void(FlagSet&)> add_flags;
+  std::function<DenoiseRun(const FlagSet&)> prepare;
+  //! Files the method itself writes, as (path, flag); declared with the command's outputs.
+  std::function<std::vector<std::pair<std::string, std::string>>()> outputs;
 };
 std::vector<DenoiseMethod>& denoise_methods();
 struct DenoiseRegistrar {
-  DenoiseRegistrar(std::string name, std::string help, std::function<void(CLI::App&)> add_options,
-                   std::function<DenoiseResult(const Mesh&, const DenoiseCommon&)> run) {
-    denoise_methods().push_back({std::move(name), std::move(help), std::move(add_options), std::move(run)});
+  DenoiseRegistrar(std::string name, std::string help, std::function<void(FlagSet&)> add_flags,
+                   std::function<DenoiseRun(const FlagSet&)> prepare,
+                   std::function<std::vector<std::pair<std::string, std::string>>()> outputs = nullptr) {
+    denoise_methods().push_back(
+        {std::move(name), std::move(help), std::move(add_flags), std::move(prepare), std::move(outputs)});
   }
 };
 

@@ -15,12 +15,14 @@ struct Args {
 };
 
 void run(const Args& a) {
+  Outputs out({}, {{a.output, "-o"}, {a.base_output, "--base-output"}});
   const TexturedShape s = make_shape(a.shape, a.level, a.seed);
   save_mesh(s.textured, a.output);
   if (!a.base_output.empty()) save_mesh(s.base, a.base_output);
+  out.commit();
 }
 
-Registrar reg{20, "generate", "Write a procedural test shape (cube, cylinder, sphere, torus, plane, spiky-sphere, spiky-plane)",
+Registrar reg{20, "generate", "Write a procedural test shape (see SHAPE for the names)",
               [](CLI::App& app) {
                 auto a = std::make_shared<Args>();
                 app.add_option("SHAPE", a->shape, "shape name")->required()->check(CLI::IsMember(shape_names()));

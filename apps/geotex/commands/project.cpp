@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "cli.h"
+#include "option_flags.h"
 #include "geotex/toolkit/phong_projection.h"
 
 namespace geotex::cli {
@@ -13,15 +14,13 @@ namespace {
 
 struct Args {
   std::string input, base, output;
-  PhongProjectionOptions opt;
 };
 
-void run(const Args& a) {
-  check_output(a.input, a.output);
-  check_output(a.base, a.output);
+void run(const Args& a, const PhongProjectionOptions& opt) {
+  Outputs out({a.input, a.base}, {{a.output, "-o"}});
   Mesh points = load_mesh(a.input);
   const Mesh base = load_mesh(a.base);
-  const PhongProjector proj(base, MatrixX3d(), a.opt);
+  const PhongProjector proj(base, MatrixX3d(), opt);
   const std::vector<PhongHit> hits = proj.project(positions(points));
   MatrixX3d Q(hits.size(), 3);
   size_t found = 0;
@@ -37,6 +36,7 @@ void run(const Args& a) {
                    found, hits.size(), sum_d / std::max<size_t>(hits.size(), 1), max_d));
   set_positions(points, Q);
   save_mesh(points, a.output);
+  out.commit();
 }
 
 Registrar reg{75, "project", "project a mesh's vertices onto a base along the base's Phong normal field (Sec. 5.2)",
@@ -45,12 +45,9 @@ Registrar reg{75, "project", "project a mesh's vertices onto a base along the ba
   app.add_option("IN", a->input, "mesh whose vertices are projected")->required()->check(ExistingMeshFile);
   app.add_option("BASE", a->base, "base mesh (vertex normals: angle-weighted)")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", a->output, "IN with its vertices moved to their projections")->required();
-  app.add_option("--search-factor", a->opt.search_factor,
-                 "candidate triangles within this x the closest distance (+ margin)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--search-margin", a->opt.search_margin, "candidate search margin, in mean edge lengths")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.callback([a] { run(*a); });
+  auto flags = std::make_shared<FlagSet>(app);
+  flags->add("project", PhongProjectionOptions::table());
+  app.callback([a, flags] { run(*a, flags->resolve<PhongProjectionOptions>("project")); });
 }};
 
 }  // namespace

@@ -4,15 +4,14 @@
 #include <fmt/format.h>
 
 #include "cli.h"
+#include "option_flags.h"
 #include "view_common.h"
 
 namespace geotex::cli {
 namespace {
 
 struct Args {
-  std::string input, output, size = "800x600", view = "iso", up = "z";
-  bool flat = false;
-  int supersampling = 2;
+  std::string input, output, size;
   double lo = 0, hi = 0;
   LayerArgs layers;
 };
@@ -31,19 +30,17 @@ void parse_size(const std::string& s, int& w, int& h) {
     throw InvalidInput(fmt::format("--size {}: expected WIDTHxHEIGHT, e.g. 800x600 (1 to 16384 each)", s));
 }
 
-void run(const Args& a) {
-  RenderOptions o;
-  parse_size(a.size, o.width, o.height);
-  o.view = view_direction_from_name(a.view);
-  o.up = up_axis(a.up);
-  o.smooth = !a.flat;
-  o.supersampling = a.supersampling;
+void run(const Args& a, RenderOptions o) {
+  if (!a.size.empty()) parse_size(a.size, o.width, o.height);
   if (std::filesystem::path(a.output).extension() != ".png")
     throw IoError(fmt::format("{}: the output must be a .png file", a.output));
+  const std::vector<std::string> inputs{a.input};
+  const std::string edges = bind_to_meshes(a.layers.edges, inputs, "--edges").front();
+  const std::string field_file = bind_to_meshes(a.layers.field_files, inputs, "--field-file").front();
+  Outputs out({a.input, edges, field_file, a.layers.reference}, {{a.output, "-o"}});
   const Mesh mesh = load_mesh(a.input);
   MeshLayers layers;
-  const std::string field =
-      load_layers(a.input, mesh, a.layers, a.layers.edges.empty() ? "" : a.layers.edges.front(), layers);
+  const std::string field = load_layers(a.input, mesh, a.layers, edges, field_file, true, layers);
   RenderLayers rl;
   if (!field.empty()) rl.field = layers.fields.at(field);
   rl.field_lo = a.lo;
@@ -52,7 +49,8 @@ void run(const Args& a) {
   rl.segment_labels = layers.labels;
   const Rendering r = render_mesh(mesh, o, rl);
   write_png(r.image, a.output);
-  info(fmt::format("wrote {} ({}x{}, {} view{}{})", a.output, o.width, o.height, a.view,
+  out.commit();
+  info(fmt::format("wrote {} ({}x{}, {} view{}{})", a.output, o.width, o.height, enum_name(view_direction_names(), o.view),
                    field.empty() ? "" : fmt::format(", {} from {:.4g} to {:.4g}", field, r.field_lo, r.field_hi),
                    rl.segments.rows() ? fmt::format(", {} labelled edges", rl.segments.rows()) : ""));
 }
@@ -62,20 +60,15 @@ Registrar reg{910, "render", "Render a mesh to a PNG picture (fixed camera, shad
   auto a = std::make_shared<Args>();
   app.add_option("MESH", a->input, "mesh to render")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", a->output, "output picture (.png)")->required();
-  app.add_option("--size", a->size, "picture size WIDTHxHEIGHT in pixels")->capture_default_str();
-  app.add_option("--view", a->view, "camera direction: iso, front (from -y for up z) or top (from above)")
-      ->check(CLI::IsMember({"iso", "front", "top"}))
-      ->capture_default_str();
-  add_up_option(app, a->up);
-  app.add_flag("--flat", a->flat, "flat shading (one normal per face) instead of smooth");
-  app.add_option("--supersampling", a->supersampling, "anti-aliasing: k x k samples per pixel")
-      ->check(CLI::Range(1, 8))
-      ->capture_default_str();
+  auto flags = std::make_shared<FlagSet>(app);
+  flags->add("render", RenderOptions::table());
+  app.add_option("--size", a->size, "picture size WIDTHxHEIGHT in pixels (the same as --width and --height)")
+      ->excludes("--width")->excludes("--height");
   app.add_option("--range-lo", a->lo, "colour-map minimum (with --range-hi; default: the field's own range)")
       ->capture_default_str();
   app.add_option("--range-hi", a->hi, "colour-map maximum")->capture_default_str();
   add_layer_options(app, a->layers, false);
-  app.callback([a] { run(*a); });
+  app.callback([a, flags] { run(*a, flags->resolve<RenderOptions>("render")); });
 }};
 
 }  // namespace

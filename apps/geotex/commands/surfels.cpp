@@ -6,7 +6,8 @@
 #include <fmt/format.h>
 
 #include "cli.h"
-#include "geotex/denoise/surfel.h"
+#include "option_flags.h"
+#include "geotex/denoise/point_surfels.h"
 #include "geotex/core/user_files.h"
 
 namespace geotex::cli {
@@ -14,9 +15,7 @@ namespace {
 
 struct Args {
   std::string input, output, points = "centers";
-  int neighbors = 10, normal_neighbors = 10;
   bool ascii = false;
-  SurfelOptions opt;
 };
 
 std::string lower_ext(const std::string& path) {
@@ -35,19 +34,17 @@ MatrixX3d read_points(const std::string& path) {
   return P;
 }
 
-void run(Args a) {
-  check_output(a.input, a.output);
+void run(const Args& a, PointSurfelOptions o) {
+  Outputs out({a.input}, {{a.output, "-o"}});
   if (lower_ext(a.output) != ".ply") throw InvalidInput(fmt::format("{}: the output must be a .ply file", a.output));
   const MatrixX3d X = read_points(a.input);
   info(fmt::format("{} points", X.rows()));
-  const Neighborhoods N = knn_neighborhoods(X, a.neighbors);
-  const Surfels S0 = surfels_from_normals(X, pca_normals(X, a.normal_neighbors));
-  if (a.opt.unit_length == 0) a.opt.unit_length = mean_neighbor_spacing(X);
-  a.opt.progress = progress_printer("surfels");
-  const SurfelResult r = optimize_surfels(X, N, S0, a.opt);
+  o.progress = progress_printer("surfels");
+  const PointSurfelResult ps = point_surfels(X, o);
+  const SurfelResult& r = ps.surfels;
   info(fmt::format("energy {:.4g} -> {:.4g} in {} sweeps (unit length {:.4g})", r.initial_energy,
                    r.energy.empty() ? r.initial_energy : r.energy.back(), r.energy.size(), r.unit_length));
-  const MatrixX3d P = a.points == "centers" ? surfel_centers(X, r.surfels) : X;
+  const MatrixX3d P = a.points == "centers" ? ps.centers : X;
   Mesh cloud;
   for (Eigen::Index i = 0; i < P.rows(); ++i) cloud.add_vertex(to_point(P.row(i).transpose()));
   PlyExtras extras;
@@ -57,6 +54,7 @@ void run(Args a) {
     for (Eigen::Index i = 0; i < P.rows(); ++i) col[i] = r.surfels.normals(i, k);
   }
   write_ply(cloud, a.output, extras, !a.ascii);
+  out.commit();
   info(fmt::format("wrote {} ({} oriented points)", a.output, P.rows()));
 }
 
@@ -66,22 +64,12 @@ Registrar reg{55, "surfels", "Surfel reconstruction of a point cloud (thesis ch.
   app.add_option("IN", a->input, "points: PLY, OBJ (faces ignored), XYZ/PTS/TXT (x y z per line), or another mesh format")
       ->required()->check(CLI::ExistingFile);
   app.add_option("-o,--output", a->output, "output PLY with vertex x y z nx ny nz")->required();
-  app.add_option("--neighbors", a->neighbors, "k nearest neighbours forming each surfel's neighbourhood")
-      ->check(CLI::Range(1, 1000))->capture_default_str();
-  app.add_option("--normal-neighbors", a->normal_neighbors, "k nearest neighbours for the initial PCA normals")
-      ->check(CLI::Range(2, 1000))->capture_default_str();
-  app.add_option("--alpha", a->opt.alpha, "data weight alpha (Eq. 7.16)")->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--beta", a->opt.beta, "parallelism weight beta (Eq. 7.14)")->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--t-start", a->opt.t_start_deg, "first angle threshold, degrees")->check(CLI::Range(1e-6, 180.0))->capture_default_str();
-  app.add_option("--t-end", a->opt.t_end_deg, "last angle threshold, degrees")->check(CLI::Range(1e-6, 180.0))->capture_default_str();
-  app.add_option("--iterations", a->opt.iterations, "number of threshold values (ICM sweeps)")
-      ->check(CLI::Range(0, 100000))->capture_default_str();
-  app.add_option("--unit", a->opt.unit_length, "unit length; 0 = mean spacing to the 6 nearest neighbours")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  auto flags = std::make_shared<FlagSet>(app);
+  flags->add("surfels", PointSurfelOptions::table());
   app.add_option("--points", a->points, "output positions: centers (surfel centres, Eq. 7.6) or input")
       ->check(CLI::IsMember({"centers", "input"}))->capture_default_str();
   app.add_flag("--ascii", a->ascii, "ascii PLY output");
-  app.callback([a] { run(*a); });
+  app.callback([a, flags] { run(*a, flags->resolve<PointSurfelOptions>("surfels")); });
 }};
 
 }  // namespace

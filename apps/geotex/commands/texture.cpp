@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <future>
+#include <memory>
+#include <iostream>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -69,10 +72,17 @@ void run_extract(const ExtractArgs& a) {
     BaseShapeOptions o = a.base_opt;
     o.laplacian = a.laplacian == "cotan" ? LaplacianType::Cotangent : LaplacianType::Umbrella;
     o.progress = progress_printer("base shape");
+    if (o.steps > 0) o.method = BaseMethod::Smoothing;  // a step count asks for the thesis' smoothing
     base = textured;
-    set_positions(base, extract_base_shape(textured, o));
-    info(fmt::format("base: implicit {} smoothing, {} step(s) of lambda {}", a.laplacian,
-                     o.steps > 0 ? std::to_string(o.steps) : "automatic", o.lambda));
+    const BaseShape b = base_shape(textured, o);
+    set_positions(base, b.positions);
+    if (o.method == BaseMethod::Smoothing)
+      info(fmt::format("base: implicit {} smoothing, {} step(s) of lambda {}{}", a.laplacian, b.passes, o.lambda,
+                       b.stopped ? "" : " (stopped at the step cap)"));
+    else
+      info(fmt::format("base: robust fit ({} fits), {:.0f} of {} vertices projected along the base normals",
+                       b.passes, b.projected.sum(), textured.n_vertices()));
+    info(fmt::format("base: displacements are a median {:.2f} deg off the base normal", b.median_off_normal_deg));
   }
   TextureOptions to;
   to.bound_tilt = a.bound;
@@ -169,27 +179,31 @@ struct AnimateArgs {
 
 void run_animate(const AnimateArgs& a) {
   TextureFile f = load_texture(a.input);
-  TextureCodec codec(f.base);
-  const Vec3 dir = parse_vec3(a.direction, "--direction");
-  const double wl = a.wavelength > 0 ? a.wavelength : default_wavelength(f.base);
+  AnimationOptions o;
+  o.kind = parse_enum(animation_kind_names(), a.op, "--op");
+  o.frames = a.frames;
+  o.direction = parse_vec3(a.direction, "--direction");
+  o.angle_deg = a.angle;
+  o.wavelength = a.wavelength;
   const auto t0 = std::chrono::steady_clock::now();
-  Mesh m = f.base;
+  TextureAnimator animator(f.base, f.texture, o);
+  // Frame k + 1 is computed while frame k is written.
+  std::future<void> writing;
   for (int k = 0; k < a.frames; ++k) {
-    const double s = double(k) / a.frames;
-    Texture t;
-    if (a.op == "wiggle") t = wiggle(codec, f.texture, dir, a.angle, wl, s);
-    else if (a.op == "wrap") t = wrap(codec, f.texture, dir, a.angle * std::sin(2 * M_PI * s));  // sway back and forth
-    else t = scale_height(f.texture, 0.5 * (1 - std::cos(2 * M_PI * s)));                       // grow and shrink
-    set_positions(m, codec.apply(t));
-    save_mesh(m, fmt::format("{}_{:04d}.{}", a.output, k, a.format));
+    auto m = std::make_shared<Mesh>(f.base);
+    set_positions(*m, animator.positions(k));
+    if (writing.valid()) writing.get();
+    writing = std::async(std::launch::async, [m, path = fmt::format("{}_{:04d}.{}", a.output, k, a.format)] {
+      save_mesh(*m, path);
+    });
   }
+  if (writing.valid()) writing.get();
   info(fmt::format("{} frames in {:.2f} s", a.frames, seconds_since(t0)));
 }
 
 // ------------------------------------------------------------------------------------------------
 struct TransferArgs {
   std::string source, target, output, texture_out, source_near, target_near;
-  double height_scale = 1.0;
   TransferOptions opt;
 };
 
@@ -214,15 +228,16 @@ void run_transfer(const TransferArgs& a) {
   if (opt.source_center < 0 || opt.target_center < 0)
     throw InvalidInput("transfer: give --source-center or --source-near, and --target-center or --target-near");
   const auto t0 = std::chrono::steady_clock::now();
-  TransferResult r = transfer_texture(src.base, src.texture, target, opt);
-  r.texture.height *= a.height_scale;
-  info(fmt::format("transferred a {}-vertex source patch onto a {}-vertex target patch in {:.2f} s",
-                   r.source_patch.vertices.size(), r.target_patch.vertices.size(), seconds_since(t0)));
-  Mesh out = target;
-  set_positions(out, apply_texture(target, r.texture));
+  const TransferResult r = transfer_texture(src.base, src.texture, target, opt);
+  for (const std::string& w : r.warnings) std::cerr << "geotex: warning: " << w << "\n";  // shown even when quiet
+  info(fmt::format("transferred a {}-vertex source patch onto a {}-vertex target patch in {:.2f} s (heights x {:.4g})",
+                   r.source_patch.vertices.size(), r.target_patch.vertices.size(), seconds_since(t0),
+                   r.height_factor));
+  Mesh out = r.target;
+  set_positions(out, apply_texture(r.target, r.texture, opt.texture));
   save_mesh(out, a.output);
   if (!a.texture_out.empty()) {
-    write_texture(a.texture_out, target, r.texture);
+    write_texture(a.texture_out, r.target, r.texture);
     info("wrote " + a.texture_out);
   }
 }
@@ -243,7 +258,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
         ->check(CLI::IsMember({"umbrella", "cotan"}))->capture_default_str();
     s->add_option("--lambda", a->base_opt.lambda, "no --base: implicit smoothing step size")
         ->check(CLI::PositiveNumber)->capture_default_str();
-    s->add_option("--steps", a->base_opt.steps, "no --base: smoothing steps (0 = until the shape stops changing)")
+    s->add_option("--steps", a->base_opt.steps, "no --base: use the thesis' implicit smoothing for the base, with this many steps (0: the robust fit)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     s->add_option("--max-steps", a->base_opt.max_steps, "no --base, automatic: at most this many steps")
         ->check(CLI::PositiveNumber)->capture_default_str();
@@ -325,13 +340,11 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     auto tc = s->add_option("--target-center", a->opt.target_center, "target vertex at the patch centre")
         ->check(CLI::NonNegativeNumber);
     s->add_option("--target-near", a->target_near, "or: the target vertex nearest to x,y,z")->excludes(tc);
-    s->add_option("--height-scale", a->height_scale, "multiply the transferred heights (e.g. the ratio of the radii)")
+    s->add_option("--height-scale", a->opt.height_scale, "multiply the transferred heights, on top of the ratio of the radii")
         ->capture_default_str();
     s->add_option("--target-radius", a->opt.target_radius, "geodesic radius of the target patch")->required()
         ->check(CLI::PositiveNumber);
     s->add_option("--rotation", a->opt.rotation_deg, "rotate the source disk by this many degrees")->capture_default_str();
-    s->add_option("--edge-samples", a->opt.edge_samples, "samples per target edge for the tilt")
-        ->check(CLI::PositiveNumber)->capture_default_str();
     s->add_option("--texture-out", a->texture_out, "also write the target's texture file");
     s->callback([a] { run_transfer(*a); });
   }

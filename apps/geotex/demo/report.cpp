@@ -133,6 +133,7 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     RenderOptions o;
     o.width = 480;
     o.height = 360;
+    o.up = UpAxis::Z;  // the demo's shapes are generated z-up
     RenderLayers rl;
     e.field = e.vs_truth ? "error" : picture_field(e.layers);
     if (!e.field.empty()) rl.field = e.layers.fields.at(e.field);
@@ -141,13 +142,13 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     // Results share their clean input's camera, so that they line up with it; the legend's room is
     // kept free whenever a picture of the set may show one.
     const std::string key = e.vs_truth ? e.truth : is_truth(e.stem) ? e.stem : "";
-    const int legend_room = key.empty() && e.field.empty() ? 0 : std::min(110, o.width / 4);
+    const int legend_room = key.empty() && e.field.empty() ? 0 : legend_width(o.width);
     if (auto it = truth_camera.find(key); !key.empty() && it != truth_camera.end()) o.camera = it->second;
     else {
       const Entry* framed = &e;
       for (const Entry* t : truths)
         if (t->stem == key) framed = t;
-      o.camera = fit_camera(positions(framed->mesh), ViewDirection::Iso, o.width - legend_room, o.height);
+      o.camera = fit_camera(framed->mesh, o, legend_room);
       if (!key.empty()) truth_camera[key] = *o.camera;
     }
     const Rendering pic = render_mesh(e.mesh, o, rl);
@@ -157,6 +158,7 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     if (!script.empty()) {
       ++pages;
       ViewerOptions v;
+      v.up = UpAxis::Z;
       v.title = e.file.filename().string();
       v.initial_field = e.field;
       v.script_src = "geotex-viewer.js";
@@ -178,6 +180,7 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
         }
       if (ms.size() < 2) continue;
       ViewerOptions v;
+      v.up = UpAxis::Z;
       v.title = "geotex demo: " + g;
       v.initial_field = field;
       v.script_src = "geotex-viewer.js";

@@ -1,47 +1,94 @@
-// Demo step for feature-aware resizing (thesis ch. 9): a plate with round bumps scaled by (2, 1, 1)
-// and bent, with automatic features; plain map, the thesis' Eq. (9.2-9.3) and the sliding method.
+// Demo step for feature-aware resizing (thesis ch. 9): a plate with round bumps and a ridge, scaled by
+// (2, 1, 1), bent and twisted, and the tentacle stick scaled ×2 along its axis and bent into an arc;
+// automatic features (feature_map(), "auto"); plain map, the thesis' method (preset "thesis") and the
+// sliding method.
 
 #include <fmt/format.h>
 
 #include "cli.h"
 #include "geotex/resize/resize.h"
+#include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
 namespace {
 
-DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
-  nlohmann::json& r = *ctx.report;
-  const BumpyPlate b = bumpy_plate();
-  const MatrixX3d X = positions(b.mesh);
-  const Eigen::VectorXd f = features_from_height(b.mesh);
+void save_with_features(const Mesh& mesh, const MatrixX3d& Y, const Eigen::VectorXd& f, const std::filesystem::path& path) {
+  Mesh out = mesh;
+  set_positions(out, Y);
   PlyExtras fx;
   fx.vertex_scalars["feature"] = std::vector<double>(f.data(), f.data() + f.size());
-  write_ply(b.mesh, ctx.dir / "bumpy-plate-features.ply", fx);
-  for (auto [map, label] : {std::pair{scale_map({2, 1, 1}), "scale-2-1-1"}, std::pair{bend_map(1.5), "bend-1.5"}}) {
-    MatrixX3d C(X.rows(), 3);
-    for (Eigen::Index i = 0; i < X.rows(); ++i) C.row(i) = map(X.row(i).transpose()).transpose();
-    for (auto [method, name] : {std::pair{-1, "plain"}, std::pair{int(ResizeMethod::Thesis), "thesis"},
-                                std::pair{int(ResizeMethod::Sliding), "sliding"}}) {
-      MatrixX3d Y = C;
-      if (method >= 0) {
-        ResizeOptions o;
-        o.method = ResizeMethod(method);
-        Y = feature_aware_resize(b.mesh, C, f, o);
-      }
-      Mesh out = b.mesh;
-      set_positions(out, Y);
-      save_mesh(out, (ctx.dir / fmt::format("bumpy-plate-{}-{}.ply", label, name)).string());
+  write_ply(out, path, fx);
+}
+
+// The three results of one deformation: plain space map, thesis preset, sliding (default).
+std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& f) {
+  ResizeOptions thesis;
+  ResizeOptions::table().apply_preset(thesis, "thesis");
+  return {{"plain", C}, {"thesis", feature_aware_resize(mesh, C, f, thesis)}, {"sliding", feature_aware_resize(mesh, C, f)}};
+}
+
+DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
+  nlohmann::json& r = *ctx.report;
+  const BumpyPlate b = ridge_plate();
+  const MatrixX3d X = positions(b.mesh);
+  const FeatureMap fm = feature_map(b.mesh);
+  r["ridge_plate_features"] = fm.summary.describe();
+  r["summary"].push_back("ridge plate, automatic " + fm.summary.describe());
+  save_with_features(b.mesh, X, fm.weights, ctx.dir / "ridge-plate-features.ply");
+  const std::pair<SpaceMap, const char*> maps[] = {
+      {scale_map({2, 1, 1}), "scale-2-1-1"}, {bend_map(1.5), "bend-1.5"}, {twist_map(1.0), "twist-1"}};
+  for (const auto& [map, label] : maps) {
+    for (const auto& [name, Y] : results(b.mesh, apply_space_map(map, X), fm.weights)) {
+      save_with_features(b.mesh, Y, fm.weights, ctx.dir / fmt::format("ridge-plate-{}-{}.ply", label, name));
       double aspect = 0, height = 0, tilt = 0;
       for (const Vec3& c : b.centres) {
         const BumpShape s0 = measure_bump(X, X, c, b.radius), s = measure_bump(X, Y, c, b.radius);
-        aspect = std::max(aspect, s.aspect / s0.aspect);
+        aspect = std::max(aspect, std::abs(s.aspect / s0.aspect - 1));
         height = std::max(height, std::abs(s.height / s0.height - 1));
         tilt = std::max(tilt, s.tilt_deg);
       }
-      r[label][name] = {{"worst_aspect", aspect}, {"worst_height_change", height}, {"worst_tilt_deg", tilt}};
-      r["summary"].push_back(fmt::format("bumpy plate, {}, {}: worst bump aspect {:.3f}, worst height change {:.1f}%, "
-                                         "worst tilt against the base {:.1f} deg", label, name, aspect, 100 * height, tilt));
+      const auto e0 = region_extents(b.mesh, X, b.ridge), e1 = region_extents(b.mesh, Y, b.ridge);
+      const double ridge = e0.empty() ? 0.0 : aspect_change(e0[0].extents, e1[0].extents);
+      const double crease = rim_crease_deg(b.mesh, Y, fm.weights), crease0 = rim_crease_deg(b.mesh, X, fm.weights);
+      r[label][name] = {{"worst_bump_aspect_change", aspect}, {"worst_bump_height_change", height},
+                        {"worst_bump_tilt_deg", tilt}, {"ridge_aspect_change", ridge},
+                        {"rim_crease_deg", crease}, {"input_rim_crease_deg", crease0}};
+      r["summary"].push_back(fmt::format("ridge plate, {}, {}: bumps' aspect change {:.1f}%, height change {:.1f}%, tilt "
+                                         "{:.1f} deg; ridge's aspect change {:.1f}%; largest crease at feature rims "
+                                         "{:.1f} deg (input {:.1f})",
+                                         label, name, 100 * aspect, 100 * height, tilt, 100 * ridge, crease, crease0));
     }
+  }
+  // The tentacle stick (coarse level, to keep the demo quick), ×2 along its axis and bent into an arc.
+  std::vector<Tentacle> info;
+  const TexturedShape stick = tentacle_stick(0, &info);
+  const Mesh& m = stick.textured;
+  const MatrixX3d S = positions(m);
+  const FeatureMap sf = feature_map(m);
+  const Eigen::VectorXd truth = tentacle_truth(stick.base, info, TentacleOptions{}.radius);
+  double inter = 0, uni = 0;
+  for (Eigen::Index i = 0; i < truth.size(); ++i) {
+    inter += std::min(truth[i], sf.weights[i]);
+    uni += std::max(truth[i], sf.weights[i]);
+  }
+  r["summary"].push_back(fmt::format("tentacle stick, automatic {}; IoU with the true tentacles {:.3f}",
+                                     sf.summary.describe(), inter / uni));
+  SpaceMapOptions so;
+  so.scale = Vec3(2, 1, 1);
+  so.arc_radius = 6;
+  for (const auto& [name, Y] : results(m, apply_space_map(space_map(so, bounding_box(m)), S), sf.weights)) {
+    save_with_features(m, Y, sf.weights, ctx.dir / fmt::format("tentacle-stick-arc-{}.ply", name));
+    double length = 0, angle = 0;
+    for (const Tentacle& t : info) {
+      const Eigen::VectorXd foot = tentacle_truth(stick.base, {t}, TentacleOptions{}.radius);
+      const Protrusion a = measure_protrusion(m, S, t.foot, foot), c = measure_protrusion(m, Y, t.foot, foot);
+      length = std::max(length, std::abs(c.length / a.length - 1));
+      angle = std::max(angle, std::abs(c.angle_deg - a.angle_deg));
+    }
+    r["tentacle-stick-arc"][name] = {{"worst_length_change", length}, {"worst_angle_change_deg", angle}};
+    r["summary"].push_back(fmt::format("tentacle stick x2 and arc, {}: worst tentacle length change {:.1f}%, worst "
+                                       "change of its angle to the local base {:.1f} deg",
+                                       name, 100 * length, angle));
   }
 }};
 

@@ -71,7 +71,7 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
   o.target_center = 0;
   o.target_radius = 0.9;
   const TransferResult tr = transfer_texture(p.base, ptex, sphere, o);
-  save(sphere, apply_texture(sphere, tr.texture), "texture-transferred-to-sphere.ply");
+  save(tr.target, apply_texture(tr.target, tr.texture), "texture-transferred-to-sphere.ply");
   summary(fmt::format("texture patch of spiky-plane ({} vertices) transferred to a sphere patch ({} vertices) via "
                       "conformal maps; {:.1f} s for the whole step",
                       tr.source_patch.vertices.size(), tr.target_patch.vertices.size(),

@@ -6,9 +6,15 @@
 //! index ranges), triangulate polygons as fans, and build the halfedge mesh with make_mesh(),
 //! which drops and counts degenerate, duplicate and non-manifold faces. Nothing is dropped
 //! silently: every count lands in ReadReport, and ReadOptions::strict turns a drop into an error.
-//! Writers write to a temporary file beside the target and rename it into place, so a failed
-//! write never leaves a partial file and never damages an existing one.
+//! Text is read with any line end (LF, CRLF, a lone CR) and a leading UTF-8 byte order mark is
+//! skipped. Only regular files are read (a FIFO, device or socket is refused at once).
+//!
+//! Writers refuse what the readers refuse (non-finite coordinates or values: InvalidInput, before
+//! any file is touched) and write through write_file_atomic() (output.h): to a temporary beside the
+//! target, renamed into place, so a failed write never leaves a partial file and never damages an
+//! existing one; inside an OutputTransaction, only when every output of the command is complete.
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -21,6 +27,19 @@
 namespace geotex {
 
 enum class MeshFormat { Obj, Ply, Off, Stl };
+
+//! Size limits of the inputs read whole into memory (besides meshes, which have none: their size is
+//! their content). A regular file cannot be endless, but one that grows while it is read, or a
+//! /proc file, can be: reading stops at the limit with an IoError.
+inline constexpr size_t kMaxHandlesFileBytes = size_t(256) << 20;  //!< deformation handles (JSON)
+inline constexpr size_t kMaxTextFileBytes = size_t(4) << 30;       //!< feature, field and point text files
+
+//! The bytes of a regular file. A directory, FIFO, socket or device is refused at once (stat before
+//! opening; the open is non-blocking, so a FIFO swapped in meanwhile cannot block either).
+//! \p what names the kind of input in the size-limit message ("a handles file").
+//! \throw IoError if missing, not a regular file, unreadable, or larger than \p max_bytes.
+std::string read_regular_file(const std::filesystem::path& path, size_t max_bytes = SIZE_MAX,
+                              const std::string& what = "");
 
 //! The format named by a path's extension (case-insensitive). \throw IoError if unknown.
 MeshFormat format_from_path(const std::filesystem::path& path);
@@ -45,7 +64,9 @@ struct ReadReport {
 };
 
 //! Read a mesh file.
-//! \throw IoError for a missing/unreadable file, unknown extension, malformed or truncated content;
+//! \throw IoError for a missing/unreadable file or one that is not a regular file, unknown extension,
+//!        malformed or truncated content (a PLY property or element declared twice, a non-integer or
+//!        out-of-type-range value in an integer field, a non-integer vertex index or list count);
 //!        InvalidInput for non-finite coordinates, out-of-range indices, an empty result, or (strict)
 //!        any dropped face.
 Mesh read_mesh(const std::filesystem::path& path, const ReadOptions& options = {},
@@ -60,7 +81,9 @@ struct WriteOptions {
 };
 
 //! Write a mesh, atomically. Coordinates are written in full (shortest round-trip decimal in text
-//! formats, float64 in PLY; STL stores float32 by definition). \throw IoError on failure.
+//! formats, float64 in PLY; STL stores float32 by definition).
+//! \throw InvalidInput for a non-finite coordinate (or one beyond float range, for STL); IoError on
+//!        failure to write (output.h lists the rules).
 void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const WriteOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
@@ -88,7 +111,8 @@ struct PlyData {
   const PlyElement* find(const std::string& name) const;
 };
 
-//! Parse any PLY file (every element, every property). \throw IoError on malformed/truncated content.
+//! Parse any PLY file (every element, every property). \throw IoError on malformed/truncated content,
+//! an element or property declared twice, or an ascii value outside its declared type.
 PlyData read_ply_data(const std::filesystem::path& path);
 //! Parse PLY bytes in memory.
 PlyData parse_ply_bytes(std::string_view data, const std::string& name = "<memory>");
@@ -107,6 +131,7 @@ struct PlyExtras {
 };
 
 //! Write a mesh and extra per-vertex properties and elements as PLY, atomically.
+//! \throw InvalidInput for a non-finite coordinate or double value.
 void write_ply(const Mesh& mesh, const std::filesystem::path& path, const PlyExtras& extras,
                bool binary = true);
 
@@ -117,7 +142,8 @@ struct EdgeValues {
 };
 
 //! Read the "edge" element of a PLY file and its property \p property ("label", "tilt", …).
-//! \throw IoError if the file has no such element or property.
+//! \throw IoError if the file has no such element or property, or a vertex index is not an integer;
+//!        InvalidInput for a non-finite value.
 EdgeValues read_edge_values(const std::filesystem::path& path, const std::string& property);
 
 //! Write a mesh with per-edge values (one per mesh edge, OpenMesh edge order) as PLY, atomically.
@@ -127,7 +153,7 @@ void write_edge_values(const Mesh& mesh, const Eigen::VectorXd& values, const st
 //! Write line segments (e.g. labelled sharp edges) as an OBJ of `v` and `l` lines, atomically.
 void write_polylines_obj(const MatrixX3d& V, const MatrixX2i& segments, const std::filesystem::path& path);
 
-//! Write a text file atomically (temporary file + rename). \throw IoError on failure.
+//! Write a text file atomically (write_file_atomic() of output.h). \throw IoError on failure.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace geotex

@@ -100,8 +100,13 @@ struct OptionInfo {
   Bounds bounds;      //!< Int, Real, Vec3
   std::vector<std::string> choices;  //!< Choice: the accepted names
   bool automatic = false;            //!< may be "auto" (unset: derived from the input)
+  //! Other command-line names: (name, "") is another spelling; (name, value) a flag that sets value
+  //! (e.g. ("explicit", "false") for the bool "implicit"). Kept for flags older than the table.
+  std::vector<std::pair<std::string, std::string>> aliases;
   std::string cli_flag() const;      //!< "--" + name with '_' → '-'
 };
+//! "--" + \p name with '_' → '-'.
+std::string cli_flag(const std::string& name);
 
 //! Parse a value of option \p info from text ("auto", "true"/"false", numbers, "x,y,z", choice names).
 //! \throw InvalidOption naming the option.
@@ -213,6 +218,12 @@ class OptionTable {
       f.set = [member, set = g.set](O& o, const OptionValue& v) { set(o.*member, v); };
       fields_.push_back(std::move(f));
     }
+    return *this;
+  }
+
+  //! Another command-line name for the field added last (see OptionInfo::aliases).
+  OptionTable& alias(std::string name, std::string value = {}) {
+    fields_.back().info.aliases.emplace_back(std::move(name), std::move(value));
     return *this;
   }
 

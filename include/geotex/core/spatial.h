@@ -2,6 +2,7 @@
 //! \file spatial.h An axis-aligned bounding-box tree over triangles, for closest-point queries
 //! (metrics, projections) and for finding the triangles near a point (candidate search).
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -32,6 +33,12 @@ class TriangleTree {
 
   //! Faces whose bounding box comes within \p radius of p (candidates for other queries).
   void faces_near(const Vec3& p, double radius, std::vector<int>& out) const;
+
+  //! Visit the faces whose bounding box comes within \p radius of p, nearest box first (best-first
+  //! search). \p visit(face, box_distance) returns the radius from then on (return the smallest
+  //! distance that could still improve a result): faces beyond it are not visited and the search
+  //! ends. Cost grows with the faces visited, not with those in the first radius.
+  void visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit) const;
 
   const MatrixX3d& vertices() const { return V_; }
   const MatrixX3i& triangles() const { return F_; }

@@ -1,53 +1,53 @@
 #pragma once
 //! \file texture.h Height-and-tilt geometric texture (thesis ch. 8): a pseudo-height per vertex and a
-//! tilt per edge (a discrete 1-form) over a base mesh. Extract, reconstruct, edit, animate, store,
-//! re-apply to a deformed base, and transfer between disk patches of two surfaces.
+//! tilt per edge (a discrete 1-form) over a base mesh, with the lean angle per vertex beside it (see
+//! TiltEncoding). Extract, reconstruct, edit, animate, store and re-apply to a deformed base here;
+//! the base shape is in base_shape.h, transfer between surfaces in transfer.h (both included).
 //!
-//! Conventions: the texture lives on the base mesh's vertices (height, #V) and edges (tilt, #E, in
-//! OpenMesh edge order, oriented as edges(mesh)). Normals are the base's vertex normals
+//! Conventions: the texture lives on the base mesh's vertices (height, lean: #V) and edges (tilt, #E,
+//! in OpenMesh edge order, oriented as edges(mesh)). Normals are the base's vertex normals
 //! (TextureOptions::normals), recomputed from whatever base the texture is applied to.
 
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "geotex/core/geometry.h"
-#include "geotex/toolkit/laplace.h"
 #include "geotex/core/mesh.h"
-#include "geotex/toolkit/one_form.h"
+#include "geotex/core/options.h"
 #include "geotex/core/progress.h"
+#include "geotex/texture/base_shape.h"
+#include "geotex/toolkit/one_form.h"
 
 namespace geotex {
 
 // ---------------------------------------------------------------------------------------------
-// Base shape (Sec. 8.3.1)
-
-struct BaseShapeOptions {
-  //! Umbrella (default) or cotangent (mean-curvature flow proper, Eq. 5.11). Overhanging textures give
-  //! negative cotangent weights and an indefinite system (seen on spiky-sphere), so umbrella is the default.
-  LaplacianType laplacian = LaplacianType::Umbrella;
-  double lambda = 1.0;          //!< implicit step (umbrella: dimensionless; cotangent: in squared mean edges)
-  int steps = 0;                //!< number of steps; 0 = automatic: step until the shape stops changing
-  int max_steps = 30;           //!< automatic mode: at most this many steps
-  double stop_tolerance = 0.05; //!< automatic mode: stop when a step moves no vertex more than this × mean edge
-  ProgressFn progress;          //!< called after each step
-};
-
-//! Base shape by implicit Laplacian smoothing (Eq. 5.14) keeping vertex correspondence (Sec. 8.3.1).
-//! \return #V by 3 positions, same connectivity and order as \p textured.
-MatrixX3d extract_base_shape(const Mesh& textured, const BaseShapeOptions& options = {});
-
-//! A base of any connectivity: each vertex of \p textured projected onto \p base along the Phong
-//! normal field (Sec. 5.2). \return a mesh with textured's connectivity at the projected points;
-//! \p missed (optional) counts vertices with no inside solution (they take the closest point).
-Mesh project_onto_base(const Mesh& textured, const Mesh& base, size_t* missed = nullptr);
-
-// ---------------------------------------------------------------------------------------------
 // Representation (Sec. 8.3.2–8.3.3)
 
-//! texture = ({h_i}, {c_ij}) (Eq. 8.7).
+//! How the size of the tilt (the lean α_i of d̂_i from ±n_i, sin α_i = ‖t_i‖) is stored.
+//!
+//! The tilt 1-form c (Eq. 8.2) is the flux of the tangential displacement direction across the edges
+//! (c_ij = (d̂_i × n_i)·e_ij = d̂_i·(n_i × e_ij)). Under a smooth map of the base with tangent-plane
+//! Jacobian J, decoding it (Eq. 5.79, 8.8) turns the tangential part of d̂ into J d̂ / det J: its
+//! direction is pushed forward with the surface (as a tangent vector should be), but its length is
+//! divided by the area scale, so scaling the base by s divides sin α by s (lean lost or clamped).
+enum class TiltEncoding {
+  //! Texture::lean holds α_i; the 1-form only gives the lean's direction, J d̂ (default). Height and
+  //! lean are then kept exactly under any deformation of the base, the direction follows the surface.
+  Lean,
+  //! The thesis (Eq. 8.6–8.8): sin α_i = ‖(P c)_i‖, Texture::lean is left empty.
+  OneForm,
+};
+//! "lean", "one-form" (also "thesis").
+const EnumNames<TiltEncoding>& tilt_encoding_names();
+
+//! texture = ({h_i}, {c_ij}) (Eq. 8.7), with the lean per vertex (TiltEncoding::Lean).
 struct Texture {
   Eigen::VectorXd height;  //!< #V pseudo-heights h_i = sign(d_i·n_i) ‖d_i‖ (Eq. 8.5), sign never 0
   Eigen::VectorXd tilt;    //!< #E tilt 1-form coefficients c_ij of t_i = d̂_i × n_i (Eq. 8.6)
+  //! #V lean angles α_i ∈ [0, π/2] in radians, the angle of d̂_i from sign(h_i) n_i (Eq. 8.8's α), or
+  //! empty: then sin α_i = ‖(P c)_i‖ as in the thesis (TiltEncoding::OneForm, older files).
+  Eigen::VectorXd lean;
 };
 
 //! How the tilt 1-form is fitted (Eq. 8.2). Both minimise the same least-squares objective (Eq. 5.81).
@@ -59,8 +59,14 @@ enum class TiltSolver {
   Direct,  //!< sparse Cholesky of the #E × #E normal equations: the exact minimiser
 };
 
+//! "iterative", "direct".
+const EnumNames<TiltSolver>& tilt_solver_names();
+
 struct TextureOptions {
   NormalWeighting normals = NormalWeighting::Angle;  //!< base vertex normals n_i
+  //! Where the lean's size is stored: per vertex (default; kept under scaling, bending, twisting) or
+  //! in the 1-form as in the thesis (divided by the base's area scale when it is deformed).
+  TiltEncoding encoding = TiltEncoding::Lean;
   //! Fit only the tilt's components in the tangent planes (OneFormFitOptions::tangential). The tilt
   //! is tangent (Eq. 8.6) and decoding keeps only the tangent part of P c (Eq. 8.8), so the thesis'
   //! full fit (false) also spends its least squares on the normal part of P c, which nothing reads: on
@@ -85,6 +91,8 @@ struct TextureOptions {
   //! or when its rate over them puts the tolerance beyond max_iterations (on scans whose tilt the
   //! 1-form cannot hold exactly, the tolerance is out of reach).
   int stall_iterations = 100;
+  //! Table; preset "thesis": one-form encoding, full fit (Eq. 5.81), |c_ij| ≤ ‖e_ij‖ (Sec. 8.5), direct.
+  static const OptionTable<TextureOptions>& table();
 };
 
 //! What the last tilt fit of a TextureCodec did.
@@ -105,17 +113,30 @@ class TextureCodec {
   Texture extract(const MatrixX3d& textured);
   //! Reconstruct the textured surface (Sec. 8.3.3, Eq. 8.8). \return #V by 3 positions.
   MatrixX3d apply(const Texture& texture) const;
+  //! The texture of per-vertex displacements \p D (#V by 3) from the base: extract(base + D).
+  Texture from_displacements(const MatrixX3d& D) { return extract(X_ + D); }
+  //! The displacements the texture gives: apply(texture) − base. \return #V by 3.
+  MatrixX3d displacements(const Texture& texture) const { return apply(texture) - X_; }
+  //! A texture from per-vertex unit displacement directions \p D (#V by 3) and the sizes |h_i| of
+  //! \p height (the heights' signs follow D·n_i, Eq. 8.5); what the edits below produce.
+  Texture from_directions(const MatrixX3d& D, const Eigen::VectorXd& height);
 
   //! Tilt vectors at vertices (Eq. 5.79), made tangent and clamped to length ≤ 1. \return #V by 3.
   MatrixX3d tilt_vectors(const Eigen::VectorXd& tilt) const;
   //! Encode tilt vectors at vertices as a 1-form (Eq. 8.2), weighted by \p heights when
-  //! TextureOptions::height_weighted (pass an empty vector for an unweighted fit). \return #E.
-  Eigen::VectorXd encode_tilt(const MatrixX3d& tilt_vectors, const Eigen::VectorXd& heights = {});
+  //! TextureOptions::height_weighted (pass an empty vector for an unweighted fit). \p lean (#V, or
+  //! empty for the thesis' decoding) is how the result will be decoded: the iterative fit stops once
+  //! that decoding is within tolerance. \return #E.
+  Eigen::VectorXd encode_tilt(const MatrixX3d& tilt_vectors, const Eigen::VectorXd& heights = {},
+                              const Eigen::VectorXd& lean = {});
   //! Unit displacement directions d̂_i = cos α n_i + n_i × t_i with sin α = ‖t_i‖, cos α = sign(h_i)
-  //! √(1 − ‖t_i‖²) (Eq. 8.8; the rotation is about t_i — DESIGN.md on Sec. 8.3.3). \return #V by 3.
+  //! √(1 − ‖t_i‖²) (Eq. 8.8; the rotation is about t_i — DESIGN.md on Sec. 8.3.3). With a lean
+  //! (TiltEncoding::Lean and Texture::lean given) α is the lean and only the direction of t_i is used:
+  //! d̂_i = sign(h_i) cos α_i n_i + sin α_i (n_i × t_i) / ‖t_i‖. \return #V by 3.
   MatrixX3d directions(const Texture& texture) const;
 
   const Mesh& base() const { return base_; }
+  const TextureOptions& options() const { return options_; }
   const MatrixX3d& normals() const { return N_; }
   //! What the last extract() / encode_tilt() / edit did to fit the tilt.
   const TiltFitReport& last_fit() const { return last_fit_; }
@@ -135,7 +156,7 @@ Texture extract_texture(const Mesh& base, const MatrixX3d& textured, const Textu
 //! connectivity) to re-apply the texture with its elements' size and shape kept (Sec. 8.4.2).
 MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureOptions& options = {});
 
-//! The same texture with the tilt dropped: a plain height field along the normals.
+//! The same texture with the tilt (and lean) dropped: a plain height field along the normals.
 Texture height_field_only(const Texture& texture);
 
 // ---------------------------------------------------------------------------------------------
@@ -155,12 +176,55 @@ Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction,
 Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& direction, double amplitude_deg,
                double wavelength, double phase);
 
+//! An edit in motion (Fig. 8.7).
+enum class AnimationKind {
+  Wiggle,  //!< a travelling wave: wiggle() with phase = frame / frames
+  Sway,    //!< wrap() by angle × sin(2π frame / frames): the texture sways back and forth
+  Grow,    //!< heights × ½ (1 − cos(2π frame / frames)): the texture grows and shrinks
+};
+//! "wiggle", "wrap" (also "sway"), "grow".
+const EnumNames<AnimationKind>& animation_kind_names();
+
+struct AnimationOptions {
+  AnimationKind kind = AnimationKind::Wiggle;
+  int frames = 24;                    //!< frames in one period
+  Vec3 direction = Vec3::UnitX();     //!< lean / wave direction (projected onto each tangent plane)
+  double angle_deg = 30;              //!< wave amplitude or sway angle at the highest point
+  double wavelength = 0;              //!< wiggle: along the direction; 0 = a quarter of the box diagonal
+  //! Fit each frame's tilt 1-form (true: the frame is the texture the edit makes, Sec. 8.4.1; one
+  //! back-substitution per frame) or displace along the edited directions directly (false: the same
+  //! surface up to the fit's tolerance, no solve at all).
+  bool refit = true;
+  static const OptionTable<AnimationOptions>& table();
+};
+
+//! Frames of an animation at interactive rates: the texture is decoded once and the base's tilt system
+//! factored once (direct solver, whatever TextureOptions::solver says); each frame turns the cached
+//! directions and re-solves (AnimationOptions::refit).
+class TextureAnimator {
+ public:
+  //! \throw InvalidInput for bad options or a texture that does not match the base.
+  TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options = {},
+                  const TextureOptions& texture_options = {});
+  ~TextureAnimator();
+  TextureAnimator(TextureAnimator&&) noexcept;
+  TextureAnimator& operator=(TextureAnimator&&) noexcept;
+
+  Texture texture(int frame);      //!< the edited texture of frame \p frame (0 ≤ frame < frames)
+  MatrixX3d positions(int frame);  //!< the textured surface of frame \p frame: #V by 3
+  int frames() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 //! Scale every height by \p factor.
 Texture scale_height(const Texture& texture, double factor);
 
 // ---------------------------------------------------------------------------------------------
-// Texture file: PLY with the base mesh, a vertex property `height` and an `edge` element with
-// `vertex1`, `vertex2`, `tilt`.
+// Texture file: PLY with the base mesh, vertex properties `height` and (with a lean) `lean` in
+// radians, and an `edge` element with `vertex1`, `vertex2`, `tilt`.
 
 void write_texture(const std::filesystem::path& path, const Mesh& base, const Texture& texture, bool binary = true);
 
@@ -171,42 +235,7 @@ struct TextureFile {
 //! \throw IoError if the file lacks the height or the edge tilt, or an edge is not a mesh edge.
 TextureFile read_texture(const std::filesystem::path& path);
 
-// ---------------------------------------------------------------------------------------------
-// Transfer (Sec. 8.3.3)
-
-//! A disk-shaped piece of a mesh and where it came from.
-struct DiskPatch {
-  Mesh mesh;
-  std::vector<int> vertices;  //!< patch vertex → original vertex
-  std::vector<int> faces;     //!< patch face → original face
-};
-
-//! The faces within geodesic (edge-path) distance \p radius of vertex \p center, as a disk patch.
-//! \throw InvalidInput if the centre is out of range or the result is not a disk (one boundary loop,
-//! Euler characteristic 1).
-DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius);
-
-struct TransferOptions {
-  int source_center = 0;       //!< source base vertex at the patch centre
-  double source_radius = 0;    //!< geodesic radius of the source patch
-  int target_center = 0;       //!< target base vertex at the patch centre
-  double target_radius = 0;    //!< geodesic radius of the target patch
-  double rotation_deg = 0;     //!< rotate the source disk by this angle before resampling
-  int edge_samples = 5;        //!< samples per target edge for the tilt (the thesis uses 5)
-  TextureOptions texture;      //!< normals used on both surfaces
-};
-
-struct TransferResult {
-  Texture texture;             //!< on the whole target base (zero outside the patch)
-  DiskPatch source_patch, target_patch;
-  size_t target_vertices = 0;  //!< target vertices that received a height
-};
-
-//! Transfer the texture of a disk patch of \p source_base to a disk patch of \p target_base through
-//! the discrete conformal maps of both patches to the unit disk (Eq. 5.85): heights by barycentric
-//! resampling, tilt by sampling each target edge at edge_samples points, evaluating the Whitney-
-//! interpolated source field (Eq. 8.3), carrying it through the two maps and integrating along the edge.
-TransferResult transfer_texture(const Mesh& source_base, const Texture& source, const Mesh& target_base,
-                                const TransferOptions& options);
-
 }  // namespace geotex
+
+// Transfer between surfaces (Sec. 8.3.3) is declared in transfer.h, part of this header's interface.
+#include "geotex/texture/transfer.h"  // IWYU pragma: export

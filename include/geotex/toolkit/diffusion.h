@@ -18,13 +18,15 @@ struct LaplaceSpectrum {
 };
 
 //! The \p count smallest eigenpairs of C φ = −λ M φ, by shift-invert Lanczos (Spectra) on a
-//! CHOLMOD factor of −C − σM with a small negative σ. \throw InvalidInput if count < 2 or
-//! count ≥ #V; SolverError if Lanczos does not converge.
+//! CHOLMOD factor of −C − σM with a small negative σ. Isolated vertices (in no face) are left out of
+//! the problem and get φ = 0. \throw InvalidInput if count < 2 or count ≥ the number of vertices in
+//! faces; SolverError if Lanczos does not converge.
 LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count);
 
 struct DiffusionOptions {
   double t = 0.1;        //!< diffusion time in units of 1/λ_1 (Gębal et al.: small t shows small features)
   int eigenpairs = 100;  //!< number of eigenpairs summed (λ_0 included, then skipped)
+  static const OptionTable<DiffusionOptions>& table();
 };
 
 //! Auto diffusion function at every vertex (#V values), Gębal et al. 2009, Eq. (2):

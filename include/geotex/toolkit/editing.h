@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geotex/toolkit/laplace.h"
+#include "geotex/core/options.h"
 #include "geotex/core/mesh.h"
 
 namespace geotex {
@@ -22,6 +23,9 @@ enum class EditMethod {
   Linear        //!< Eq. (5.22) with T_i linear in the unknown positions (Sorkine et al. 2004)
 };
 
+//! "plain", "membrane-fit", "linear".
+const EnumNames<EditMethod>& edit_method_names();
+
 struct EditOptions {
   EditMethod method = EditMethod::Linear;          //!< how rotations and scales of δ_i are handled
   LaplacianType laplacian = LaplacianType::Umbrella;  //!< the thesis writes Eq. (5.21) with the umbrella
@@ -31,6 +35,7 @@ struct EditOptions {
   //! as Eq. (5.24) literally says, between the original 1-ring and the deformed membrane (false). The
   //! literal form makes T_i ≠ I even when nothing moves, because the membrane flattens the detail.
   bool fit_to_rest_membrane = true;
+  static const OptionTable<EditOptions>& table();
 };
 
 //! A similarity x ↦ s R x + t.
@@ -85,8 +90,8 @@ class LaplacianEditor {
   EditOptions options_;
   MatrixX3d X_, D_;
   SparseMatrix L_;
-  SpdSolver solver_;         // LᵀL + W² (Plain, MembraneFit)
-  SpdSolver linear_solver_;  // GᵀG + W² ⊗ I₃ (Linear), unknowns ordered x-block, y-block, z-block
+  LeastSquaresSolver solver_;         // LᵀL + W² (Plain, MembraneFit)
+  LeastSquaresSolver linear_solver_;  // GᵀG + W² ⊗ I₃ (Linear), unknowns ordered x-block, y-block, z-block
   MatrixX3d membrane_rest_;  // MembraneFit: membrane of the rest pose
 };
 

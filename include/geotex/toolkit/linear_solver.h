@@ -50,4 +50,30 @@ class SpdSolver {
   std::unique_ptr<Impl> impl_;
 };
 
+//! The normal equations (GᵀG + diag(d)) x = b of a sparse least-squares problem, factored without the
+//! dense block that a long row of G puts into GᵀG (the row of a vertex of valence k couples its k
+//! neighbours: a k × k block, 8 GB for a fan of 8000). Rows with more than \p dense_row_nnz nonzeros
+//! are left out of the factored matrix S = G_sᵀG_s + diag(d) and added back by the Sherman–Morrison–
+//! Woodbury identity, (S + UUᵀ)⁻¹ = S⁻¹ − S⁻¹U (I + UᵀS⁻¹U)⁻¹ UᵀS⁻¹, U the long rows' transposes:
+//! memory and time stay linear in the nonzeros of G. Without long rows it is a plain Cholesky solve.
+class LeastSquaresSolver {
+ public:
+  //! \param G #rows by #unknowns; \param d #unknowns non-negative diagonal; \param block_size as SpdSolver::analyze.
+  //! \throw SolverError if GᵀG + diag(d) is singular.
+  void compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512);
+  //! \return (GᵀG + diag(d))⁻¹ B.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+  //! Long rows handled by the low-rank update in the last compute().
+  Eigen::Index dense_rows() const { return U_.cols(); }
+
+ private:
+  SpdSolver base_;
+  SparseMatrix G_;            // kept for the refinement step (products only)
+  Eigen::VectorXd d_;
+  SparseMatrix U_;            // #unknowns by #long rows
+  Eigen::MatrixXd Z_;         // S⁻¹ U
+  Eigen::MatrixXd capacitance_inverse_;  // (I + Uᵀ S⁻¹ U)⁻¹
+  bool regularized_ = false;  // S needed a tiny shift to factor: refine against the true matrix
+};
+
 }  // namespace geotex

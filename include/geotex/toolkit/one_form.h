@@ -9,6 +9,7 @@
 
 #include "geotex/toolkit/linear_solver.h"
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
 
 namespace geotex {
 
@@ -53,6 +54,7 @@ struct OneFormFitOptions {
   double regularization = 1e-9;
   int bound_rounds = 6;  //!< active-set rounds that pin violating coefficients to ±‖e_ij‖
   double bound_stiffness = 1e3;  //!< penalty pinning a violator, relative to the mean diagonal
+  static const OptionTable<OneFormFitOptions>& table();
 };
 
 struct IterativeFitOptions {

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "geotex/core/options.h"
 #include "geotex/core/mesh.h"
 
 namespace geotex {
@@ -22,11 +23,15 @@ enum class ParamMethod {
   NaturalConformal  //!< free boundary: minimizes Dirichlet energy − UV area (DMA 2002 natural boundary)
 };
 
+//! "conformal", "authalic", "combined", "natural".
+const EnumNames<ParamMethod>& param_method_names();
+
 struct ParametrizationOptions {
   ParamMethod method = ParamMethod::Conformal;
   //! Combined: λ of Desbrun et al. (weight of the conformal energy; the authalic one gets 1 − λ).
   //! Authalic weights are made dimensionless by the mean squared edge length before mixing.
   double conformal_weight = 0.5;
+  static const OptionTable<ParametrizationOptions>& table();
 };
 
 //! #V by 2 UV coordinates of a disk-topology mesh; boundary on the unit circle by arc length (except

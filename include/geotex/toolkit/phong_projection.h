@@ -11,6 +11,7 @@
 #include <array>
 #include <vector>
 
+#include "geotex/core/options.h"
 #include "geotex/core/mesh.h"
 #include "geotex/core/spatial.h"
 
@@ -87,6 +88,7 @@ struct PhongProjectionOptions {
   double search_factor = 1.5;
   double search_margin = 1.0;
   double inside_tol = 1e-9;  //!< barycentric tolerance for "inside"
+  static const OptionTable<PhongProjectionOptions>& table();
 };
 
 //! A point projected onto a mesh along the Phong normal field.

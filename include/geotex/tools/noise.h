@@ -3,6 +3,7 @@
 
 #include <cstdint>
 
+#include "geotex/core/options.h"
 #include "geotex/core/mesh.h"
 
 namespace geotex {
@@ -14,6 +15,7 @@ struct NoiseOptions {
   //! noise moves only that fraction, with the same σ, as in the "Impulsive" denoising benchmarks.
   double impulsive_fraction = 0.0;
   uint64_t seed = 1;
+  static const OptionTable<NoiseOptions>& table();
 };
 
 //! \return #V by 3 noisy positions. Same seed, same noise, on every platform.

@@ -1,11 +1,11 @@
 #pragma once
 //! \file render.h Pictures of meshes without a GPU: a small software rasterizer (z-buffer, flat or
-//! smooth Lambert + Blinn-Phong shading, per-vertex colour maps, edge lines, a legend bar) and a
-//! self-contained PNG writer (deflate with fixed Huffman codes; no zlib needed).
+//! smooth Lambert + Blinn-Phong shading, per-vertex colour maps, edge lines, a legend bar) and PNG
+//! files (libpng).
 //!
-//! The camera is orthographic and fitted to the mesh, so that pictures of different results of the
-//! same input line up when rendered with the same camera (pass the first rendering's camera on).
-//! Geometry is z-up, like the shapes of shapes.h.
+//! The camera is orthographic and fitted to the faces of the mesh, so that pictures of different
+//! results of the same input line up when rendered with the same camera (pass the first rendering's
+//! camera on). The up axis is chosen from the bounding box unless given (UpAxis).
 
 #include <cstdint>
 #include <filesystem>
@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
 
 namespace geotex {
 
@@ -30,8 +31,31 @@ struct Image {
 //! Where the camera looks from, for up = z: iso (from +x, −y, +z), front (from −y), top (from +z).
 //! For another up axis the same directions are rotated with it (up = y: front is from +z).
 enum class ViewDirection { Iso, Front, Top };
-//! \throw InvalidInput for a name other than iso, front, top.
+//! "iso", "front", "top".
+const EnumNames<ViewDirection>& view_direction_names();
+//! \throw InvalidInput (InvalidOption) for a name other than iso, front, top.
 ViewDirection view_direction_from_name(const std::string& name);
+
+//! The model's up axis. Auto decides from the bounding box of the faces' vertices, in this order:
+//!  1. flat: when the thinnest extent is below 0.3 of the middle one, up is the thin axis (plates,
+//!     terrains, tori, planar meshes: the camera looks onto the flat side);
+//!  2. resting on a ground plane: when the lowest z is 0 and the lowest y is not, z (and the reverse,
+//!     y), as exporters place models on their floor;
+//!  3. otherwise y: scans (Stanford, Cyberware) and most exchange files are y-up.
+//! geotex's own generated shapes are z-up: pass Z for an exact picture of them.
+enum class UpAxis { Auto, X, Y, Z, NegX, NegY, NegZ };
+//! "auto", "x", "y", "z", "-x", "-y", "-z".
+const EnumNames<UpAxis>& up_axis_names();
+//! The unit vector \p up names; Auto decides from the box \p lo .. \p hi by the rule of UpAxis.
+Vec3 up_vector(UpAxis up, const Vec3& lo, const Vec3& hi);
+
+//! What the fitted camera keeps in the picture.
+enum class Framing {
+  Tight,  //!< the extent of the mesh as seen from the view direction (the largest picture)
+  Sphere  //!< the bounding sphere about the box centre: the same scale from every view direction
+};
+//! "tight", "sphere".
+const EnumNames<Framing>& framing_names();
 
 //! An orthographic camera: screen x = scale * dot(p − centre, right) + width/2, screen y likewise
 //! with up (downwards in the image); depth = dot(p − centre, forward).
@@ -42,29 +66,43 @@ struct Camera {
   int width = 0, height = 0;
 };
 
-//! The camera that fits the vertices of \p V (#V by 3) into a width × height frame, leaving \p margin
-//! (a fraction of the smaller side) free on each side. \p up is the model's up axis (z for geotex
-//! shapes, y for most scans); view directions are named relative to it.
-Camera fit_camera(const MatrixX3d& V, ViewDirection view, int width, int height, double margin = 0.06,
-                  const Vec3& up = Vec3::UnitZ());
-
 struct RenderOptions {
-  int width = 800;                        //!< picture width in pixels
-  int height = 600;                       //!< picture height in pixels
+  int width = 800;                          //!< picture width in pixels
+  int height = 600;                         //!< picture height in pixels
   ViewDirection view = ViewDirection::Iso;  //!< camera direction (ignored when camera is set)
-  Vec3 up = Vec3::UnitZ();                //!< the model's up axis (y for most scans)
-  std::optional<Camera> camera;           //!< reuse a camera (same framing across results)
-  bool smooth = true;                     //!< interpolate vertex normals (false: flat, per face)
-  int supersampling = 2;                  //!< k × k samples per pixel (anti-aliasing); 1 = none
-  double margin = 0.06;                   //!< free border, fraction of the smaller side
-  Vec3 background{1.0, 1.0, 1.0};         //!< background colour (RGB in [0, 1])
-  Vec3 base_colour{0.74, 0.76, 0.80};     //!< surface colour without a field
-  double ambient = 0.25;                  //!< ambient light
-  double specular = 0.25;                 //!< Blinn-Phong highlight strength (0 = Lambert only)
-  double shininess = 40.0;                //!< Blinn-Phong exponent
-  double line_width = 2.0;                //!< edge-line width in pixels
-  bool legend = true;                     //!< draw a colour bar with the field range when a field is shown
+  UpAxis up = UpAxis::Auto;                 //!< the model's up axis (auto: from the bounding box)
+  Framing frame = Framing::Tight;           //!< what the fitted camera keeps in the picture
+  double zoom = 1.0;                        //!< magnification of the fitted camera (2: twice as large)
+  std::optional<Vec3> centre;               //!< point at the picture's centre (unset: the framed mesh's centre)
+  double margin = 0.06;                     //!< free border, fraction of the smaller side (at zoom 1)
+  std::optional<Camera> camera;             //!< reuse a camera (same framing across results); not an option
+  bool smooth = true;                       //!< interpolate vertex normals (false: flat, per face)
+  int supersampling = 2;                    //!< k × k samples per pixel (anti-aliasing); 1 = none
+  Vec3 background{1.0, 1.0, 1.0};           //!< background colour (RGB in [0, 1])
+  Vec3 base_colour{0.74, 0.76, 0.80};       //!< surface colour without a field
+  double ambient = 0.25;                    //!< ambient light
+  double specular = 0.25;                   //!< Blinn-Phong highlight strength (0 = Lambert only)
+  double shininess = 40.0;                  //!< Blinn-Phong exponent
+  double line_width = 2.0;                  //!< edge-line width in pixels
+  bool legend = true;                       //!< draw a colour bar with the field range when a field is shown
+
+  static const OptionTable<RenderOptions>& table();
 };
+
+//! Width in pixels of the legend column at the right of a picture \p width pixels wide.
+int legend_width(int width);
+
+//! The camera that frames \p points (#P by 3) as \p options say (view, up, frame, zoom, centre,
+//! margin) in the left options.width − \p reserved_right pixels of the picture (the rest is kept for
+//! a legend). \throw InvalidInput for no points or a bad size.
+Camera fit_camera(const MatrixX3d& points, const RenderOptions& options, int reserved_right = 0);
+//! The same for the vertices of \p mesh that belong to a face: a stray vertex must not push the
+//! model into a corner of its picture.
+Camera fit_camera(const Mesh& mesh, const RenderOptions& options, int reserved_right = 0);
+
+//! The vertices of \p mesh that belong to at least one face (#P by 3, in index order); all vertices
+//! when no face refers to any (a point set).
+MatrixX3d face_vertices(const Mesh& mesh);
 
 //! What to draw on top of the shaded surface.
 struct RenderLayers {
@@ -93,13 +131,11 @@ Vec3 colour_map(double t);
 //! The line colour for an edge label (1 = red, 2 = blue, …; cycles through a small palette).
 Vec3 label_colour(int label);
 
-//! Encode as PNG (8-bit RGB, deflate with LZ77 + fixed Huffman codes, per-row adaptive filters).
+//! Encode as PNG (8-bit RGB) with libpng: adaptive row filters, zlib's default compression.
+//! \throw InvalidInput when the pixel data does not match the size; IoError if libpng fails.
 std::string encode_png(const Image& image);
 //! Write a PNG file atomically. \throw IoError on failure.
 void write_png(const Image& image, const std::filesystem::path& path);
-
-//! CRC-32 as used by PNG chunks (ISO 3309 / ITU-T V.42).
-uint32_t png_crc32(const uint8_t* data, size_t n, uint32_t crc = 0);
 
 //! Per-vertex unsigned distance from each vertex of \p mesh to the surface of \p reference
 //! (an error field for the viewer and pictures). \return #V distances.

@@ -23,6 +23,11 @@ Mesh icosphere(int subdivisions = 4, double radius = 1.0);
 //! Torus around z: major radius \p R, minor radius \p r, \p nu × \p nv quads split in two.
 Mesh torus(double R = 1.0, double r = 0.35, int nu = 64, int nv = 24);
 
+//! Capsule along x, centred at the origin: a cylinder of \p radius and \p length (the straight part)
+//! closed by two hemispheres. \p segments vertices around; rings along the cylinder and latitude rings
+//! on the caps are spaced to make near-equilateral triangles. A closed sphere-like surface (genus 0).
+Mesh capsule(double radius = 1.0, double length = 6.0, int segments = 160);
+
 //! Square plate in the xy-plane, side \p size, centred at the origin, n×n quads split in two
 //! (an open disk with one boundary loop).
 Mesh plane(int n = 40, double size = 1.0);
@@ -49,7 +54,55 @@ struct SpikeOptions {
 //! growing with height. The tips overhang their feet: no height field along the normal can hold it.
 TexturedShape spiky(const Mesh& base, const SpikeOptions& options = {});
 
-//! Names accepted by make_shape(): cube, cylinder, sphere, torus, plane, spiky-sphere, spiky-plane.
+//! Curved, leaning tentacles: long thin protrusions that bend over (no height field holds them).
+struct TentacleOptions {
+  int count = 9;            //!< number of tentacles (placed by the caller or at random)
+  double radius = 0.45;     //!< footprint radius on the base, in model units
+  double length = 1.3;      //!< length of each tentacle's centreline, in model units
+  double thickness = 0.12;  //!< radius of the tentacle's shaft, in model units
+  double foot = 0.3;        //!< share of the footprint (from its rim) that forms the flared foot
+  uint64_t seed = 1;        //!< random placement and leans (when not given)
+};
+
+//! One tentacle of a generated shape.
+struct Tentacle {
+  int foot = -1;            //!< base vertex at the footprint's centre (it becomes the tentacle's tip)
+  Vec3 lean = Vec3::Zero(); //!< unit tangent at the foot towards which the tentacle bends
+  double bend_deg = 0;      //!< angle of the tip's direction from the base normal (the centreline turns linearly)
+  double length = 0;        //!< |tip − foot| on the textured mesh
+  double lean_deg = 0;      //!< angle between tip − foot and the base normal at the foot
+};
+
+//! Displace a base mesh into tentacles. Within each footprint (Euclidean radius \p radius around the
+//! foot vertex) a vertex at distance r and polar angle ψ goes to the tentacle's centreline at an
+//! arclength growing as r falls, offset by the shaft's radius in the direction ψ of the centreline's
+//! normal plane: the footprint's rim stays in place, the foot flares into the shaft, the footprint's
+//! centre becomes the tip. The centreline leaves along the base normal and turns towards \p leans[k] by
+//! \p bend_deg[k] at the tip. Same connectivity as the base.
+//! \param feet foot vertices (random interior vertices at least 3 footprints apart when empty);
+//! \param leans tangent directions (random when empty); \param bend_deg tip angles (random in [40°, 80°] when empty).
+//! \return the shape; TexturedShape::spike_centres are the feet, lean their lean directions, and
+//! \p info (if given) receives each tentacle's measurements.
+TexturedShape tentacles(const Mesh& base, const TentacleOptions& options = {}, std::vector<int> feet = {},
+                        std::vector<Vec3> leans = {}, std::vector<double> bend_deg = {},
+                        std::vector<Tentacle>* info = nullptr);
+
+//! The tentacle stick: a capsule (radius 1, straight length 6, along x) with nine tentacles spread along
+//! it in a spiral, bending along the axis, around it and in between. Level 1 has about 40k vertices.
+//! \param info receives the tentacles (feet, leans, lengths, lean angles).
+TexturedShape tentacle_stick(int level = 1, std::vector<Tentacle>* info = nullptr);
+
+//! A square plate (side 4, in the xy-plane) with tentacles on a 3 × 3 grid, all bending towards +x
+//! by 60°: a regular exemplar of tentacle texture.
+TexturedShape tentacle_plane(int level = 1, std::vector<Tentacle>* info = nullptr);
+
+//! Per-vertex membership of the tentacles' footprints (1 inside any, else 0) on \p base, for feature
+//! maps' ground truth. \param radius the footprint radius used to make them.
+Eigen::VectorXd tentacle_truth(const Mesh& base, const std::vector<Tentacle>& tentacles, double radius);
+
+//! Names accepted by make_shape(): cube, cylinder, sphere, torus, plane, capsule, spiky-sphere, spiky-plane,
+//! tentacle-stick, tentacle-plane, bumpy-plate and ridge-plate (bumpy_plate() and ridge_plate() of
+//! resize/measure.h, 40·2^level quads a side; spike_centres the bumps' centre vertices).
 std::vector<std::string> shape_names();
 
 //! Build a named shape at a resolution level (0 = coarse, 1 = default, 2 = fine, …).

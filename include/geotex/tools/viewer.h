@@ -10,6 +10,8 @@
 #include <Eigen/Core>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
+#include "geotex/tools/render.h"
 
 namespace geotex {
 
@@ -47,10 +49,15 @@ struct ViewerOptions {
   std::string initial_field;            //!< field shown when the page opens ("" = plain colour)
   bool flat = false;                    //!< start in flat shading
   bool wireframe = false;               //!< start with the wireframe shown
-  Vec3 up = Vec3::UnitZ();              //!< the models' up axis (y for most scans)
+  UpAxis up = UpAxis::Auto;             //!< the models' up axis (auto: from the first mesh's box, see UpAxis)
+  //! positions are quantised to this many bits per coordinate over each mesh's bounding box: the
+  //! error is at most extent / 2^(bits+1) per axis (16 bits: 7.6e-6 of the box) plus float32 rounding
+  int position_bits = 16;
   //! when set, the page loads the bundle from this (relative) URL instead of inlining it, so that
   //! many pages in one folder share one copy (the demo report); the page is then not self-contained
   std::string script_src;
+
+  static const OptionTable<ViewerOptions>& table();
 };
 
 //! The viewer's JavaScript bundle (three.js + viewer/src/viewer.js). Looked up in order: the file
@@ -60,9 +67,13 @@ struct ViewerOptions {
 std::string viewer_script();
 
 //! A self-contained HTML page (no network needed, works from file://) showing the meshes side by
-//! side with linked orbit controls. Positions go in as base64 float32, triangles as uint32.
+//! side with one shared camera (linked orbit controls, one scale for all, so sizes compare). Each
+//! mesh is centred in its view on the box of its faces' vertices. The data is compact (see
+//! viewer/src/viewer.js for the decoder): faces in a breadth-first order and vertices in order of
+//! first use, indices as varints of (next new index − index), positions quantised (position_bits)
+//! and delta-coded in byte planes, fields quantised to 16 bits; each array a zlib stream in base64.
 //! \param script the bundle (viewer_script()); unused when options.script_src is set.
-//! \throw InvalidInput for no meshes or bad layers.
+//! \throw InvalidInput for no meshes, bad layers or options.
 std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptions& options,
                         const std::string& script);
 

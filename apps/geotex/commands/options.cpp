@@ -1,0 +1,17 @@
+// geotex options: every command's options as JSON (hidden; for tests and tools that generate front ends).
+
+#include <fmt/format.h>
+
+#include "cli.h"
+#include "option_flags.h"
+
+namespace geotex::cli {
+namespace {
+
+Registrar reg{990, "options", "", [](CLI::App& app) {
+  app.group("");  // hidden from `geotex --help`
+  app.callback([] { fmt::print("{}\n", FlagSet::describe_all().dump(1)); });
+}};
+
+}  // namespace
+}  // namespace geotex::cli

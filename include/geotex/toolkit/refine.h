@@ -1,0 +1,40 @@
+#pragma once
+//! \file refine.h Local refinement of a triangle mesh: longest-edge bisection restricted to a region,
+//! with the new vertices placed on a smooth surface through the old ones (Phong tessellation,
+//! Boubekeur and Alexa 2008, then bi-Laplacian fairing) so that a coarse mesh refined is not left faceted.
+//!
+//! OpenMesh's subdividers (Loop, √3, LongestEdgeT) refine the whole mesh; this uses the same edge-split
+//! primitive (TriConnectivity::split) as LongestEdgeT, but only on the edges that touch the region.
+
+#include <vector>
+
+#include "geotex/core/mesh.h"
+
+namespace geotex {
+
+struct RefineOptions {
+  double max_edge = 0;     //!< split (longest first) every region edge longer than this (model units)
+  //! Place a new vertex by Phong tessellation of its edge (shape factor 3/4, normals interpolated);
+  //! false: at the edge's midpoint (the facets stay flat).
+  bool smooth = true;
+  //! Then fair the new vertices: minimise the umbrella bi-Laplacian energy ‖L X‖² over them with the
+  //! old vertices fixed (a discrete thin plate through the old vertices, which also evens out their
+  //! spacing: edges may end up slightly longer than max_edge). Phong tessellation alone leaves creases
+  //! along the old edges, which tilt the normals of a texture applied on top (folds after a transfer).
+  bool fair = true;
+  size_t max_vertices = 5'000'000;  //!< stop splitting beyond this many vertices (a guard, not a target)
+};
+
+struct RefineResult {
+  Mesh mesh;              //!< the refined mesh: the input's vertices first, in order, then the new ones
+  size_t added = 0;       //!< vertices added
+  std::vector<char> region;  //!< per vertex of \ref mesh: in the region (new vertices inherit it from both parents)
+  bool capped = false;    //!< RefineOptions::max_vertices stopped the refinement
+};
+
+//! Split the edges longer than options.max_edge with at least one end in \p region (#V flags) until
+//! none is left (before fairing). A new vertex is in the region when both ends of its edge are, so refinement stops one
+//! ring outside. \throw InvalidInput for a bad size, max_edge ≤ 0 or an invalid mesh.
+RefineResult refine_region(const Mesh& mesh, const std::vector<char>& region, const RefineOptions& options);
+
+}  // namespace geotex

@@ -1,0 +1,118 @@
+"""Write the type stubs of the geotex package (__init__.pyi) from the live signatures, which come from
+the option tables: `python3 -m geotex._stubgen OUT_DIR`. Run at build time; checked by a test
+(mypy's stubtest against the module)."""
+
+from __future__ import annotations
+
+import inspect
+import sys
+from pathlib import Path
+
+HEADER = '''"""Type stubs of geotex, generated from the option tables by geotex._stubgen."""
+
+import os
+from typing import Any, Callable, Dict, List, Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from ._geotex import Error as Error, InvalidInput as InvalidInput, IoError as IoError, SolverError as SolverError
+
+__version__: str
+__all__: List[str]
+
+MeshLike = Any
+
+class Result:
+    def __init__(self, **fields: Any) -> None: ...
+    def __getitem__(self, key: str) -> Any: ...
+    def __contains__(self, key: object) -> bool: ...
+    def keys(self) -> List[str]: ...
+    def __getattr__(self, name: str) -> Any: ...
+
+'''
+
+
+# The compiled module: its errors, and everything else reached through the package's wrappers.
+CORE = '''"""Type stubs of geotex._geotex (the compiled core; use the functions of the geotex package)."""
+
+from typing import Any
+
+class Error(RuntimeError): ...
+class InvalidInput(ValueError): ...
+class IoError(OSError): ...
+class SolverError(Error): ...
+
+def __getattr__(name: str) -> Any: ...
+'''
+
+
+def _annotation(a: object) -> str:
+    if a is inspect.Parameter.empty:
+        return "Any"
+    if isinstance(a, str):
+        return a
+    return getattr(a, "__name__", repr(a))
+
+
+def _default(v: object) -> str:
+    # Stubs give defaults as `...` except for simple literals, which document the value.
+    if v is None or isinstance(v, (bool, int, float, str)) and not (isinstance(v, float) and v != v):
+        return repr(v)
+    if isinstance(v, tuple) and all(isinstance(x, (int, float)) for x in v):
+        return repr(v)
+    return "..."
+
+
+def stub_for(name: str, fn: object) -> str:
+    sig = inspect.signature(fn)  # type: ignore[arg-type]
+    parts = []
+    star_done = False
+    for p in sig.parameters.values():
+        if p.kind == inspect.Parameter.KEYWORD_ONLY and not star_done:
+            parts.append("*")
+            star_done = True
+        if p.kind == inspect.Parameter.VAR_KEYWORD:
+            parts.append(f"**{p.name}: Any")
+            continue
+        if p.kind == inspect.Parameter.VAR_POSITIONAL:
+            parts.append(f"*{p.name}: Any")
+            star_done = True
+            continue
+        text = f"{p.name}: {_annotation(p.annotation)}"
+        if p.default is not inspect.Parameter.empty:
+            text += f" = {_default(p.default)}"
+        parts.append(text)
+    ret = _annotation(sig.return_annotation)
+    return f"def {name}({', '.join(parts)}) -> {ret}: ...\n"
+
+
+def generate() -> str:
+    import geotex
+
+    out = [HEADER]
+    for name in geotex.__all__:
+        obj = getattr(geotex, name)
+        if inspect.isclass(obj):
+            continue
+        out.append(stub_for(name, obj))
+    return "".join(out)
+
+
+def main(argv: list) -> int:
+    if len(argv) != 2:
+        print("usage: python3 -m geotex._stubgen OUT_DIR", file=sys.stderr)
+        return 2
+    out_dir = Path(argv[1])
+    text = generate()
+    target = out_dir / "__init__.pyi"
+    if not target.exists() or target.read_text() != text:
+        target.write_text(text)
+    core = out_dir / "_geotex.pyi"
+    if not core.exists() or core.read_text() != CORE:
+        core.write_text(CORE)
+    (out_dir / "py.typed").touch()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,320 @@
+#include "geotex/resize/feature_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/toolkit/diffusion.h"
+#include "geotex/toolkit/laplace.h"
+#include "geotex/toolkit/smoothing.h"
+
+namespace geotex {
+
+const EnumNames<FeatureMapMethod>& feature_map_names() {
+  static const EnumNames<FeatureMapMethod> names = {{"auto", FeatureMapMethod::Auto},
+                                                     {"height", FeatureMapMethod::Height},
+                                                     {"adf", FeatureMapMethod::Adf},
+                                                     {"none", FeatureMapMethod::None}};
+  return names;
+}
+
+const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
+  using O = FeatureMapOptions;
+  static const auto t = OptionTable<O>()
+      .choice("features", &O::method, feature_map_names(),
+              "feature map: auto (adf, or height where the ADF finds no protrusion), height (over a smoothed base), "
+              "adf (auto diffusion function), none", "Sec. 9.4")
+      .add("smoothing_scale", &O::smoothing_scale,
+           "height: smoothing time of the base is (s R)^2, R the radius of a sphere of the same area", positive())
+      .add("adf_t", &O::adf_t, "adf: diffusion time in units of 1/lambda_1", positive(), "Sec. 9.4 (Gebal et al. 2009)")
+      .add("eigenpairs", &O::eigenpairs, "adf: Laplace eigenpairs summed", at_least(2))
+      .add("significance", &O::significance,
+           "a maximum is a feature when it exceeds the median by this many robust standard deviations (1.4826 MAD)",
+           non_negative())
+      .add("adf_levels", &O::adf_levels, "adf: diffusion times tried, each half the last, inside regions too large",
+           at_least(1))
+      .add("max_extent", &O::max_extent,
+           "a region spanning more than this share of the model's extent along an axis is a part, not a feature",
+           between(0, 1))
+      .add("dilate", &O::dilate, "grow the map by this many vertex rings", non_negative());
+  return t;
+}
+
+namespace {
+
+// Area-weighted median of v (weights w ≥ 0).
+double weighted_median(const Eigen::VectorXd& v, const Eigen::VectorXd& w) {
+  std::vector<int> order(v.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return v[a] < v[b]; });
+  const double half = 0.5 * w.sum();
+  double acc = 0;
+  for (int i : order) {
+    acc += w[i];
+    if (acc >= half) return v[i];
+  }
+  return v[order.back()];
+}
+
+// Share of the surface per vertex: a third of the adjacent triangles' areas (0 for isolated vertices).
+Eigen::VectorXd vertex_areas(const Mesh& mesh) {
+  const Eigen::VectorXd fa = face_areas(mesh);
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(mesh.n_vertices());
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) a[v.idx()] += fa[f.idx()] / 3.0;
+  return a;
+}
+
+// Robust z-score of a field: (g − median) / (1.4826 MAD), area-weighted; 0 where the spread vanishes.
+Eigen::VectorXd robust_z(const Eigen::VectorXd& g, const Eigen::VectorXd& area) {
+  const double med = weighted_median(g, area);
+  const double mad = 1.4826 * weighted_median((g.array() - med).abs().matrix(), area);
+  if (!(mad > 0)) return Eigen::VectorXd::Zero(g.size());
+  return (g.array() - med) / mad;
+}
+
+}  // namespace
+
+Eigen::VectorXd height_over_base(const Mesh& mesh, double scale) {
+  require_valid(mesh, "feature map input");
+  if (!(scale > 0)) throw InvalidInput("smoothing scale must be positive");
+  const double area = surface_area(mesh), h = mean_edge_length(mesh);
+  if (!(area > 0) || !(h > 0)) throw InvalidInput("feature map: the mesh has no area");
+  const double R = std::sqrt(area / (4 * M_PI));
+  SmoothingOptions s;
+  s.laplacian = LaplacianType::Cotangent;
+  s.lambda = (scale * R) * (scale * R) / (h * h);  // smooth() takes cotangent time in units of h²
+  s.steps = 1;
+  s.update_weights = false;
+  Mesh base = mesh;
+  set_positions(base, smooth(mesh, s));
+  // Smoothing shrinks a closed surface: restore its volume, so that the height is measured from a base
+  // through the middle of the features rather than from one inside the whole shape.
+  if (boundary_loops(mesh).empty()) rescale_like(mesh, base);
+  const MatrixX3d N = vertex_normals(base);
+  const MatrixX3d d = positions(mesh) - positions(base);
+  return d.cwiseProduct(N).rowwise().sum() / R;
+}
+
+Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& g, double significance) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  if (g.size() != n) throw InvalidInput(fmt::format("{} field values for {} vertices", g.size(), n));
+  if (!g.allFinite()) throw InvalidInput("feature field must be finite");
+  const Eigen::VectorXd z = robust_z(g, vertex_areas(mesh));
+  // Steepest ascent: each vertex points at its highest neighbour, if higher than itself.
+  std::vector<int> up(n);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) {
+    int best = i;
+    for (auto w : mesh.vv_range(mesh.vertex_handle(i)))
+      if (g[w.idx()] > g[best]) best = w.idx();
+    up[i] = best;
+  }
+  // Follow the pointers to each vertex's peak (with path compression).
+  std::vector<int> peak(n, -1), path;
+  for (int i = 0; i < n; ++i) {
+    int r = i;
+    path.clear();
+    while (peak[r] < 0 && up[r] != r) {
+      path.push_back(r);
+      r = up[r];
+    }
+    const int p = peak[r] >= 0 ? peak[r] : r;
+    peak[r] = p;
+    for (int v : path) peak[v] = p;
+  }
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i) {
+    const auto p = mesh.vertex_handle(peak[i]);
+    if (!mesh.is_isolated(mesh.vertex_handle(i)) && !mesh.is_boundary(p) && z[p.idx()] > significance) f[i] = 1;
+  }
+  return f;
+}
+
+namespace {
+
+// Connected components of the vertices with mask > ½.
+std::vector<std::vector<int>> components(const Mesh& mesh, const Eigen::VectorXd& mask) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  std::vector<char> seen(n, 0);
+  std::vector<std::vector<int>> out;
+  std::vector<int> stack;
+  for (int s = 0; s < n; ++s) {
+    if (!(mask[s] > 0.5) || seen[s]) continue;
+    out.emplace_back();
+    seen[s] = 1;
+    stack.assign(1, s);
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      out.back().push_back(v);
+      for (auto w : mesh.vv_range(mesh.vertex_handle(v)))
+        if (mask[w.idx()] > 0.5 && !seen[w.idx()]) {
+          seen[w.idx()] = 1;
+          stack.push_back(w.idx());
+        }
+    }
+  }
+  return out;
+}
+
+// Does a region span more than max_extent of the model's extent along some axis (a part of the
+// model, not a detail on it)? Only axes along which the model extends at least a quarter of its
+// largest extent count.
+bool too_large(const MatrixX3d& X, const std::vector<int>& region, const Vec3& model_extent, double max_extent) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int v : region) {
+    lo = lo.cwiseMin(X.row(v).transpose());
+    hi = hi.cwiseMax(X.row(v).transpose());
+  }
+  for (int a = 0; a < 3; ++a)  // along the axes the model really extends in (not a plate's thickness)
+    if (model_extent[a] >= 0.25 * model_extent.maxCoeff() && hi[a] - lo[a] > max_extent * model_extent[a]) return true;
+  return false;
+}
+
+}  // namespace
+
+Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* field) {
+  int n_faced = 0;
+  for (auto v : mesh.vertices()) n_faced += !mesh.is_isolated(v);
+  const LaplaceSpectrum spectrum = laplace_spectrum(mesh, std::min(o.eigenpairs, n_faced - 1));
+  const MatrixX3d X = positions(mesh);
+  const Vec3 extent = X.colwise().maxCoeff() - X.colwise().minCoeff();
+  const Eigen::Index n = X.rows();
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd search = Eigen::VectorXd::Ones(n);  // where finer times may still find features
+  double t = o.adf_t;
+  for (int level = 0; level < std::max(1, o.adf_levels); ++level, t *= 0.5) {
+    const Eigen::VectorXd g = auto_diffusion_function(spectrum, t);
+    if (level == 0 && field) *field = g;
+    const Eigen::VectorXd basins = significant_basins(mesh, g, o.significance).cwiseProduct(search);
+    search.setZero();
+    for (const auto& region : components(mesh, basins)) {
+      const bool part = too_large(X, region, extent, o.max_extent);
+      for (int v : region) (part ? search : f)[v] = 1;
+    }
+    if (search.sum() == 0) break;
+  }
+  return f;
+}
+
+Eigen::VectorXd drop_large_regions(const Mesh& mesh, const Eigen::VectorXd& f, double max_extent) {
+  const MatrixX3d X = positions(mesh);
+  const Vec3 extent = X.colwise().maxCoeff() - X.colwise().minCoeff();
+  Eigen::VectorXd out = f;
+  for (const auto& region : components(mesh, f))
+    if (too_large(X, region, extent, max_extent))
+      for (int v : region) out[v] = 0;
+  return out;
+}
+
+FeatureSummary summarize_features(const Mesh& mesh, const Eigen::VectorXd& f) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  if (f.size() != n) throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", f.size(), n));
+  FeatureSummary s;
+  const Eigen::VectorXd area = vertex_areas(mesh);
+  const double total = area.sum();
+  std::vector<int> region(n, -1), stack;
+  for (int i = 0; i < n; ++i) {
+    if (!(f[i] > 0.5)) continue;
+    ++s.marked_vertices;
+    s.marked_fraction += area[i];
+    if (region[i] >= 0) continue;
+    region[i] = s.regions;
+    stack.assign(1, i);
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (auto w : mesh.vv_range(mesh.vertex_handle(v)))
+        if (f[w.idx()] > 0.5 && region[w.idx()] < 0) {
+          region[w.idx()] = s.regions;
+          stack.push_back(w.idx());
+        }
+    }
+    ++s.regions;
+  }
+  s.marked_fraction = total > 0 ? s.marked_fraction / total : 0.0;
+  if (s.marked_fraction > 0.5)
+    s.warning = fmt::format("features cover {:.1f}% of the surface (more than half): the features hold the shape "
+                            "together and the result will be close to a rigid copy, not the asked deformation",
+                            100 * s.marked_fraction);
+  else if (s.marked_fraction < 0.005)
+    s.warning = fmt::format("features cover {:.2f}% of the surface (less than 0.5%): the result will be close to "
+                            "the plain space map", 100 * s.marked_fraction);
+  return s;
+}
+
+std::string FeatureSummary::describe() const {
+  return fmt::format("features: {:.1f}% of the surface ({} vertices, {} region{})", 100 * marked_fraction,
+                     marked_vertices, regions, regions == 1 ? "" : "s");
+}
+
+FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
+  check_options(o);
+  require_valid(mesh, "feature map input");
+  const Eigen::Index n = mesh.n_vertices();
+  FeatureMap out;
+  out.weights = Eigen::VectorXd::Zero(n);
+  out.field = Eigen::VectorXd::Zero(n);
+  out.method = FeatureMapMethod::None;
+  if (o.method == FeatureMapMethod::Adf || o.method == FeatureMapMethod::Auto) {
+    out.weights = adf_features(mesh, o, &out.field);
+    // Auto: the ADF finds protrusions (the thesis' choice, Sec. 9.4); a surface without any, such as
+    // a relief on an open plate (where the ADF peaks at the border instead), gets the height map.
+    if (o.method == FeatureMapMethod::Auto && summarize_features(mesh, out.weights).marked_fraction < 0.005)
+      out.method = FeatureMapMethod::Height;
+    else
+      out.method = FeatureMapMethod::Adf;
+  }
+  if (o.method == FeatureMapMethod::Height || out.method == FeatureMapMethod::Height) {
+    out.field = height_over_base(mesh, o.smoothing_scale);
+    out.weights = significant_basins(mesh, out.field, o.significance);
+    out.method = FeatureMapMethod::Height;
+  }
+  if (o.dilate > 0) out.weights = dilate_features(mesh, out.weights, o.dilate);
+  out.summary = summarize_features(mesh, out.weights);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+Eigen::VectorXd dilate_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
+  Eigen::VectorXd g = f;
+  for (int r = 0; r < rings; ++r) {
+    Eigen::VectorXd h = g;
+    for (auto e : mesh.edges()) {
+      const int a = e.v0().idx(), b = e.v1().idx();
+      h[a] = std::max(h[a], g[b]);
+      h[b] = std::max(h[b], g[a]);
+    }
+    g = h;
+  }
+  return g;
+}
+
+Eigen::VectorXd features_from_values(const Mesh& mesh, const Eigen::VectorXd& height, double threshold, int dilate) {
+  if (height.size() != static_cast<Eigen::Index>(mesh.n_vertices()))
+    throw InvalidInput(fmt::format("{} height values for {} vertices", height.size(), mesh.n_vertices()));
+  Eigen::VectorXd f = (height.array().abs() > threshold).cast<double>();
+  return dilate_features(mesh, f, dilate);
+}
+
+Eigen::VectorXd features_from_height(const Mesh& mesh, const FeatureMapOptions& options) {
+  FeatureMapOptions o = options;
+  o.method = FeatureMapMethod::Height;
+  return feature_map(mesh, o).weights;
+}
+
+Eigen::VectorXd features_from_adf(const Mesh& mesh, double t, int eigenpairs, double threshold, int dilate) {
+  const Eigen::VectorXd adf = auto_diffusion_function(mesh, {t, eigenpairs});
+  const double lo = adf.minCoeff(), hi = adf.maxCoeff();
+  const Eigen::VectorXd a = hi > lo ? Eigen::VectorXd((adf.array() - lo) / (hi - lo)) : Eigen::VectorXd::Zero(adf.size());
+  return features_from_values(mesh, a, threshold, dilate);
+}
+
+}  // namespace geotex

@@ -1,0 +1,174 @@
+// Feature maps for feature-aware resizing (resize/feature_map.h): the tentacles of the stick, the
+// bumps of the plate, the marked share and its warning, and resizing real models.
+
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/resize/resize.h"
+#include "geotex/tools/shapes.h"
+#include "test_util.h"
+
+using namespace geotex;
+
+namespace {
+
+double iou(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double inter = 0, uni = 0;
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    inter += std::min(a[i], b[i]);
+    uni += std::max(a[i], b[i]);
+  }
+  return uni > 0 ? inter / uni : 0.0;
+}
+
+// The coarse tentacle stick, its true tentacles, and its automatic map (computed once: the ADF's
+// eigenproblem is the slow part).
+struct Stick {
+  std::vector<Tentacle> info;
+  TexturedShape shape;
+  Eigen::VectorXd truth;
+  FeatureMap adf;
+  Stick() : shape(tentacle_stick(0, &info)) {
+    truth = tentacle_truth(shape.base, info, TentacleOptions{}.radius);
+    FeatureMapOptions o;
+    o.method = FeatureMapMethod::Adf;
+    adf = feature_map(shape.textured, o);
+  }
+};
+const Stick& stick() {
+  static const Stick s;
+  return s;
+}
+
+}  // namespace
+
+TEST(FeatureMap, AdfFindsTheWholeTentaclesOfTheStick) {
+  const Stick& s = stick();
+  const double score = iou(s.adf.weights, s.truth);
+  std::printf("  tentacle stick (level 0), adf: IoU %.3f with the true tentacles, %s\n", score,
+              s.adf.summary.describe().c_str());
+  EXPECT_GT(score, 0.8);  // the thresholded ADF of old marked only the tips: IoU 0.37
+  EXPECT_EQ(s.adf.summary.regions, 9);
+  EXPECT_TRUE(s.adf.summary.warning.empty()) << s.adf.summary.warning;
+  // Auto is the ADF map wherever the ADF finds protrusions.
+  EXPECT_EQ(feature_map(s.shape.textured).method, FeatureMapMethod::Adf);
+}
+
+TEST(FeatureMap, AutoFallsBackToHeightOnAPlateAndFindsTheBumpsAndTheRidge) {
+  const BumpyPlate b = ridge_plate(60);
+  const FeatureMap fm = feature_map(b.mesh);
+  EXPECT_EQ(fm.method, FeatureMapMethod::Height);  // the ADF peaks at the plate's border, not on the bumps
+  const double score = iou(fm.weights, b.truth);
+  std::printf("  ridge plate, auto: IoU %.3f with the true footprints, %s\n", score, fm.summary.describe().c_str());
+  EXPECT_GT(score, 0.8);
+  EXPECT_EQ(fm.summary.regions, 5);  // four bumps and the ridge
+}
+
+TEST(FeatureMap, WarnsWhenAlmostEverythingOrNothingIsMarked) {
+  const Mesh m = icosphere(3);
+  const Eigen::Index n = m.n_vertices();
+  const FeatureSummary all = summarize_features(m, Eigen::VectorXd::Ones(n));
+  EXPECT_NEAR(all.marked_fraction, 1.0, 1e-12);
+  EXPECT_EQ(all.regions, 1);
+  EXPECT_NE(all.warning.find("more than half"), std::string::npos) << all.warning;
+  const FeatureSummary none = summarize_features(m, Eigen::VectorXd::Zero(n));
+  EXPECT_EQ(none.marked_fraction, 0.0);
+  EXPECT_NE(none.warning.find("less than 0.5%"), std::string::npos) << none.warning;
+  // A cap of a quarter of the sphere: no warning, and the area share (not the vertex count) is reported.
+  Eigen::VectorXd cap(n);
+  const MatrixX3d X = positions(m);
+  for (Eigen::Index i = 0; i < n; ++i) cap[i] = X(i, 2) > 0.5 ? 1.0 : 0.0;  // area share (1 − 0.5) / 2
+  const FeatureSummary s = summarize_features(m, cap);
+  EXPECT_NEAR(s.marked_fraction, 0.25, 0.03);
+  EXPECT_TRUE(s.warning.empty()) << s.warning;
+  EXPECT_THROW(summarize_features(m, Eigen::VectorXd::Ones(3)), InvalidInput);
+}
+
+TEST(FeatureMap, CliWarnsWhenEverythingIsMarked) {
+  geotex::test::TempDir tmp;
+  const Mesh m = icosphere(2);
+  write_mesh(m, tmp / "s.ply");
+  std::string ones;
+  for (size_t i = 0; i < m.n_vertices(); ++i) ones += "1\n";
+  geotex::test::write_file(tmp / "all.txt", ones);
+  const auto r = geotex::test::run_cli("resize " + tmp / "s.ply" + " -o " + tmp / "r.ply" + " --scale 2,1,1 --features " +
+                                       tmp / "all.txt");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("100.0% of the surface"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+}
+
+TEST(FeatureMap, SignificantBasinsStopAtTheValleyAroundAPeak) {
+  // A field with two bumps on a flat plate: the basins are the bumps' discs up to where the field
+  // turns up again, not a level set; a bump too low against the spread of the field is no feature.
+  const Mesh m = plane(40, 2.0);
+  const MatrixX3d X = positions(m);
+  Eigen::VectorXd g(X.rows());
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double r1 = (X.row(i).head<2>() - Eigen::RowVector2d(-0.4, 0)).norm();
+    const double r2 = (X.row(i).head<2>() - Eigen::RowVector2d(0.5, 0.3)).norm();
+    g[i] = std::exp(-r1 * r1 / 0.02) + 0.3 * std::exp(-r2 * r2 / 0.01) + 0.01 * std::sin(40 * X(i, 0)) * std::sin(40 * X(i, 1));
+  }
+  const Eigen::VectorXd f = significant_basins(m, g, 3.0);
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double r1 = (X.row(i).head<2>() - Eigen::RowVector2d(-0.4, 0)).norm();
+    if (r1 < 0.15) EXPECT_EQ(f[i], 1.0) << "inside the big bump";
+    if (r1 > 0.5 && (X.row(i).head<2>() - Eigen::RowVector2d(0.5, 0.3)).norm() > 0.4) EXPECT_EQ(f[i], 0.0);
+  }
+  EXPECT_THROW(significant_basins(m, Eigen::VectorXd::Zero(3), 3.0), InvalidInput);
+}
+
+// On the tentacle stick scaled ×2 along its axis and bent into an arc, every tentacle keeps its length
+// and its angle to the local base (measured on its foot ring), with the automatic features.
+TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {
+  const Stick& s = stick();
+  const Mesh& m = s.shape.textured;
+  const MatrixX3d X = positions(m);
+  SpaceMapOptions so;
+  so.scale = Vec3(2, 1, 1);
+  so.arc_radius = 6;
+  const MatrixX3d C = apply_space_map(space_map(so, bounding_box(m)), X);
+  const MatrixX3d Y = feature_aware_resize(m, C, s.adf.weights);
+  double length = 0, angle = 0, plain_angle = 0;
+  for (const Tentacle& t : s.info) {
+    const Eigen::VectorXd foot = tentacle_truth(s.shape.base, {t}, TentacleOptions{}.radius);
+    const Protrusion a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
+    length = std::max(length, std::abs(b.length / a.length - 1));
+    angle = std::max(angle, std::abs(b.angle_deg - a.angle_deg));
+    plain_angle = std::max(plain_angle, std::abs(measure_protrusion(m, C, t.foot, foot).angle_deg - a.angle_deg));
+  }
+  std::printf("  stick x2 + arc: worst length change %.1f%%, worst angle change %.1f deg (plain map %.1f deg)\n",
+              100 * length, angle, plain_angle);
+  EXPECT_LT(length, 0.05);
+  EXPECT_LT(angle, 5.0);
+  EXPECT_GT(plain_angle, 15.0);
+}
+
+// A real model with scale (2, 1, 1): the box is scaled as asked, a sensible share is marked, and every
+// feature region keeps its proportions (principal extents of its vertices, area-weighted).
+TEST(FeatureMap, RealModelKeepsItsFeaturesAndItsBox) {
+  GEOTEX_REQUIRE_DATA();
+  const Mesh m = read_mesh(geotex::test::data_dir() / "spot.obj");
+  const FeatureMap fm = feature_map(m);
+  EXPECT_GT(fm.summary.marked_fraction, 0.01);
+  EXPECT_LT(fm.summary.marked_fraction, 0.5);
+  const MatrixX3d X = positions(m);
+  const BoundingBox box = bounding_box(m);
+  const MatrixX3d Y = feature_aware_resize(m, scale_map({2, 1, 1}, box.center()), fm.weights);
+  const Vec3 ratio = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose().cwiseQuotient(box.size());
+  EXPECT_NEAR(ratio.x(), 2.0, 0.02);
+  EXPECT_NEAR(ratio.y(), 1.0, 0.01);
+  EXPECT_NEAR(ratio.z(), 1.0, 0.01);
+  const auto before = region_extents(m, X, fm.weights), after = region_extents(m, Y, fm.weights);
+  double worst = 0;
+  for (size_t k = 0; k < before.size(); ++k)
+    if (before[k].vertices.size() >= 20) worst = std::max(worst, aspect_change(before[k].extents, after[k].extents));
+  std::printf("  spot.obj x2: %s; box ratio %.4f %.4f %.4f; worst feature aspect change %.1f%%\n",
+              fm.summary.describe().c_str(), ratio.x(), ratio.y(), ratio.z(), 100 * worst);
+  EXPECT_LT(worst, 0.1);
+}

@@ -1,0 +1,132 @@
+// The base shape under a textured surface (texture/base_shape.h, thesis Sec. 8.3.1).
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/texture/measures.h"
+#include "geotex/texture/texture.h"
+#include "geotex/tools/noise.h"
+#include "geotex/tools/shapes.h"
+#include "test_util.h"
+
+using namespace geotex;
+
+namespace {
+
+// How the base treats the stick's tentacles: the smallest |d| at a foot against the tentacle's length
+// (1: the whole tentacle is texture), and the base's radial offset from the capsule in the footprints.
+struct StickBase {
+  double tip_ratio = 1e9, offset_lo = 1e9, offset_hi = -1e9;
+};
+StickBase measure_stick(const TexturedShape& s, const std::vector<Tentacle>& info, const MatrixX3d& B) {
+  StickBase m;
+  const MatrixX3d X = positions(s.textured);
+  for (const auto& t : info) m.tip_ratio = std::min(m.tip_ratio, (X.row(t.foot) - B.row(t.foot)).norm() / t.length);
+  const Eigen::VectorXd inside = tentacle_truth(s.base, info, TentacleOptions().radius);
+  for (Eigen::Index i = 0; i < B.rows(); ++i)
+    if (inside[i] > 0) {  // the feet are on the cylinder: radius 1 about the x axis
+      const double r = std::hypot(B(i, 1), B(i, 2)) - 1;
+      m.offset_lo = std::min(m.offset_lo, r);
+      m.offset_hi = std::max(m.offset_hi, r);
+    }
+  return m;
+}
+
+}  // namespace
+
+TEST(TextureBase, TentaclesLieOutsideTheRobustBaseAndDisplacementsFollowTheNormal) {
+  std::vector<Tentacle> info;
+  const TexturedShape s = tentacle_stick(0, &info);
+  const BaseShape robust = base_shape(s.textured);
+  BaseShapeOptions thesis;
+  BaseShapeOptions::table().apply_preset(thesis, "thesis");
+  const BaseShape smoothed = base_shape(s.textured, thesis);
+  const StickBase a = measure_stick(s, info, robust.positions), b = measure_stick(s, info, smoothed.positions);
+  std::cout << fmt::format(
+      "[ tentacle stick L0 base ] robust: tip |d| / length >= {:.3f}, footprint radial offset [{:.3f}, {:.3f}], median "
+      "off-normal {:.2f} deg, {} fits | thesis smoothing: {:.3f}, [{:.3f}, {:.3f}], {:.2f} deg, {} steps{}\n",
+      a.tip_ratio, a.offset_lo, a.offset_hi, robust.median_off_normal_deg, robust.passes, b.tip_ratio, b.offset_lo,
+      b.offset_hi, smoothed.median_off_normal_deg, smoothed.passes, smoothed.stopped ? "" : " (step cap)");
+  // The whole of every tentacle is texture: the base under it stays on the capsule (within 3 % of the
+  // capsule's radius), so each tip is its full length away.
+  EXPECT_GT(a.tip_ratio, 0.97);
+  EXPECT_GT(a.offset_lo, -0.03);
+  EXPECT_LT(a.offset_hi, 0.03);
+  EXPECT_LT(robust.median_off_normal_deg, 1.0);
+  Mesh base = s.textured;
+  set_positions(base, robust.positions);
+  EXPECT_EQ(folded_faces(base), 0u);
+  // The thesis' smoothing stops at its step cap with part of each tentacle in the base.
+  EXPECT_FALSE(smoothed.stopped);
+  EXPECT_LT(b.tip_ratio, 0.9);
+  // What base_shape() reports per vertex is what off_normal_angles() measures.
+  EXPECT_LT((robust.off_normal_deg - off_normal_angles(base, positions(s.textured))).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GE(robust.projected.minCoeff(), 0.0);
+  EXPECT_LE(robust.projected.maxCoeff(), 1.0);
+  EXPECT_LT(robust.projected.sum(), 0.95 * robust.projected.size());  // protrusions keep the fit
+}
+
+TEST(TextureBase, OnAScanDisplacementsFollowTheNormalAndTheRoundTripIsExact) {
+  // A scan-like input: a spiky sphere with noise on every vertex.
+  const TexturedShape s = make_shape("spiky-sphere", 1);
+  NoiseOptions no;
+  no.sigma = 0.1;
+  Mesh scan = s.textured;
+  set_positions(scan, add_noise(s.textured, no));
+  const BaseShape robust = base_shape(scan);
+  BaseShapeOptions thesis;
+  BaseShapeOptions::table().apply_preset(thesis, "thesis");
+  const BaseShape smoothed = base_shape(scan, thesis);
+  std::cout << fmt::format("[ noisy spiky sphere L1 ] median off-normal: robust {:.2f} deg, thesis smoothing {:.2f} deg\n",
+                           robust.median_off_normal_deg, smoothed.median_off_normal_deg);
+  EXPECT_LT(robust.median_off_normal_deg, 2.0);
+  EXPECT_GT(smoothed.median_off_normal_deg, 10.0);
+  Mesh base = scan;
+  set_positions(base, robust.positions);
+  TextureCodec codec(base);
+  EXPECT_LT((codec.apply(codec.extract(positions(scan))) - positions(scan)).rowwise().norm().maxCoeff(),
+            1e-3 * mean_edge_length(base));
+  // The base lies near the true one, the spikes are texture.
+  const double h = mean_edge_length(s.base);
+  std::vector<double> e;
+  for (Eigen::Index i = 0; i < robust.positions.rows(); ++i) e.push_back((robust.positions.row(i) - positions(s.base).row(i)).norm() / h);
+  std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+  EXPECT_LT(e[e.size() / 2], 0.3);
+}
+
+TEST(TextureBase, OptionsAreCheckedAndIsolatedVerticesStay) {
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  BaseShapeOptions o;
+  o.scale = 0;
+  EXPECT_THROW(base_shape(s.textured, o), InvalidInput);
+  o = {};
+  o.outlier = std::nan("");
+  EXPECT_THROW(base_shape(s.textured, o), InvalidInput);
+  // An isolated vertex has no normal: it keeps its place (zero displacement).
+  MatrixX3d V(positions(s.textured).rows() + 1, 3);
+  V << positions(s.textured), Eigen::RowVector3d(5, 5, 5);
+  const Mesh m = make_mesh(V, faces(s.textured));
+  const BaseShape b = base_shape(m);
+  EXPECT_EQ((b.positions.row(V.rows() - 1) - V.row(V.rows() - 1)).norm(), 0.0);
+}
+
+TEST(TextureBaseData, ScanDisplacementsFollowTheBaseNormal) {
+  GEOTEX_REQUIRE_DATA();
+  const Mesh m = read_mesh(geotex::test::data_dir() / "cheburashka.obj");
+  const BaseShape robust = base_shape(m);
+  BaseShapeOptions thesis;
+  BaseShapeOptions::table().apply_preset(thesis, "thesis");
+  const BaseShape smoothed = base_shape(m, thesis);
+  std::cout << fmt::format("[ cheburashka ] median off-normal: robust {:.2f} deg ({} vertices kept the fit to stay "
+                           "unfolded), thesis smoothing {:.2f} deg\n",
+                           robust.median_off_normal_deg, robust.unfolded, smoothed.median_off_normal_deg);
+  EXPECT_LT(robust.median_off_normal_deg, 2.0);
+  EXPECT_LT(robust.median_off_normal_deg, 0.2 * smoothed.median_off_normal_deg);
+}

@@ -1,0 +1,330 @@
+// Texture transfer (texture/transfer.h, thesis Sec. 8.3.3): sampling in local frames, geodesic disks,
+// one-disk transfer and whole-surface atlases.
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
+#include "geotex/texture/measures.h"
+#include "geotex/texture/texture.h"
+#include "geotex/tools/shapes.h"
+#include "test_util.h"
+
+using namespace geotex;
+
+namespace {
+
+int nearest(const Mesh& m, const Vec3& p) {
+  Eigen::Index best;
+  (positions(m).rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&best);
+  return static_cast<int>(best);
+}
+
+struct Source {
+  Mesh base;
+  Texture texture;
+  int center = 0;
+  double radius = 0;
+};
+
+// The tentacle plate: nine tentacles, all bending 60° towards +x; the patch holds the middle one whole
+// and cuts its neighbours at the rim.
+const Source& tentacle_source() {
+  static const Source s = [] {
+    const TexturedShape p = tentacle_plane(1);
+    Source out;
+    out.base = p.base;
+    out.texture = extract_texture(p.base, positions(p.textured));
+    out.center = nearest(p.base, Vec3(0, 0, 0));
+    out.radius = 1.0;
+    return out;
+  }();
+  return s;
+}
+
+void expect_kept(const TransferQuality& k, const std::string& what) {
+  std::cout << fmt::format("[ {} ] disk statistics: mean |h| {:+.1f}%, rms {:+.1f}% (on the surfaces {:+.1f}%, "
+                           "{:+.1f}%); lean {:+.2f} deg; folded faces {} (source {}); falloff step {:.1f}% of the "
+                           "height; rim cliff {:.1g}\n",
+                           what, 100 * k.mean_change, 100 * k.rms_change, 100 * k.surface_mean_change,
+                           100 * k.surface_rms_change, k.lean_change_deg, k.folded, k.source_folded,
+                           100 * k.falloff_step, k.rim_cliff);
+  EXPECT_LT(std::abs(k.mean_change), 0.05) << what;
+  EXPECT_LT(std::abs(k.rms_change), 0.05) << what;
+  EXPECT_LT(std::abs(k.lean_change_deg), 5.0) << what;
+  EXPECT_EQ(k.folded, 0u) << what;
+  EXPECT_LT(k.falloff_step, 0.10) << what;
+  EXPECT_LT(k.rim_cliff, 1e-9) << what;
+}
+
+}  // namespace
+
+TEST(TextureSampler, ReproducesTheDisplacementsAtVerticesInTheirFrames) {
+  const Source& s = tentacle_source();
+  const TextureSampler sampler(s.base, s.texture);
+  const MatrixX3i F = faces(s.base);
+  for (int f : {0, 100, 2000, 5000, 30000}) {
+    for (int k = 0; k < 3; ++k) {
+      Vec3 bary = Vec3::Zero();
+      bary[k] = 1;
+      const int v = F(f, k);
+      const Eigen::Matrix3d frame = local_frame(sampler.normals().row(v).transpose(), Vec3(0.3, 1, 0));
+      EXPECT_LT((frame * sampler.sample(f, bary, Vec3(0.3, 1, 0)) - sampler.displacements().row(v).transpose()).norm(), 1e-12);
+      EXPECT_LT((sampler.sample(f, bary, Vec3(0.3, 1, 0)) - sampler.sample_vertex(v, Vec3(0.3, 1, 0))).norm(), 1e-12);
+    }
+  }
+  // Applying the samples back in the same frames gives the texture back.
+  TextureCodec codec(s.base);
+  MatrixX3d local(s.base.n_vertices(), 3), e1(s.base.n_vertices(), 3);
+  for (Eigen::Index i = 0; i < local.rows(); ++i) {
+    e1.row(i) = Eigen::RowVector3d(1, 0.2, 0.1);
+    local.row(i) = sampler.sample_vertex(static_cast<int>(i), e1.row(i).transpose()).transpose();
+  }
+  const Texture back = texture_from_local(codec, local, e1);
+  EXPECT_LT((back.height - s.texture.height).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((codec.apply(back) - codec.apply(s.texture)).rowwise().norm().maxCoeff(), 1e-3 * mean_edge_length(s.base));
+}
+
+TEST(TextureTransfer, OntoItselfIsTheIdentity) {
+  const Source& s = tentacle_source();
+  TransferOptions o;
+  o.source_center = o.target_center = s.center;
+  o.source_radius = o.target_radius = s.radius;
+  o.falloff = 0;
+  o.refine_ratio = 0;
+  const TransferResult r = transfer_texture(s.base, s.texture, s.base, o);
+  EXPECT_EQ(r.height_factor, 1.0);
+  double err = 0;
+  for (int v : r.target_patch.vertices) err = std::max(err, std::abs(r.texture.height[v] - s.texture.height[v]));
+  EXPECT_LT(err, 1e-9);
+  // Every vertex of the disk lands where it came from.
+  EXPECT_LT((r.source_uv - r.target_uv).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT(r.target_uv.row(r.target_patch.center).norm(), 1e-15);
+}
+
+TEST(TextureTransfer, TheAnchorDirectionTurnsTheTextureAndVertexOrderDoesNot) {
+  const Source& s = tentacle_source();
+  const Mesh sphere = icosphere(4, 1.0);
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(sphere, Vec3(0, 0, 1));
+  o.target_radius = 0.6;
+  o.target_direction = Vec3(1, 0, 0);
+  // The middle tentacle's lean (towards the source's +x, the source anchor) follows the target anchor.
+  auto lean_at_top = [&](const TransferOptions& opt, const Mesh& target) {
+    const TransferResult r = transfer_texture(s.base, s.texture, target, opt);
+    const int top = opt.target_center;
+    const std::vector<Protrusion> p =
+        measure_protrusions(r.target, apply_texture(r.target, r.texture, opt.texture), std::vector<int>{top});
+    return p[0];
+  };
+  const Protrusion a = lean_at_top(o, sphere);
+  EXPECT_GT(a.direction.x(), 0.99);
+  o.target_direction = Vec3(0, 1, 0);
+  const Protrusion b = lean_at_top(o, sphere);
+  EXPECT_GT(b.direction.y(), 0.99);
+  EXPECT_NEAR(a.lean_deg, b.lean_deg, 0.5);
+  o.rotation_deg = 90;  // then a quarter turn counter-clockwise about the normal (+z): towards −x
+  EXPECT_LT(lean_at_top(o, sphere).direction.x(), -0.99);
+  // Renumbering the target's vertices (reversing their order) changes nothing.
+  o.rotation_deg = 0;
+  const MatrixX3d V = positions(sphere);
+  const MatrixX3i F = faces(sphere);
+  const Eigen::Index n = V.rows();
+  MatrixX3d Vr(n, 3);
+  MatrixX3i Fr = F;
+  for (Eigen::Index i = 0; i < n; ++i) Vr.row(n - 1 - i) = V.row(i);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) Fr(f, k) = static_cast<int>(n - 1 - F(f, k));
+  TransferOptions r = o;
+  r.target_center = static_cast<int>(n - 1 - o.target_center);
+  const Protrusion c = lean_at_top(r, make_mesh(Vr, Fr));
+  EXPECT_LT((c.direction - b.direction).norm(), 1e-6);
+  EXPECT_NEAR(c.length, b.length, 1e-9);
+}
+
+TEST(TextureTransfer, HeightsFollowTheStatedRule) {
+  const Source& s = tentacle_source();
+  const Mesh sphere = icosphere(4, 1.0);
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(sphere, Vec3(0, 0, 1));
+  o.target_radius = 0.5;
+  o.falloff = 0;
+  const double hs = s.texture.height[s.center];  // the middle tentacle's tip, at both disks' centres
+  const TransferResult a = transfer_texture(s.base, s.texture, sphere, o);
+  EXPECT_NEAR(a.height_factor, 0.5, 1e-15);
+  EXPECT_NEAR(a.texture.height[o.target_center], 0.5 * hs, 1e-9);
+  o.height_scale = 2;
+  EXPECT_NEAR(transfer_texture(s.base, s.texture, sphere, o).texture.height[o.target_center], hs, 1e-9);
+  o.height_scale = 1;
+  o.height_rule = HeightRule::Absolute;
+  EXPECT_NEAR(transfer_texture(s.base, s.texture, sphere, o).texture.height[o.target_center], hs, 1e-9);
+  // Outside the patch nothing moves.
+  const MatrixX3d Y = apply_texture(a.target, a.texture);
+  std::vector<char> in(a.target.n_vertices(), 0);
+  for (int v : a.target_patch.vertices) in[v] = 1;
+  const MatrixX3d B = positions(a.target);
+  for (Eigen::Index i = 0; i < B.rows(); ++i)
+    if (!in[i]) ASSERT_EQ((Y.row(i) - B.row(i)).norm(), 0.0);
+}
+
+TEST(TextureTransfer, TentaclesOntoASphereKeepHeightsAndLeanWithoutFoldsOrCliff) {
+  const Source& s = tentacle_source();
+  const Mesh sphere = icosphere(4, 1.0);
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(sphere, Vec3(0, 0, 1));
+  o.target_radius = 0.6;
+  const TransferResult r = transfer_texture(s.base, s.texture, sphere, o);
+  expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> icosphere(4)");
+  // The middle tentacle keeps its lean exactly (it sits at both centres).
+  const std::vector<Protrusion> src = measure_protrusions(s.base, apply_texture(s.base, s.texture), {s.center});
+  const std::vector<Protrusion> dst =
+      measure_protrusions(r.target, apply_texture(r.target, r.texture), {o.target_center});
+  EXPECT_NEAR(dst[0].lean_deg, src[0].lean_deg, 0.5);
+  EXPECT_NEAR(dst[0].length, r.height_factor * src[0].length, 1e-6);
+}
+
+TEST(TextureTransfer, ACoarseTargetIsRefinedWithAWarning) {
+  const Source& s = tentacle_source();
+  const Mesh coarse = icosphere(2, 1.0);  // 162 vertices: ~30 times coarser than the patch scaled to it
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(coarse, Vec3(0, 0, 1));
+  o.target_radius = 0.6;
+  const TransferResult r = transfer_texture(s.base, s.texture, coarse, o);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("refined"), std::string::npos) << r.warnings[0];
+  EXPECT_GT(r.added_vertices, 1000u);
+  EXPECT_EQ(r.target.n_vertices(), coarse.n_vertices() + r.added_vertices);
+  EXPECT_EQ((positions(r.target).topRows(coarse.n_vertices()) - positions(coarse)).norm(), 0.0);
+  EXPECT_GT(r.target_patch.vertices.size(), r.source_patch.vertices.size());
+  expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> icosphere(2), refined");
+  // Without refinement the patch has a handful of vertices and no warning.
+  o.refine_ratio = 0;
+  const TransferResult n = transfer_texture(s.base, s.texture, coarse, o);
+  EXPECT_TRUE(n.warnings.empty());
+  EXPECT_LT(n.target_patch.vertices.size(), 40u);
+}
+
+TEST(TextureTransfer, BadInputIsRefusedByName) {
+  const Source& s = tentacle_source();
+  const Mesh sphere = icosphere(2, 1.0);
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_radius = 0.5;
+  o.target_center = 999999;
+  EXPECT_THROW(transfer_texture(s.base, s.texture, sphere, o), InvalidInput);
+  o.target_center = 0;
+  o.falloff = 1.5;
+  EXPECT_THROW(transfer_texture(s.base, s.texture, sphere, o), InvalidOption);
+  o.falloff = 0.4;
+  o.source_radius = 0;
+  EXPECT_THROW(transfer_texture(s.base, s.texture, sphere, o), InvalidInput);
+  o.source_radius = s.radius;
+  o.target_radius = 10;  // the whole sphere: not a disk
+  EXPECT_THROW(transfer_texture(s.base, s.texture, sphere, o), InvalidInput);
+}
+
+namespace {
+
+// A plate densely covered with round bumps of random heights (a height-field texture, statistically the
+// same everywhere, with features a few edges wide).
+Source bumpy_source() {
+  Source out;
+  out.base = plane(100, 2.0);
+  const MatrixX3d X = positions(out.base);
+  Eigen::VectorXd h = Eigen::VectorXd::Zero(X.rows());
+  uint64_t state = 12345;
+  auto uniform = [&] { return double((state = state * 6364136223846793005ULL + 1442695040888963407ULL) >> 11) / double(1ULL << 53); };
+  for (int k = 0; k < 800; ++k) {
+    const Vec3 c(2 * uniform() - 1, 2 * uniform() - 1, 0);
+    const double a = 0.02 + 0.04 * uniform();
+    for (Eigen::Index i = 0; i < X.rows(); ++i) h[i] += a * std::exp(-(X.row(i).transpose() - c).squaredNorm() / (0.05 * 0.05));
+  }
+  MatrixX3d Y = X;
+  Y.col(2) += h;
+  out.texture = extract_texture(out.base, Y);
+  out.center = nearest(out.base, Vec3(0, 0, 0));
+  out.radius = 0.8;
+  return out;
+}
+
+}  // namespace
+
+TEST(TextureAtlas, CoversASphereWithoutGapsAndWithoutSeams) {
+  const Source s = bumpy_source();
+  const Mesh sphere = icosphere(5, 1.0);
+  AtlasOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_radius = 1.5;  // the texture 1.9 times as large: the sphere is finer than the source scaled to it
+  const AtlasResult r = cover_with_texture(s.base, s.texture, sphere, o);
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_GT(r.centers.size(), 8u);
+  // Covered: every vertex lies well inside some disk (within about spacing × radius of its centre).
+  EXPECT_GE(r.coverage.minCoeff(), std::pow(1 - 0.7 * 0.7, 2));
+  EXPECT_GE(r.owner.minCoeff(), 0);
+  // The texture keeps its strength (a plain average of different parts of the source would lower it).
+  std::vector<char> all(r.target.n_vertices(), 1), src(s.base.n_vertices(), 0);
+  for (int v : extract_disk_patch(s.base, s.center, s.radius).vertices) src[v] = 1;
+  const double rms_target = height_stats_linear(r.target, r.texture.height, all).rms;
+  const double rms_source = r.height_factor * height_stats_linear(s.base, s.texture.height, src).rms;
+  // No seam: across the borders between disks the height changes no faster than within the disks.
+  // Disks pasted side by side without blending (each vertex from the disk whose centre is nearest) do not.
+  const SeamQuality a = atlas_seams(r);
+  o.blend_power = 1000;
+  const SeamQuality cut = atlas_seams(cover_with_texture(s.base, s.texture, sphere, o));
+  std::cout << fmt::format("[ atlas: bumps over icosphere(5), {} disks ] rms height {:.3g} (source patch {:.3g}); "
+                           "|dh|/edge across disk borders p99 {:.3g} max {:.3g}, within disks p99 {:.3g} max {:.3g}; "
+                           "pasted without blending: across p99 {:.3g} max {:.3g}\n",
+                           r.centers.size(), rms_target, rms_source, a.across99, a.across_max, a.within99,
+                           a.within_max, cut.across99, cut.across_max);
+  EXPECT_NEAR(rms_target / rms_source, 1.0, 0.1);
+  EXPECT_LE(a.across99, 1.25 * a.within99);
+  EXPECT_LE(a.across_max, 1.5 * a.within_max);
+  EXPECT_GT(cut.across99, 2 * a.within99);
+}
+
+TEST(TextureTransferData, TentaclesOntoSpot) {
+  GEOTEX_REQUIRE_DATA();
+  const Source& s = tentacle_source();
+  const Mesh spot = read_mesh(geotex::test::data_dir() / "spot.obj");
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(spot, Vec3(0.45, 0, 0));
+  o.target_radius = 0.3;
+  const TransferResult r = transfer_texture(s.base, s.texture, spot, o);
+  EXPECT_EQ(r.warnings.size(), 1u);  // spot is coarser than the patch scaled to it
+  expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> spot");
+}
+
+TEST(TextureTransferCli, SaysWhenTheTargetIsRefined) {
+  using geotex::test::run_cli;
+  geotex::test::TempDir dir;
+  ASSERT_EQ(run_cli("generate tentacle-plane --level 0 -o " + (dir / "t.ply") + " --base-output " + (dir / "b.ply")).exit_code, 0);
+  ASSERT_EQ(run_cli("generate sphere --level 0 -o " + (dir / "s.ply")).exit_code, 0);
+  auto r = run_cli("texture extract " + (dir / "t.ply") + " --base " + (dir / "b.ply") + " -o " + (dir / "tex.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("texture transfer " + (dir / "tex.ply") + " " + (dir / "s.ply") + " -o " + (dir / "out.ply") +
+              " --source-near 0,0,0 --source-radius 1 --target-near 0,0,1 --target-radius 0.6 --texture-out " +
+              (dir / "out-tex.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: target refined"), std::string::npos) << r.err;
+  const TextureFile f = read_texture(dir / "out-tex.ply");
+  EXPECT_EQ(f.texture.lean.size(), static_cast<Eigen::Index>(f.base.n_vertices()));
+  EXPECT_GT(f.base.n_vertices(), 1000u);  // the refined target
+}
