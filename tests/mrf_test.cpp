@@ -432,3 +432,63 @@ TEST(MrfCli, HelpAndBadFlags) {
     EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << bad << ": " << r.err;
   }
 }
+
+// The thesis presets set every value the thesis gives (and the ones it leaves open) whatever the
+// struct held before: applied on top of changed defaults, they give the same run.
+TEST(MrfPresets, ThesisPresetsHoldTheThesisSettings) {
+  auto check_edges = [](const EdgeProcessOptions& e) {
+    EXPECT_EQ(e.phi0_deg, 40.0);                   // Fig. 6.3
+    EXPECT_EQ(e.support_weight, 0.5);              // Sec. 6.3.3
+    EXPECT_EQ(e.ridges, RidgeSign::All);
+    EXPECT_EQ(e.optimizer, MrfOptimizer::Metropolis);  // Sec. 6.3.5
+    EXPECT_EQ(e.temperature, 0.05);                // Fig. 6.3
+    EXPECT_EQ(e.cooling, 0.9);
+    EXPECT_EQ(e.sweeps, 1);
+    EXPECT_FALSE(e.quench);
+    EXPECT_EQ(e.phi0_start_deg, 0.0);
+  };
+  MrfOptions m;
+  m.alpha = 3;
+  m.potential = SmoothnessPotential::SquareRoot;
+  m.optimizer = MrfOptimizer::Cg;
+  m.temperature = 1;
+  m.final_sweeps = 7;
+  m.final_phi0_deg = 70;
+  m.initial_labels_from_angles = false;
+  m.edges.phi0_deg = 80;
+  m.edges.support_weight = 0;
+  m.edges.ridges = RidgeSign::Convex;
+  m.edges.optimizer = MrfOptimizer::Icm;
+  m.edges.quench = true;
+  m.edges.phi0_start_deg = 90;
+  MrfOptions::table().apply_preset(m, "thesis");
+  EXPECT_EQ(m.alpha, 0.1);                                   // Sec. 6.3.1
+  EXPECT_EQ(m.potential, SmoothnessPotential::Quadratic);    // Eq. (6.7)
+  EXPECT_EQ(m.optimizer, MrfOptimizer::Metropolis);          // Sec. 6.3.5
+  EXPECT_EQ(m.temperature, 0.0);                             // Fig. 6.3: T_v = 0
+  EXPECT_EQ(m.iterations, 20);
+  EXPECT_EQ(m.vertex_sweeps, 5);
+  EXPECT_EQ(m.final_sweeps, 0);                              // no extras
+  EXPECT_EQ(m.final_phi0_deg, 0.0);
+  EXPECT_EQ(m.tolerance, 0.0);
+  EXPECT_TRUE(m.initial_labels_from_angles);                 // Fig. 6.3
+  check_edges(m.edges);
+
+  MrfNormalOptions n;
+  n.alpha = 3;
+  n.optimizer = MrfOptimizer::Icm;
+  n.rounds = 4;
+  n.edges.quench = true;
+  n.edges.optimizer = MrfOptimizer::Icm;
+  MrfNormalOptions::table().apply_preset(n, "thesis");
+  EXPECT_EQ(n.alpha, 0.1);
+  EXPECT_EQ(n.potential, SmoothnessPotential::Quadratic);
+  EXPECT_EQ(n.optimizer, MrfOptimizer::Metropolis);
+  EXPECT_EQ(n.temperature, 0.0);
+  EXPECT_EQ(n.iterations, 20);
+  EXPECT_EQ(n.rounds, 1);
+  EXPECT_EQ(n.vertex_iterations, 20);
+  EXPECT_EQ(n.tolerance, 0.0);
+  EXPECT_TRUE(n.initial_labels_from_angles);
+  check_edges(n.edges);
+}

@@ -166,6 +166,21 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
   return r;
 }
 
+Eigen::VectorXd label_sharp_edges(const Mesh& mesh, const MatrixX3d& X, const EdgeProcessOptions& options) {
+  require_valid(mesh, "input mesh");
+  check_edge_options(options);
+  const Topology T(mesh);
+  if (X.rows() != T.nV) throw InvalidInput("label_sharp_edges: positions do not match the mesh");
+  const double h = unit_length(mesh);
+  LabelState L(T.nE);
+  MrfNormalOptions o;  // a site process that only holds the geometry: positions and their face normals
+  NormalProcess P(T, flat(X, h), L, o);
+  P.begin_round();
+  EdgeField field(T, options);
+  relabel(P, field, options.phi0_deg, L);
+  return Eigen::Map<const Eigen::VectorXd>(L.eps.data(), T.nE);
+}
+
 MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
   check_common(mesh, o.edges, o.alpha, o.temperature, o.cooling, o.step);
   if (o.optimizer != MrfOptimizer::Icm && o.optimizer != MrfOptimizer::Metropolis)

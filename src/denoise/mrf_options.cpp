@@ -26,6 +26,57 @@ std::string to_string(SmoothnessPotential p) { return enum_name(potential_names(
 std::string to_string(RidgeSign r) { return enum_name(ridge_names(), r); }
 std::string to_string(MrfOptimizer o) { return enum_name(optimizer_names(), o); }
 
+namespace {
+
+// The edge process as the thesis runs it (Sec. 6.3.3, 6.3.5, Fig. 6.3).
+void apply_thesis(EdgeProcessOptions& e) {
+  e.phi0_deg = 40;                         // Fig. 6.3: "sharpness threshold phi0 = 40°"
+  e.support_weight = 0.5;                  // Sec. 6.3.3: "weighting support energy with 1/2"
+  e.ridges = RidgeSign::All;               // curvature clamping is a variant (Sec. 6.5, Fig. 6.5)
+  e.optimizer = MrfOptimizer::Metropolis;  // Sec. 6.3.5: "the Metropolis sampler with simulated annealing"
+  e.temperature = 0.05;                    // Fig. 6.3: "edge process temperature T_E = 0.05"
+  e.cooling = 0.9;                         // not given by the thesis: annealing needs a schedule
+  e.sweeps = 1;                            // not given
+  e.quench = false;                        // no extras: the labels stay samples of the annealed process
+  e.phi0_start_deg = 0;
+}
+
+// Sec. 6.3.1–6.3.5 and Fig. 6.3: the vertex process and its alternation with the edge process.
+void apply_thesis(MrfOptions& o) {
+  o.alpha = 0.1;                                  // Sec. 6.3.1: "alpha = 0.1 ... used in all final experiments"
+  o.potential = SmoothnessPotential::Quadratic;   // Eq. (6.7), (6.13)
+  o.optimizer = MrfOptimizer::Metropolis;         // Sec. 6.3.5
+  o.temperature = 0;                              // Fig. 6.3: "vertex process temperature T_v = 0"
+  o.cooling = 0.5;                                // (irrelevant at T_v = 0)
+  o.step = 0.1;                                   // not given: the proposal's start size (adapted)
+  o.iterations = 20;                              // not given
+  o.vertex_sweeps = 5;                            // not given
+  o.tolerance = 0;                                // no early stop: a fixed number of iterations
+  o.final_sweeps = 0;                             // no extras
+  o.final_phi0_deg = 0;
+  o.initial_labels_from_angles = true;            // Fig. 6.3: "initially labelled based only on ... the dihedral angle"
+  apply_thesis(o.edges);
+}
+
+// Sec. 6.5: faces as sites, normals as labels, the same edge process, then the vertex update of [127].
+void apply_thesis(MrfNormalOptions& o) {
+  o.alpha = 0.1;                                  // as the vertex process (the thesis gives no other value)
+  o.potential = SmoothnessPotential::Quadratic;
+  o.optimizer = MrfOptimizer::Metropolis;         // Sec. 6.3.5: the Metropolis sampler for every process
+  o.temperature = 0;                              // as T_v: "quickly decays towards zero"
+  o.cooling = 0.5;
+  o.step = 0.1;                                   // not given (radians, adapted)
+  o.iterations = 20;                              // not given
+  o.normal_sweeps = 5;                            // not given (as the vertex process)
+  o.vertex_iterations = 20;                       // Sun et al. 2007's vertex update; the count is not given
+  o.rounds = 1;                                   // "the smooth normal field, which is then used for reconstructing"
+  o.tolerance = 0;
+  o.initial_labels_from_angles = true;
+  apply_thesis(o.edges);
+}
+
+}  // namespace
+
 const OptionTable<EdgeProcessOptions>& EdgeProcessOptions::table() {
   using O = EdgeProcessOptions;
   static const auto t = OptionTable<O>()
@@ -68,17 +119,10 @@ const OptionTable<MrfOptions>& MrfOptions::table() {
            "start the edge process from the edges whose dihedral angle exceeds phi0 (else from no labels)", {}, "Fig. 6.3")
       .add("seed", &O::seed, "random seed: same seed, same result on any number of threads")
       .nest(&O::edges, EdgeProcessOptions::table())
-      .preset("thesis", "the thesis' run (Fig. 6.3): Metropolis on both processes, T_E 0.05 cooled by 0.9, 20 iterations",
-              [](O& o) {
-                o.optimizer = MrfOptimizer::Metropolis;
-                o.iterations = 20;
-                o.final_sweeps = 0;
-                o.final_phi0_deg = 0;
-                o.edges.temperature = 0.05;
-                o.edges.cooling = 0.9;
-                o.edges.quench = false;
-                o.edges.phi0_start_deg = 0;
-              });
+      .preset("thesis",
+              "the thesis' run (Sec. 6.3, Fig. 6.3): Metropolis on both processes, alpha 0.1, phi0 40, T_v 0, T_E 0.05 "
+              "(cooled by 0.9 over 20 iterations: the schedule is not given), quadratic potential, no extras",
+              [](O& o) { apply_thesis(o); });
   return t;
 }
 
@@ -103,13 +147,10 @@ const OptionTable<MrfNormalOptions>& MrfNormalOptions::table() {
            "start the edge process from the edges whose dihedral angle exceeds phi0 (else from no labels)")
       .add("seed", &O::seed, "random seed")
       .nest(&O::edges, EdgeProcessOptions::table())
-      .preset("thesis", "the thesis' settings: Metropolis edge process, T_E 0.05 cooled by 0.9, 20 iterations", [](O& o) {
-        o.iterations = 20;
-        o.edges.temperature = 0.05;
-        o.edges.cooling = 0.9;
-        o.edges.quench = false;
-        o.edges.phi0_start_deg = 0;
-      });
+      .preset("thesis",
+              "the thesis' face-normal variant (Sec. 6.5): Metropolis on normals and labels, the edge process of "
+              "Fig. 6.3, one round of the vertex update of Sun et al. 2007, no extras",
+              [](O& o) { apply_thesis(o); });
   return t;
 }
 

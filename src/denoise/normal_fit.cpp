@@ -30,6 +30,29 @@ MatrixX3d fit_vertices_to_normals(const MatrixX3i& F, const MatrixX3d& X, const 
     for (Eigen::Index f = 0; f < nf; ++f)
       for (int k = 0; k < 3; ++k) vf[fill[F(f, k)]++] = static_cast<int>(f);
   }
+  // The relaxation's directions depend on the target normals only: the projector onto the eigenvectors
+  // of the mean outer product n nᵀ below a tenth of its largest eigenvalue, once per vertex.
+  std::vector<Eigen::Matrix3d> free_directions;
+  if (relaxation > 0) {
+    free_directions.resize(nv);
+#pragma omp parallel for schedule(static) if (nv > 4096)
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      const int k = off[v + 1] - off[v];
+      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+      for (int q = off[v]; q < off[v + 1]; ++q) {
+        const Vec3 nf_ = N.row(vf[q]).transpose();
+        M += nf_ * nf_.transpose();
+      }
+      Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+      if (k > 0) {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+        es.computeDirect(M / k);
+        for (int e = 0; e < 3; ++e)
+          if (es.eigenvalues()[e] < 0.1 * es.eigenvalues()[2]) P += es.eigenvectors().col(e) * es.eigenvectors().col(e).transpose();
+      }
+      free_directions[v] = P;
+    }
+  }
   MatrixX3d x = X, y(nv, 3), c(nf, 3);
   for (int it = 0; it < iterations; ++it) {
 #pragma omp parallel for schedule(static) if (nf > 4096)
@@ -47,20 +70,9 @@ MatrixX3d fit_vertices_to_normals(const MatrixX3i& F, const MatrixX3d& X, const 
       }
       y.row(v) += d.transpose() / k;
       if (relaxation > 0) {
-        Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
         Vec3 mean = Vec3::Zero();
-        for (int q = off[v]; q < off[v + 1]; ++q) {
-          const Vec3 nf_ = N.row(vf[q]).transpose();
-          M += nf_ * nf_.transpose();
-          mean += c.row(vf[q]).transpose();
-        }
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-        es.computeDirect(M / k);
-        const Vec3 u = mean / k - xv;
-        Vec3 move = Vec3::Zero();
-        for (int e = 0; e < 3; ++e)
-          if (es.eigenvalues()[e] < 0.1 * es.eigenvalues()[2]) move += es.eigenvectors().col(e) * es.eigenvectors().col(e).dot(u);
-        y.row(v) += relaxation * move.transpose();
+        for (int q = off[v]; q < off[v + 1]; ++q) mean += c.row(vf[q]).transpose();
+        y.row(v) += relaxation * (free_directions[v] * (mean / k - xv)).transpose();
       }
     }
     x.swap(y);

@@ -95,9 +95,29 @@ Vec3 sphere_quadratic_min(const Eigen::Matrix3d& A, const Vec3& b, const Vec3& p
   return n.norm() > 0 ? Vec3(n.normalized()) : prefer;
 }
 
+// The same minimiser, found first by majorisation–minimisation: with c ≥ λ_max(A) (A is positive
+// semidefinite, so its trace will do), f(n) = nᵀAn − 2bᵀn is majorised at m by a function whose minimum on
+// the sphere is n = normalize((cI − A) m + b), and f never increases along these steps. Each step is a
+// 3 by 3 product; with the parallelism weight β dominating b, the steps contract by about ‖A‖ / ‖b‖ and
+// reach the minimiser in a few steps. The eigen-decomposition above stays the fallback when they do not.
+Vec3 sphere_quadratic_min_fast(const Eigen::Matrix3d& A, const Vec3& b, const Vec3& start) {
+  const double c = A.trace();
+  const double bnorm = b.norm();
+  if (bnorm > 4.0 * c && start.norm() > 0) {
+    Vec3 n = start.normalized();
+    for (int it = 0; it < 30; ++it) {
+      const Vec3 next = (c * n - A * n + b).normalized();
+      const double change = (next - n).squaredNorm();
+      n = next;
+      if (change <= 1e-26) return n;
+    }
+  }
+  return sphere_quadratic_min(A, b, start);
+}
+
 // Block-coordinate descent on (ρ, n), each block minimised exactly; returns the final energy.
 double minimize_terms(const std::vector<SiteTerm>& terms, double alpha, double beta, Vec3& n, double& rho,
-                      int sweeps, double tolerance) {
+                      int sweeps, double tolerance, bool energy = true) {
   if (terms.empty()) {  // only the likelihood: the plane through the data point
     rho = 0;
     return 0;
@@ -120,7 +140,7 @@ double minimize_terms(const std::vector<SiteTerm>& terms, double alpha, double b
       A.noalias() += t.w * (t.u * t.u.transpose() + rho * rho * t.nj * t.nj.transpose());
       b += t.w * ((beta + rho * t.e) * t.nj - rho * t.u);
     }
-    const Vec3 next = sphere_quadratic_min(A, b, n);
+    const Vec3 next = sphere_quadratic_min_fast(A, b, n);
     const double change = (next - n).squaredNorm();
     n = next;
     if (change <= tolerance) {
@@ -135,7 +155,7 @@ double minimize_terms(const std::vector<SiteTerm>& terms, double alpha, double b
       break;
     }
   }
-  return term_energy(terms, alpha, beta, n, rho);
+  return energy ? term_energy(terms, alpha, beta, n, rho) : 0.0;
 }
 
 void build_terms(const Vec3& x, const std::vector<Vec3>& xj, const std::vector<Surfel>& sj,
@@ -556,7 +576,8 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
   std::vector<double> patch_spread;
   const std::vector<Vec3>* G = o.guided ? &guide : nullptr;
   if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
-  result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), G);
+  if (o.record_energy)
+    result.initial_energy = total_energy(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), G);
 
   if (o.cluster_moves) {
     result.cluster_moves += cluster_moves(w.X, N, w.s, o.alpha, o.beta, threshold_chord(o.t_start_deg), 20);
@@ -584,7 +605,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
           site_terms(w.X, N, w.s, i, chord, w.s.n[i], terms, G, o.irls_weights);
           Vec3 n = w.s.n[i];
           double rho = n.dot(x) - w.s.a[i];
-          minimize_terms(terms, o.alpha, o.beta, n, rho, o.local_sweeps, 1e-14);
+          minimize_terms(terms, o.alpha, o.beta, n, rho, o.local_sweeps, 1e-14, false);
           if (o.candidates && !o.guided) {
             // Compare the minimisers found with the weights of each distinct neighbouring orientation
             // (and the current surfel) on the site energy with the weights of the candidate itself,
@@ -632,8 +653,10 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
       std::swap(w.s.a, next.a);
       update_centers(w.X, w.s);
       result.thresholds_deg.push_back(t);
-      if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
-      result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord, G));
+      if (o.record_energy) {
+        if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
+        result.energy.push_back(total_energy(w.X, N, w.s, o.alpha, o.beta, chord, G));
+      }
       report(o.progress, double(++done) / std::max(total, 1), "surfel ICM");
     }
   }

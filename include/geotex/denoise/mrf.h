@@ -154,6 +154,11 @@ struct MrfNormalOptions {
 //! \throw InvalidInput for an empty mesh, non-finite coordinates or bad options.
 MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& options = {});
 
+//! Sharp edges of a fixed geometry: the edge process (Eq. 6.9–6.12) by ICM from ε = [φ > φ0] until no label
+//! changes (at most 50 sweeps), as MrfOptions::final_phi0_deg labels the denoised mesh.
+//! \param X #V by 3 positions. \return #E labels, 0 or 1 (0 on boundary edges). \throw InvalidInput.
+Eigen::VectorXd label_sharp_edges(const Mesh& mesh, const MatrixX3d& X, const EdgeProcessOptions& options = {});
+
 //! \name Clique potentials, for tests and for anyone building their own energy.
 //! A 4-clique (i, j, k, l) is the pair of faces f_ijk and f_jlk sharing the edge e_jk (Fig. 6.1).
 //! \{

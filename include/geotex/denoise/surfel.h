@@ -131,6 +131,7 @@ struct SurfelOptions {
   int iterations_per_threshold = 1;  //!< ICM sweeps at each threshold value
   double unit_length = 0;         //!< unit length; 0 = mean edge length / mean neighbour spacing
   int local_sweeps = 30;          //!< max alternations of the exact block minimisations per site
+  bool record_energy = true;      //!< compute Σ_i U_i after each sweep (SurfelResult::energy; a pass of its own)
   //! Not in the thesis: also try the weights of each distinct neighbouring orientation and keep the
   //! surfel of least site energy with its own weights (Eq. 7.13); false = the current surfel's weights
   //! only (the thesis' single local minimisation).

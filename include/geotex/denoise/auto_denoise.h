@@ -1,0 +1,99 @@
+#pragma once
+//! \file auto_denoise.h The default denoiser: one call that reads the input (noise level, creased or
+//! smooth) and runs the combination of the thesis' methods measured best on synthetic noise over the
+//! shared clean models (bench/denoise.md).
+//!
+//! The pipeline (auto_denoise()):
+//!  1. the noise level, estimate_noise();
+//!  2. a mild surfel pass (ch. 7, IRLS weights; thresholds from 2.5× the median angle between neighbouring
+//!     initial surfels down to 20°, 4 sweeps): enough for smooth (organic) surfaces, and a reading of the
+//!     surface: creased (CAD-like) when, after it, the angles between neighbouring surfels have a long tail
+//!     (98th percentile above 20× the median) or are nearly all zero (median below 1°);
+//!  3. creased surfaces only: the sharp surfel pass from the initial surfels (thresholds from 0.85× the
+//!     median angle down to 10°, 30 sweeps, cluster moves): what surfel_denoise() runs by default;
+//!  4. positions fitted to the surfels' face normals (surfel_fitted_mesh(): Sun et al. 2007 with
+//!     tangential relaxation), from the data points; same connectivity;
+//!  5. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
+//!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
+//!  6. faces turned over against their target normals are untangled (their vertices moved to the mean of
+//!     their neighbours until none is left);
+//!  7. labels: the edge process (Eq. 6.12) on the result, φ0 = 60° on creased surfaces and 75° on smooth
+//!     ones (only folds that stand out: no invented creases on organic shapes).
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
+#include "geotex/core/progress.h"
+
+namespace geotex {
+
+//! How noisy a mesh is, from leave-one-out local fits: at sampled interior vertices, a cubic height
+//! function over the tangent plane of the two-ring (without the vertex) predicts the vertex; the
+//! residuals, scaled by their expected spread, give the standard deviation of the displacement along the
+//! surface normal. Only the half of the vertices whose two-ring the cubic fits best count (creases and
+//! detail fit badly; in a least-squares fit the residuals are independent of the prediction, so this
+//! choice does not bias the vertex's own residual), and their mean square without outliers is used,
+//! which holds whatever the shape of the noise's distribution.
+//!
+//! The estimate assumes isotropic noise (random directions, `geotex noise`'s default) when it converts the
+//! normal component to a full displacement and corrects the mean edge length for the lengthening noise
+//! causes; it cannot tell noise along the normals from isotropic noise (for that, normal_sigma is the sigma).
+struct NoiseEstimate {
+  double normal_sigma = 0;  //!< std. dev. of the displacement along the normal, in (clean) mean edge lengths
+  double sigma = 0;         //!< the same as isotropic noise in random directions: √3 × normal_sigma
+  //! The RMS normal displacement including the outliers (impulsive noise: the few vertices it moved, which
+  //! normal_sigma leaves out), mean edge lengths.
+  double rms_normal_sigma = 0;
+  double outliers = 0;      //!< fraction of the residuals left out of normal_sigma as outliers
+  double mean_edge = 0;     //!< the mean edge length of the (noisy) mesh, absolute
+  //! The mean edge length before the noise, the unit of the estimate: noise lengthens edges, by
+  //! E|e_noisy|² = E|e|² + 2 s² for isotropic noise of variance s² per vertex.
+  double clean_edge = 0;
+  int samples = 0;          //!< vertices used
+};
+
+//! Estimate the noise of \p mesh from at most \p max_samples vertices (evenly strided).
+//! \throw InvalidInput for an empty mesh or one without interior vertices of large enough two-rings.
+NoiseEstimate estimate_noise(const Mesh& mesh, int max_samples = 20000);
+
+//! Options of auto_denoise(). Unset ("auto") values are derived from the input.
+struct AutoDenoiseOptions {
+  //! The noise level, as `geotex noise --sigma` (isotropic, mean edge lengths); auto: estimate_noise().
+  std::optional<double> sigma;
+  //! Whether the surface has sharp creases (CAD-like) or is smooth (organic); auto: read from the input.
+  std::optional<bool> creased;
+  int mild_iterations = 4;      //!< sweeps of the mild surfel pass (every input)
+  int sharp_iterations = 30;    //!< threshold steps of the sharp surfel pass (creased inputs)
+  int fit_iterations = 20;      //!< vertex updates fitting the positions to the normals (Sun et al. 2007)
+  //! Normal noise (mean edge lengths) at which half of the change is kept: inputs much less noisy are
+  //! returned (nearly) as they are.
+  double keep_below = 0.02;
+  //! Label edges whose dihedral angle after denoising exceeds this (degrees, Eq. 6.9's φ0 of a final edge
+  //! process); auto: 60° on creased surfaces, 75° on smooth ones.
+  std::optional<double> label_angle_deg;
+  ProgressFn progress;          //!< optional progress callback
+  static const OptionTable<AutoDenoiseOptions>& table();
+};
+
+struct AutoDenoiseResult {
+  MatrixX3d positions;                 //!< #V by 3: the input's connectivity
+  Eigen::VectorXd edge_labels;         //!< #E labels, 0 or 1 (1: a crease), OpenMesh edge order
+  NoiseEstimate noise;                 //!< the noise estimate
+  AutoDenoiseOptions resolved;         //!< the options with every automatic value set
+  std::vector<std::string> choices;    //!< what was chosen and why, one short line each
+  int turned_over = 0;                 //!< faces left turned over against their target normals (normally 0)
+  std::vector<std::pair<std::string, double>> seconds;  //!< wall time of each stage
+
+};
+
+//! Denoise \p mesh with the default pipeline (see the file's comment).
+//! \throw InvalidInput for an invalid mesh, InvalidOption for options out of range.
+AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& options = {});
+
+}  // namespace geotex
