@@ -15,7 +15,6 @@
 #include "test_util.h"
 
 using namespace geotex;
-using geotex::test::run_cli;
 using geotex::test::TempDir;
 
 namespace {
@@ -308,59 +307,4 @@ TEST(Texture, DiskPatchAndTransferOntoItselfReproducesTheTexture) {
             << " mean edges\n";
   EXPECT_LT(herr, 1e-9);
   EXPECT_LT(xerr, 1e-3 * s.h);
-}
-
-TEST(TextureCli, ExtractEditAnimateApplyAndErrors) {
-  TempDir dir;
-  ASSERT_EQ(run_cli("generate spiky-sphere --level 0 -o " + (dir / "s.ply")).exit_code, 0);
-  auto r = run_cli("texture extract " + (dir / "s.ply") + " -o " + (dir / "t.ply") + " --steps 3");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_cli("texture edit " + (dir / "t.ply") + " -o " + (dir / "t2.ply") + " --op set-tilt --angle 20 --mesh " +
-              (dir / "m.ply"));
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const TextureFile f = read_texture(dir / "t2.ply");
-  EXPECT_EQ(f.texture.height.size(), static_cast<Eigen::Index>(f.base.n_vertices()));
-  r = run_cli("texture animate " + (dir / "t.ply") + " -o " + (dir / "fr") + " --frames 2");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(std::filesystem::exists(dir / "fr_0001.ply"));
-  r = run_cli("texture apply " + (dir / "t.ply") + " -o " + (dir / "a.obj") + " --height-only");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  // Errors: one line, non-zero exit.
-  r = run_cli("texture edit " + (dir / "t.ply") + " -o " + (dir / "x.ply") + " --direction 1,2");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("--direction"), std::string::npos);
-  r = run_cli("texture apply " + (dir / "s.ply") + " -o " + (dir / "x.ply"));  // a mesh, not a texture
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("height"), std::string::npos) << r.err;
-  r = run_cli("texture edit " + (dir / "t.ply") + " -o " + (dir / "x.ply") + " --op twist");
-  EXPECT_NE(r.exit_code, 0);
-  r = run_cli("texture transfer " + (dir / "t.ply") + " " + (dir / "s.ply") + " -o " + (dir / "x.ply") +
-              " --source-center 0 --source-radius 0.3 --target-center 999999 --target-radius 0.3");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("out of range"), std::string::npos) << r.err;
-  EXPECT_EQ(run_cli("texture --help").exit_code, 0);
-  EXPECT_EQ(run_cli("texture transfer --help").exit_code, 0);
-  EXPECT_NE(run_cli("texture").exit_code, 0);
-}
-
-TEST(TextureCli, TiltSolverOptions) {
-  TempDir dir;
-  ASSERT_EQ(run_cli("generate spiky-sphere --level 0 -o " + (dir / "s.ply")).exit_code, 0);
-  const std::string extract = "texture extract " + (dir / "s.ply") + " -o " + (dir / "t.ply") + " --steps 3";
-  auto r = run_cli(extract + " --tilt-solver direct");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("tilt fit: direct"), std::string::npos) << r.err;
-  const Texture direct = read_texture(dir / "t.ply").texture;
-  r = run_cli(extract + " --tilt-solver iterative --fit-tolerance 1e-3");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("tilt fit: "), std::string::npos) << r.err;
-  const Texture iterative = read_texture(dir / "t.ply").texture;
-  EXPECT_LT((iterative.height - direct.height).cwiseAbs().maxCoeff(), 1e-12);  // heights are not fitted
-  r = run_cli(extract + " --tilt-solver cholesky");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("--tilt-solver"), std::string::npos) << r.err;
-  r = run_cli(extract + " --fit-tolerance 0");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("--fit-tolerance"), std::string::npos) << r.err;
-  EXPECT_EQ(run_cli("texture extract --help").exit_code, 0);
 }

@@ -11,6 +11,13 @@ std::vector<const FlagSet*>& registry() {
   return r;
 }
 
+// "texture extract" for a subcommand of a command, "smooth" for a command.
+std::string command_name(const CLI::App& app) {
+  std::string name = app.get_name();
+  for (const CLI::App* p = app.get_parent(); p && p->get_parent(); p = p->get_parent()) name = p->get_name() + " " + name;
+  return name;
+}
+
 const char* type_name(const OptionInfo& info) {
   switch (info.kind) {
     case OptionKind::Bool: return "";
@@ -36,7 +43,7 @@ nlohmann::json FlagSet::describe_all() {
     for (const auto& [name, flag] : set->flags_)
       for (const auto& [owner, def] : flag.defaults) {
         const OptionInfo& info = flag.by_owner.at(owner);
-        nlohmann::json& j = all[set->app_.get_name()][owner][name];
+        nlohmann::json& j = all[command_name(set->app_)][owner][name];
         j["flag"] = info.cli_flag();
         j["kind"] = kinds[static_cast<int>(info.kind)];
         j["default"] = def;

@@ -29,7 +29,8 @@ class FlagSet {
   ~FlagSet();
 
   //! Every option of every command as JSON: {command: {owner: {option: {flag, kind, default, lo, hi,
-  //! choices, automatic}}}} (the hidden `geotex options` prints it; a test compares it with Python).
+  //! choices, automatic}}}}, a subcommand named with its command ("texture extract"); the hidden
+  //! `geotex options` prints it, and a test compares it with Python.
   static nlohmann::json describe_all();
 
   //! Add a flag for every option of \p table (and a --preset flag when it has presets), owned by \p owner.

@@ -37,7 +37,8 @@ __all__ = [
     "smooth", "deform", "parametrize", "phong_project", "one_form_fit", "one_form_to_vertices",
     "auto_diffusion_function",
     "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
-    "texture_extract", "texture_apply", "texture_edit", "texture_transfer",
+    "texture_extract", "texture_apply", "texture_edit", "texture_animate", "texture_transfer", "texture_atlas",
+    "read_texture", "write_texture",
     "resize", "render", "view",
 ]
 
@@ -345,35 +346,124 @@ def pca_normals(P: Any, k: int = 10) -> np.ndarray:
 
 # ------------------------------------------------------------------------------------------------
 # Texture (ch. 8) and resizing (ch. 9)
+#
+# A texture is a Result with V_base, F (its base mesh), height (#V), tilt (#E, in edges() order),
+# lean (#V radians, or empty for the thesis' encoding) and edges; texture_extract() and read_texture()
+# make one, every texture_* function takes one (or any object or dict with those fields).
 
-def texture_extract(mesh: MeshLike, F: Any = None, V_base: Any = None, steps: int = 0, lambda_: float = 1.0,
-                    tilt_fit: str = "tangential", tilt_solver: str = "iterative") -> Result:
-    """Extract a height-and-tilt texture (Eq. 8.4–8.7; `geotex texture extract`). The base is V_base
-    (same connectivity) or, by default, implicit smoothing until the shape stops changing (steps=0).
-    Returns a Result: V_base, height (#V), tilt (#E), edges."""
+TextureLike = Any
+
+
+def _texture(texture: TextureLike) -> Tuple[Any, Any, Any, Any, Any]:
+    """(V_base, F, height, tilt, lean) of a texture given as a Result, a dict or an object."""
+    def field(name: str, default: Any = KeyError) -> Any:
+        if isinstance(texture, dict) or isinstance(texture, Result):
+            if name in texture:
+                return texture[name]
+        elif hasattr(texture, name):
+            return getattr(texture, name)
+        if default is KeyError:
+            raise TypeError(f"expected a texture (V_base, F, height, tilt and optionally lean; from texture_extract() "
+                            f"or read_texture()), not {type(texture).__name__} without '{name}'")
+        return default
+    return field("V_base"), field("F"), field("height"), field("tilt"), field("lean", None)
+
+
+def _texture_result(d: dict) -> Result:
+    return Result(**d)
+
+
+def _base_arrays(base: Any, F: Any) -> Tuple[Any, Any]:
+    """A base given as a mesh (arrays, (V, F), trimesh, Open3D) or as #V×3 positions over the faces F
+    (None for the latter's faces when F is None)."""
+    if base is None:
+        return None, None
+    if (isinstance(base, tuple) and len(base) == 2) or hasattr(base, "vertices"):
+        return _arrays(base)
+    return base, F
+
+
+@with_options("TextureExtractOptions")
+def texture_extract(mesh: MeshLike, F: Any = None, base: Any = None, **options: Any) -> Result:
+    """Extract a height-and-tilt texture from a textured mesh (Eq. 8.4–8.7; `geotex texture extract`).
+
+    base: the base mesh, as #V×3 positions over the textured mesh's faces (the vertex correspondence) or
+    as a mesh of any connectivity (the textured vertices are projected onto it along its Phong normals);
+    None (default): the automatic base (Sec. 8.3.1), set by the base options (an option of the automatic
+    base given with a base raises InvalidInput).
+    Returns a texture Result (V_base, F, height, tilt, lean, edges) with base_source ('given',
+    'projected', 'automatic'), median_off_normal_deg, fit_iterative, fit_iterations, max_error and
+    height_only_error (largest reconstruction error in mean edges, with and without the tilt) and
+    parameters."""
     V, F = _arrays(mesh, F)
-    return Result(**_geotex.texture_extract(V, F, V_base, steps, lambda_, tilt_fit, tilt_solver))
+    Vb, Fb = _base_arrays(base, None)
+    return _texture_result(_geotex.texture_extract(V, F, Vb, Fb, options))
 
 
-def texture_apply(V_base: Any, F: Any, height: Any, tilt: Any) -> np.ndarray:
-    """Reconstruct the textured surface from a base (any pose, same connectivity), heights and tilt
-    (Eq. 8.8; `geotex texture apply`). Returns #V×3 positions."""
-    return _geotex.texture_apply(V_base, F, height, tilt)
+@with_options("TextureApplyOptions")
+def texture_apply(texture: TextureLike, base: Any = None, **options: Any) -> Result:
+    """Apply a texture to its own base or to a deformed or rescaled one of the same connectivity
+    (Sec. 8.4.2; `geotex texture apply`). base: #V×3 positions, or a mesh with the texture's faces.
+    Returns a Result: V (#V×3, the textured surface) and F."""
+    Vb, F, h, t, lean = _texture(texture)
+    Vn, Fn = _base_arrays(base, None)
+    V = _geotex.texture_apply(Vb, F, h, t, lean, Vn, Fn, options)
+    return Result(V=V, F=np.asarray(F if Fn is None else Fn))
 
 
-def texture_edit(V_base: Any, F: Any, height: Any, tilt: Any, op: str, direction: Sequence[float] = (1.0, 0.0, 0.0),
-                 angle: float = 30.0, wavelength: float = 0.0, phase: float = 0.0, factor: float = 1.0) -> Tuple[np.ndarray, np.ndarray]:
+@with_options("TextureEditOptions")
+def texture_edit(texture: TextureLike, **options: Any) -> Result:
     """Edit a texture (Sec. 8.4.1; `geotex texture edit`): op 'set-tilt', 'wrap', 'wiggle' or
-    'scale-height'. Returns (height, tilt)."""
-    return _geotex.texture_edit(V_base, F, height, tilt, op, list(direction), angle, wavelength, phase, factor)
+    'scale-height'. Returns the edited texture (a texture Result on the same base) with parameters."""
+    return _texture_result(_geotex.texture_edit(*_texture(texture), options))
 
 
-def texture_transfer(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any, F_target: Any, source_center: int,
-                     source_radius: float, target_center: int, target_radius: float, rotation: float = 0.0) -> Result:
-    """Transfer a disk patch of texture to a disk patch of another base via conformal maps (Sec. 8.3.3;
-    `geotex texture transfer`). Returns a Result: height, tilt, V (the textured target), target_vertices."""
-    return Result(**_geotex.texture_transfer(V_base, F, height, tilt, V_target, F_target, source_center, source_radius,
-                                              target_center, target_radius, rotation))
+@with_options("AnimationOptions")
+def texture_animate(texture: TextureLike, **options: Any) -> Result:
+    """Frames of an edit in motion (Fig. 8.7; `geotex texture animate`): the tilt system is factored
+    once, each frame re-solved. Returns a Result: frames (#frames×#V×3 positions), F, parameters."""
+    return Result(**_geotex.texture_animate(*_texture(texture), options))
+
+
+@with_options("TransferOptions")
+def texture_transfer(texture: TextureLike, target: MeshLike, F_target: Any = None,
+                     source_near: Optional[Sequence[float]] = None, target_near: Optional[Sequence[float]] = None,
+                     **options: Any) -> Result:
+    """Transfer a geodesic disk of a texture onto a geodesic disk of another base (Sec. 8.3.3;
+    `geotex texture transfer`). The disks are centred at source_center / target_center, or at the
+    vertex nearest to the point source_near / target_near (x, y, z). A refined target raises a
+    UserWarning. Returns a Result: V, F (the textured target; refined where it was coarser), texture
+    (the target's texture Result), source_center, target_center, source_patch, target_patch,
+    target_vertices, added_vertices, height_factor, falloff, warnings, parameters."""
+    Vt, Ft = _arrays(target, F_target)
+    r = _geotex.texture_transfer(*_texture(texture), Vt, Ft, source_near, target_near, options)
+    r["texture"] = _texture_result(r["texture"])
+    return Result(**r)
+
+
+@with_options("AtlasOptions")
+def texture_atlas(texture: TextureLike, target: MeshLike, F_target: Any = None,
+                  source_near: Optional[Sequence[float]] = None, **options: Any) -> Result:
+    """Cover a whole surface with copies of one texture disk, blended where they overlap (`geotex
+    texture atlas`). The source disk is centred at source_center or at the vertex nearest to
+    source_near. Returns a Result: V, F (the textured target), texture, source_center, centers,
+    coverage (#V: largest disk weight, 0 uncovered), owner, added_vertices, height_factor, warnings,
+    parameters."""
+    Vt, Ft = _arrays(target, F_target)
+    r = _geotex.texture_atlas(*_texture(texture), Vt, Ft, source_near, options)
+    r["texture"] = _texture_result(r["texture"])
+    return Result(**r)
+
+
+def read_texture(path: Union[str, os.PathLike]) -> Result:
+    """Read a texture file (PLY: base mesh, vertex height and lean, edge tilt; as the CLI writes it).
+    Returns a texture Result: V_base, F, height, tilt, lean, edges."""
+    return _texture_result(_geotex.read_texture(_path(path)))
+
+
+def write_texture(path: Union[str, os.PathLike], texture: TextureLike, binary: bool = True) -> None:
+    """Write a texture file atomically (PLY, readable by `geotex texture apply|edit|…`)."""
+    _geotex.write_texture(_path(path), *_texture(texture), binary)
 
 
 def resize(mesh: MeshLike, F: Any = None, scale: Optional[Sequence[float]] = None, deformed: Any = None,

@@ -21,6 +21,7 @@ __version__: str
 __all__: List[str]
 
 MeshLike = Any
+TextureLike = Any
 
 class Result:
     def __init__(self, **fields: Any) -> None: ...

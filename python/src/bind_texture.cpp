@@ -1,6 +1,12 @@
-// Python bindings of height-and-tilt geometric texture (thesis ch. 8).
+// Python bindings of height-and-tilt geometric texture (thesis ch. 8): one function per `geotex texture`
+// subcommand, options from the same tables, and texture files.
+//
+// A texture crosses the boundary as its base (V_base, F) and its arrays (height #V, tilt #E, lean #V or
+// empty); the Python side (geotex/__init__.py) packs them into Result objects.
 
 #include "common.h"
+
+#include <optional>
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
@@ -9,93 +15,237 @@
 namespace geotex::python {
 
 namespace {
-Texture texture_of(const Mesh& base, py::handle height, py::handle tilt) {
-  return Texture{to_vector(height, base.n_vertices(), "height"), to_vector(tilt, base.n_edges(), "tilt")};
+
+struct PyTexture {
+  Mesh base;
+  Texture texture;
+};
+
+// A texture from its base and arrays (the GIL held: conversions may warn).
+PyTexture texture_of(py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean) {
+  PyTexture t;
+  t.base = to_mesh(V_base, F);
+  const auto nv = static_cast<Eigen::Index>(t.base.n_vertices());
+  t.texture.height = to_vector(height, nv, "height");
+  t.texture.tilt = to_vector(tilt, static_cast<Eigen::Index>(t.base.n_edges()), "tilt");
+  if (!lean.is_none() && py::len(lean) > 0) t.texture.lean = to_vector(lean, nv, "lean");
+  return t;
 }
+
+py::dict texture_dict(const Mesh& base, const Texture& t) {
+  py::dict d;
+  d["V_base"] = VArray(positions(base));
+  d["F"] = FArray(faces(base));
+  d["height"] = t.height;
+  d["tilt"] = t.tilt;
+  d["lean"] = t.lean;
+  d["edges"] = MatrixX2i(edges(base));
+  return d;
+}
+
+// Warnings of a computation, raised once the GIL is held again.
+void warn(const std::vector<std::string>& warnings) {
+  for (const auto& w : warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
+}
+
+std::optional<Vec3> point_or_none(py::handle p, const char* what) {
+  if (p.is_none()) return std::nullopt;
+  OptionInfo info;
+  info.name = what;
+  info.kind = OptionKind::Vec3;
+  return std::get<Vec3>(from_python(info, p));
+}
+
+// A mesh of \p stored's connectivity: \p V (#V by 3) over \p F, or over stored's faces when F is None.
+Mesh same_connectivity(const Mesh& stored, py::handle V, py::handle F, const char* what) {
+  Mesh m = stored;
+  if (F.is_none()) {
+    const MatrixX3d X = to_points(V, what);
+    if (X.rows() != static_cast<Eigen::Index>(stored.n_vertices()))
+      throw InvalidInput(std::string(what) + ": expected " + std::to_string(stored.n_vertices()) + " positions, got " +
+                         std::to_string(X.rows()));
+    set_positions(m, X);
+    return m;
+  }
+  m = to_mesh(V, F);
+  if (m.n_vertices() != stored.n_vertices() || faces(m) != faces(stored))
+    throw InvalidInput(std::string(what) + ": must have the texture's connectivity (" +
+                       std::to_string(stored.n_vertices()) + " vertices, " + std::to_string(stored.n_faces()) + " faces)");
+  return m;
+}
+
 }  // namespace
 
 void bind_texture(py::module_& m) {
-  m.def("texture_extract", [](py::handle V, py::handle F, py::object V_base, int steps, double lambda_, const std::string& tilt_fit,
-                              const std::string& tilt_solver) {
-        if (tilt_fit != "tangential" && tilt_fit != "full")
-          throw InvalidInput("texture_extract: tilt_fit must be 'tangential' or 'full', got '" + tilt_fit + "'");
-        if (tilt_solver != "iterative" && tilt_solver != "direct")
-          throw InvalidInput("texture_extract: tilt_solver must be 'iterative' or 'direct', got '" + tilt_solver + "'");
-        const Mesh textured = to_mesh(V, F);
-        MatrixX3d B;
-        if (V_base.is_none()) {
-          BaseShapeOptions o;
-          o.steps = steps;
-          o.lambda = lambda_;
-          B = extract_base_shape(textured, o);
-        } else {
-          B = to_points(V_base, "V_base");
-        }
-        Mesh base = textured;
-        set_positions(base, B);
-        TextureOptions to;
-        to.tangential_fit = tilt_fit == "tangential";
-        to.solver = tilt_solver == "direct" ? TiltSolver::Direct : TiltSolver::Iterative;
-        const Texture t = extract_texture(base, positions(textured), to);
-        return py::dict(py::arg("V_base") = VArray(B), py::arg("height") = t.height, py::arg("tilt") = t.tilt,
-                        py::arg("edges") = MatrixX2i(edges(base)));
-      },
-      py::arg("V"), py::arg("F"), py::arg("V_base") = py::none(), py::arg("steps") = 0, py::arg("lambda_") = 1.0,
-      py::arg("tilt_fit") = "tangential", py::arg("tilt_solver") = "iterative",
-      R"doc(Extract a height-and-tilt texture (Eq. 8.4–8.7). The base is V_base (same connectivity) or, by
-default, implicit smoothing until the shape stops changing (steps=0). tilt_fit: "tangential" (the tilt's
-tangent components) or "full" (Eq. 5.81 as in the thesis); tilt_solver: "iterative" or "direct" (as the
-CLI's --tilt-fit and --tilt-solver). Returns V_base, height (#V), tilt (#E).)doc");
+  register_table<TextureExtractOptions>("TextureExtractOptions");
+  register_table<TextureApplyOptions>("TextureApplyOptions");
+  register_table<TextureEditOptions>("TextureEditOptions");
+  register_table<AnimationOptions>("AnimationOptions");
+  register_table<TransferOptions>("TransferOptions");
+  register_table<AtlasOptions>("AtlasOptions");
 
-  m.def("texture_apply", [](py::handle V_base, py::handle F, py::handle height_, py::handle tilt_) {
-        const Mesh base = to_mesh(V_base, F);
-        return VArray(apply_texture(base, texture_of(base, height_, tilt_)));
-      },
-      py::arg("V_base"), py::arg("F"), py::arg("height"), py::arg("tilt"),
-      "Reconstruct the textured surface from a base (any pose, same connectivity), heights and tilt (Eq. 8.8).");
+  m.def("texture_extract", [](py::handle V, py::handle F, py::handle V_base, py::handle F_base, py::dict kw) {
+    CallOptions call = call_options(kw);
+    // As on the command line: the automatic base's options mean nothing with a given base (only the
+    // options given reach here), and projection onto a base nothing without one.
+    for (auto item : kw) {
+      std::string name = py::cast<std::string>(item.first);
+      if (!name.empty() && name.back() == '_') name.pop_back();
+      if (!V_base.is_none() && BaseShapeOptions::table().find(name))
+        throw InvalidOption("option " + name + " sets the automatic base; it does not apply with base=");
+      if (V_base.is_none() && name == "project_onto_base") throw InvalidOption("option project_onto_base needs base=");
+    }
+    TextureExtractOptions o = to_options<TextureExtractOptions>(kw, call);
+    o.base.progress = call.progress;
+    const Mesh textured = to_mesh(V, F);
+    std::optional<Mesh> base;
+    if (!V_base.is_none()) base = F_base.is_none() ? same_connectivity(textured, V_base, F_base, "base") : to_mesh(V_base, F_base);
+    const TextureExtraction r = run(call, [&] { return texture_extraction(textured, base ? &*base : nullptr, o); });
+    py::dict d = texture_dict(r.base, r.texture);
+    static const char* sources[] = {"given", "projected", "automatic"};
+    d["base_source"] = sources[static_cast<int>(r.source)];
+    d["median_off_normal_deg"] = r.median_off_normal_deg;
+    d["projection_missed"] = r.missed;
+    if (r.source == BaseSource::Automatic) {
+      d["base_passes"] = r.shape.passes;
+      d["base_stopped"] = r.shape.stopped;
+      d["base_weight"] = r.shape.weight;
+    }
+    d["fit_iterative"] = r.fit.iterative;
+    d["fit_iterations"] = r.fit.iterations;
+    d["max_error"] = r.max_error;
+    d["height_only_error"] = r.height_only_error;
+    d["parameters"] = options_dict(o);
+    return d;
+  });
 
-  m.def("texture_edit", [](py::handle V_base, py::handle F, py::handle height_, py::handle tilt_,
-                           const std::string& op, std::vector<double> direction, double angle, double wavelength,
-                           double phase, double factor) {
-        const Mesh base = to_mesh(V_base, F);
-        TextureCodec codec(base);
-        const Texture t = texture_of(base, height_, tilt_);
-        if (direction.size() != 3) throw InvalidInput("direction must have 3 values");
-        const Vec3 dir(direction[0], direction[1], direction[2]);
-        Texture out;
-        if (op == "set-tilt") out = set_tilt(codec, t, dir, angle);
-        else if (op == "wrap") out = wrap(codec, t, dir, angle);
-        else if (op == "wiggle")
-          out = wiggle(codec, t, dir, angle, wavelength > 0 ? wavelength : bounding_box(base).diagonal() / 4, phase);
-        else if (op == "scale-height") out = scale_height(t, factor);
-        else throw InvalidInput("op must be set-tilt, wrap, wiggle or scale-height");
-        return py::make_tuple(out.height, out.tilt);
-      },
-      py::arg("V_base"), py::arg("F"), py::arg("height"), py::arg("tilt"), py::arg("op"),
-      py::arg("direction") = std::vector<double>{1, 0, 0}, py::arg("angle") = 30.0, py::arg("wavelength") = 0.0,
-      py::arg("phase") = 0.0, py::arg("factor") = 1.0,
-      "Edit a texture (Sec. 8.4.1): set-tilt, wrap, wiggle, scale-height. Returns (height, tilt).");
+  m.def("texture_apply", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
+                            py::handle V_new, py::handle F_new, py::dict kw) {
+    CallOptions call = call_options(kw);
+    const TextureApplyOptions o = to_options<TextureApplyOptions>(kw, call);
+    const PyTexture t = texture_of(V_base, F, height, tilt, lean);
+    const Mesh base = V_new.is_none() ? t.base : same_connectivity(t.base, V_new, F_new, "base");
+    return VArray(run(call, [&] { return apply_texture(base, t.texture, o); }));
+  });
 
-  m.def("texture_transfer", [](py::handle V_base, py::handle F, py::handle height_, py::handle tilt_,
-                               py::handle V_target, py::handle F_target, int source_center, double source_radius, int target_center,
-                               double target_radius, double rotation) {
-        TransferOptions o;
-        o.source_center = source_center;
-        o.source_radius = source_radius;
-        o.target_center = target_center;
-        o.target_radius = target_radius;
-        o.rotation_deg = rotation;
-        const Mesh target = to_mesh(V_target, F_target);
-        const Mesh source = to_mesh(V_base, F);
-        const TransferResult r = transfer_texture(source, texture_of(source, height_, tilt_), target, o);
-        return py::dict(py::arg("height") = r.texture.height, py::arg("tilt") = r.texture.tilt,
-                        py::arg("V") = VArray(apply_texture(target, r.texture)),
-                        py::arg("target_vertices") = r.target_vertices);
-      },
-      py::arg("V_base"), py::arg("F"), py::arg("height"), py::arg("tilt"), py::arg("V_target"), py::arg("F_target"),
-      py::arg("source_center"), py::arg("source_radius"), py::arg("target_center"), py::arg("target_radius"),
-      py::arg("rotation") = 0.0,
-      "Transfer a disk patch of texture to a disk patch of another base via conformal maps (Sec. 8.3.3).");
+  m.def("texture_edit", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
+                           py::dict kw) {
+    CallOptions call = call_options(kw);
+    const TextureEditOptions o = to_options<TextureEditOptions>(kw, call);
+    const PyTexture t = texture_of(V_base, F, height, tilt, lean);
+    const Texture edited = run(call, [&] { return edit_texture(t.base, t.texture, o); });
+    py::dict d = texture_dict(t.base, edited);
+    d["parameters"] = options_dict(o);
+    return d;
+  });
+
+  m.def("texture_animate", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
+                              py::dict kw) {
+    CallOptions call = call_options(kw);
+    const AnimationOptions o = to_options<AnimationOptions>(kw, call);
+    const PyTexture t = texture_of(V_base, F, height, tilt, lean);
+    const auto n = static_cast<py::ssize_t>(t.base.n_vertices());
+    py::array_t<double> frames({static_cast<py::ssize_t>(o.frames), n, py::ssize_t(3)});
+    double* out = frames.mutable_data();
+    run(call, [&] {
+      TextureAnimator animator(t.base, t.texture, o);
+      for (int k = 0; k < o.frames; ++k) {
+        const MatrixX3d X = animator.positions(k);
+        Eigen::Map<VArray>(out + k * n * 3, n, 3) = X;
+        report(call.progress, double(k + 1) / o.frames, "frames");
+      }
+    });
+    py::dict d;
+    d["frames"] = frames;
+    d["F"] = FArray(faces(t.base));
+    d["parameters"] = options_dict(o);
+    return d;
+  });
+
+  m.def("texture_transfer", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
+                               py::handle V_target, py::handle F_target, py::handle source_near, py::handle target_near,
+                               py::dict kw) {
+    CallOptions call = call_options(kw);
+    TransferOptions o = to_options<TransferOptions>(kw, call);
+    const auto snear = point_or_none(source_near, "source_near"), tnear = point_or_none(target_near, "target_near");
+    if (snear && kw.contains("source_center")) throw InvalidOption("give source_center or source_near, not both");
+    if (tnear && kw.contains("target_center")) throw InvalidOption("give target_center or target_near, not both");
+    const PyTexture s = texture_of(V_base, F, height, tilt, lean);
+    const Mesh target = to_mesh(V_target, F_target);
+    if (snear) o.source_center = nearest_vertex(s.base, *snear);
+    if (tnear) o.target_center = nearest_vertex(target, *tnear);
+    MatrixX3d Y;
+    const TransferResult r = run(call, [&] {
+      TransferResult res = transfer_texture(s.base, s.texture, target, o);
+      Y = apply_texture(res.target, res.texture, o.texture);
+      return res;
+    });
+    warn(r.warnings);
+    py::dict d;
+    d["V"] = VArray(Y);
+    d["F"] = FArray(faces(r.target));
+    d["texture"] = texture_dict(r.target, r.texture);
+    d["source_center"] = o.source_center;
+    d["target_center"] = o.target_center;
+    d["source_patch"] = r.source_patch.vertices;
+    d["target_patch"] = r.target_patch.vertices;
+    d["target_vertices"] = r.target_vertices;
+    d["added_vertices"] = r.added_vertices;
+    d["height_factor"] = r.height_factor;
+    d["falloff"] = r.falloff;
+    d["warnings"] = r.warnings;
+    d["parameters"] = options_dict(o);
+    return d;
+  });
+
+  m.def("texture_atlas", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
+                            py::handle V_target, py::handle F_target, py::handle source_near, py::dict kw) {
+    CallOptions call = call_options(kw);
+    AtlasOptions o = to_options<AtlasOptions>(kw, call);
+    const auto snear = point_or_none(source_near, "source_near");
+    if (snear && kw.contains("source_center")) throw InvalidOption("give source_center or source_near, not both");
+    o.progress = call.progress;
+    const PyTexture s = texture_of(V_base, F, height, tilt, lean);
+    const Mesh target = to_mesh(V_target, F_target);
+    if (snear) o.source_center = nearest_vertex(s.base, *snear);
+    MatrixX3d Y;
+    const AtlasResult r = run(call, [&] {
+      AtlasResult res = cover_with_texture(s.base, s.texture, target, o);
+      Y = apply_texture(res.target, res.texture, o.texture);
+      return res;
+    });
+    warn(r.warnings);
+    py::dict d;
+    d["V"] = VArray(Y);
+    d["F"] = FArray(faces(r.target));
+    d["texture"] = texture_dict(r.target, r.texture);
+    d["source_center"] = o.source_center;
+    d["centers"] = r.centers;
+    d["coverage"] = r.coverage;
+    d["owner"] = r.owner;
+    d["added_vertices"] = r.added_vertices;
+    d["height_factor"] = r.height_factor;
+    d["warnings"] = r.warnings;
+    d["parameters"] = options_dict(o);
+    return d;
+  });
+
+  m.def("read_texture", [](const std::string& path) {
+    TextureFile f;
+    {
+      py::gil_scoped_release release;
+      f = read_texture(path);
+    }
+    return texture_dict(f.base, f.texture);
+  });
+
+  m.def("write_texture", [](const std::string& path, py::handle V_base, py::handle F, py::handle height,
+                            py::handle tilt, py::handle lean, bool binary) {
+    const PyTexture t = texture_of(V_base, F, height, tilt, lean);
+    py::gil_scoped_release release;
+    write_texture(path, t.base, t.texture, binary);
+  });
 }
 
 }  // namespace geotex::python

@@ -125,32 +125,3 @@ def test_one_form_round_trip_of_a_constant_field_on_a_plane():
     T = np.tile([0.3, -0.7, 0.0], (len(V), 1))
     c = geotex.one_form_fit(V, F, T)
     assert np.abs(geotex.one_form_to_vertices(V, F, c) - T).max() < 1e-8
-
-
-def test_texture_tilt_fit_options_agree_on_an_exact_texture():
-    (Vt, F), (Vb, _) = geotex.generate("spiky-sphere", level=0, with_base=True)
-    h = geotex.mean_edge_length(Vb, F)
-    for fit in ("tangential", "full"):
-        for solver in ("iterative", "direct"):
-            tex = geotex.texture_extract(Vt, F, V_base=Vb, tilt_fit=fit, tilt_solver=solver)
-            rebuilt = geotex.texture_apply(Vb, F, tex["height"], tex["tilt"])
-            assert np.abs(rebuilt - Vt).max() < 1e-3 * h, (fit, solver)
-    with pytest.raises(ValueError):
-        geotex.texture_extract(Vt, F, V_base=Vb, tilt_fit="normal")
-
-
-def test_texture_round_trip_and_edits():
-    (Vt, F), (Vb, _) = geotex.generate("spiky-sphere", level=1, with_base=True)
-    tex = geotex.texture_extract(Vt, F, V_base=Vb)
-    rebuilt = geotex.texture_apply(Vb, F, tex["height"], tex["tilt"])
-    h = geotex.mean_edge_length(Vb, F)
-    assert np.abs(rebuilt - Vt).max() < 1e-3 * h
-    # a height field alone (tilt dropped) cannot hold leaning spikes
-    flat = geotex.texture_apply(Vb, F, tex["height"], np.zeros_like(tex["tilt"]))
-    assert np.abs(flat - Vt).max() > 1.0 * h
-    # rigid motion of the base moves the textured surface rigidly
-    R = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]])
-    moved = geotex.texture_apply(Vb @ R.T, F, tex["height"], tex["tilt"])
-    assert np.abs(moved - rebuilt @ R.T).max() < 1e-3 * h
-    h2, t2 = geotex.texture_edit(Vb, F, tex["height"], tex["tilt"], op="scale-height", factor=2.0)
-    assert np.allclose(h2, 2 * tex["height"]) and np.allclose(t2, tex["tilt"])

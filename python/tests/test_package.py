@@ -152,6 +152,12 @@ CLI_TO_PYTHON = {
     ("surfels", "surfels"): "point_surfels",
     ("render", "render"): "render",
     ("view", "view"): "view",
+    ("texture extract", "extract"): "texture_extract",
+    ("texture apply", "apply"): "texture_apply",
+    ("texture edit", "edit"): "texture_edit",
+    ("texture animate", "animate"): "texture_animate",
+    ("texture transfer", "transfer"): "texture_transfer",
+    ("texture atlas", "atlas"): "texture_atlas",
 }
 
 

@@ -111,6 +111,15 @@ Vec3 unit_or_throw(const Vec3& v, const char* what) {
   return v.normalized();
 }
 
+// A texture with one height (and lean, if any) per vertex and one tilt per edge of \p base.
+void require_matching(const Mesh& base, const Texture& t, const char* what) {
+  const auto nv = static_cast<Eigen::Index>(base.n_vertices()), ne = static_cast<Eigen::Index>(base.n_edges());
+  if (t.height.size() != nv || t.tilt.size() != ne || (t.lean.size() != 0 && t.lean.size() != nv))
+    throw InvalidInput(std::string(what) + ": the texture (" + std::to_string(t.height.size()) + " heights, " +
+                       std::to_string(t.tilt.size()) + " tilts) does not match the base (" + std::to_string(nv) +
+                       " vertices, " + std::to_string(ne) + " edges)");
+}
+
 }  // namespace
 
 TextureCodec::TextureCodec(const Mesh& base, const TextureOptions& options)
@@ -290,6 +299,91 @@ Texture height_field_only(const Texture& texture) {
   return t;
 }
 
+const OptionTable<TextureApplyOptions>& TextureApplyOptions::table() {
+  using O = TextureApplyOptions;
+  static const auto t = OptionTable<O>()
+      .add("height_scale", &O::height_scale, "multiply every height by this (negative: bumps become dents)")
+      .add("height_only", &O::height_only, "drop the tilt: a plain height field along the normals", {}, "Eq. (8.5)");
+  return t;
+}
+
+MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureApplyOptions& options) {
+  TextureApplyOptions::table().check(options);
+  require_matching(base, texture, "apply texture");
+  Texture t = scale_height(texture, options.height_scale);
+  if (options.height_only) t = height_field_only(t);
+  return apply_texture(base, t);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Extraction from a textured mesh alone
+
+const OptionTable<TextureExtractOptions>& TextureExtractOptions::table() {
+  using O = TextureExtractOptions;
+  static const auto t = OptionTable<O>()
+      .nest(&O::base, BaseShapeOptions::table())
+      .nest(&O::texture, TextureOptions::table())
+      .add("project_onto_base", &O::project_onto_base,
+           "with a given base of the same connectivity: project the textured vertices onto it along its Phong "
+           "normals instead of using it vertex for vertex",
+           {}, "Sec. 8.3.1, 5.2")
+      .preset("thesis",
+              "the thesis' base (implicit umbrella smoothing until the shape stops changing) and encoding (Eq. 8.6-8.8, "
+              "full fit, |c_ij| <= |e_ij|, direct)",
+              [](O& o) {
+                BaseShapeOptions::table().apply_preset(o.base, "thesis");
+                TextureOptions::table().apply_preset(o.texture, "thesis");
+              });
+  return t;
+}
+
+namespace {
+
+bool same_connectivity(const Mesh& a, const Mesh& b) {
+  return a.n_vertices() == b.n_vertices() && a.n_faces() == b.n_faces() && faces(a) == faces(b);
+}
+
+double median_of(Eigen::VectorXd v) {
+  if (v.size() == 0) return 0;
+  std::nth_element(v.data(), v.data() + v.size() / 2, v.data() + v.size());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+TextureExtraction texture_extraction(const Mesh& textured, const Mesh* base, const TextureExtractOptions& options) {
+  TextureExtractOptions::table().check(options);
+  require_valid(textured, "texture extraction: textured mesh");
+  TextureExtraction r;
+  const MatrixX3d X = positions(textured);
+  if (base) {
+    require_valid(*base, "texture extraction: base");
+    if (!options.project_onto_base && same_connectivity(*base, textured)) {
+      r.source = BaseSource::Given;
+      r.base = *base;
+    } else {
+      r.source = BaseSource::Projected;
+      r.base = project_onto_base(textured, *base, &r.missed);
+    }
+    r.median_off_normal_deg = median_of(off_normal_angles(r.base, X));
+  } else {
+    BaseShapeOptions o = options.base;
+    if (o.steps > 0) o.method = BaseMethod::Smoothing;  // a step count asks for the thesis' smoothing
+    r.source = BaseSource::Automatic;
+    r.shape = base_shape(textured, o);
+    r.base = textured;
+    set_positions(r.base, r.shape.positions);
+    r.median_off_normal_deg = r.shape.median_off_normal_deg;
+  }
+  TextureCodec codec(r.base, options.texture);
+  r.texture = codec.extract(X);
+  r.fit = codec.last_fit();
+  const double h = mean_edge_length(r.base);
+  r.max_error = (codec.apply(r.texture) - X).rowwise().norm().maxCoeff() / h;
+  r.height_only_error = (codec.apply(height_field_only(r.texture)) - X).rowwise().norm().maxCoeff() / h;
+  return r;
+}
+
 Texture TextureCodec::from_directions(const MatrixX3d& D, const Eigen::VectorXd& height) {
   const Eigen::Index n = X_.rows();
   if (D.rows() != n || height.size() != n)
@@ -375,6 +469,47 @@ Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& directio
   return codec.from_directions(D, texture.height);
 }
 
+const EnumNames<TextureEditKind>& texture_edit_names() {
+  static const EnumNames<TextureEditKind> n = {{"set-tilt", TextureEditKind::SetTilt},
+                                               {"wrap", TextureEditKind::Wrap},
+                                               {"wiggle", TextureEditKind::Wiggle},
+                                               {"scale-height", TextureEditKind::ScaleHeight}};
+  return n;
+}
+
+const OptionTable<TextureEditOptions>& TextureEditOptions::table() {
+  using O = TextureEditOptions;
+  static const auto t = OptionTable<O>()
+      .choice("op", &O::op, texture_edit_names(),
+              "set-tilt (lean every displacement), wrap (bend, more towards the tips), wiggle (a wave in the tilt) "
+              "or scale-height",
+              "Sec. 8.4.1")
+      .add("direction", &O::direction, "lean direction (projected onto each tangent plane)")
+      .add("angle", &O::angle_deg, "degrees: set-tilt lean, wrap bend at the highest point, wiggle amplitude")
+      .add("wavelength", &O::wavelength, "wiggle: wavelength along the direction (0: a quarter of the box diagonal)",
+           non_negative())
+      .add("phase", &O::phase, "wiggle: phase in wavelengths")
+      .add("factor", &O::factor, "scale-height: the factor")
+      .nest(&O::texture, TextureOptions::table())
+      .preset("thesis", "the thesis' encoding and fit of the edited tilt (Eq. 8.6-8.8, 5.81; Sec. 8.5)",
+              [](O& o) { TextureOptions::table().apply_preset(o.texture, "thesis"); });
+  return t;
+}
+
+Texture edit_texture(const Mesh& base, const Texture& texture, const TextureEditOptions& o) {
+  TextureEditOptions::table().check(o);
+  require_matching(base, texture, "edit texture");
+  if (o.op == TextureEditKind::ScaleHeight) return scale_height(texture, o.factor);
+  TextureCodec codec(base, o.texture);
+  switch (o.op) {
+    case TextureEditKind::SetTilt: return set_tilt(codec, texture, o.direction, o.angle_deg);
+    case TextureEditKind::Wrap: return wrap(codec, texture, o.direction, o.angle_deg);
+    default: break;
+  }
+  const double wavelength = o.wavelength > 0 ? o.wavelength : 0.25 * bounding_box(base).diagonal();
+  return wiggle(codec, texture, o.direction, o.angle_deg, wavelength, o.phase);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Animation
 
@@ -395,7 +530,10 @@ const OptionTable<AnimationOptions>& AnimationOptions::table() {
       .add("wavelength", &O::wavelength, "wiggle: wavelength along the direction (0: a quarter of the box diagonal)",
            non_negative())
       .add("refit", &O::refit,
-           "fit each frame's tilt 1-form (factored once per base); false: displace along the edited directions");
+           "fit each frame's tilt 1-form (factored once per base); false: displace along the edited directions")
+      .nest(&O::texture, TextureOptions::table())
+      .preset("thesis", "the thesis' encoding and fit of each frame's tilt (Eq. 8.6-8.8, 5.81; Sec. 8.5)",
+              [](O& o) { TextureOptions::table().apply_preset(o.texture, "thesis"); });
   return t;
 }
 
@@ -409,10 +547,10 @@ struct TextureAnimator::Impl {
   Impl(const Mesh& base, const TextureOptions& o) : codec(base, o) {}
 };
 
-TextureAnimator::TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options,
-                                 const TextureOptions& texture_options) {
+TextureAnimator::TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options) {
   AnimationOptions::table().check(options);
-  TextureOptions o = texture_options;
+  require_matching(base, texture, "animation");
+  TextureOptions o = options.texture;
   // One factorization of the tilt system for every frame (the tangential fit's exact minimiser does not
   // depend on the weights: TextureCodec::encode_tilt); CGLS would restart from scratch each frame.
   o.solver = TiltSolver::Direct;

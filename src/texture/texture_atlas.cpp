@@ -139,6 +139,7 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
     Eigen::Index far = 0;
     const double gap = dmin.maxCoeff(&far);
     c = gap > o.spacing * R ? static_cast<int>(far) : -1;
+    if (o.progress) report(o.progress, c < 0 ? 1.0 : double((dmin.array() <= o.spacing * R).count()) / n, "disks");
   }
   if (skipped)
     res.warnings.push_back(fmt::format("{} disk(s) of radius down to {:.4g} were not disks (thin parts or handles) "

@@ -168,6 +168,21 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius) {
   return extract_disk_patch(mesh, center, radius, heat_geodesic_distance(mesh, {center}));
 }
 
+int nearest_vertex(const Mesh& mesh, const Vec3& point) {
+  if (mesh.n_vertices() == 0) throw InvalidInput("nearest vertex: the mesh has no vertices");
+  if (!point.allFinite()) throw InvalidInput("nearest vertex: non-finite point");
+  int best = 0;
+  double d = std::numeric_limits<double>::infinity();
+  for (auto v : mesh.vertices()) {
+    const double e = (to_eigen(mesh.point(v)) - point).squaredNorm();
+    if (e < d) {
+      d = e;
+      best = v.idx();
+    }
+  }
+  return best;
+}
+
 namespace detail {
 
 MatrixX3d face_u_directions(const Mesh& mesh, const MatrixX2d& uv) {

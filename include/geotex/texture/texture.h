@@ -159,6 +159,57 @@ MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureO
 //! The same texture with the tilt (and lean) dropped: a plain height field along the normals.
 Texture height_field_only(const Texture& texture);
 
+//! Re-applying a texture (`geotex texture apply`, geotex.texture_apply()).
+struct TextureApplyOptions {
+  double height_scale = 1.0;  //!< multiply every height by this
+  bool height_only = false;   //!< drop the tilt (and lean): a plain height field along the normals
+  static const OptionTable<TextureApplyOptions>& table();
+};
+
+//! apply_texture() of the texture with its heights scaled and, with height_only, its tilt dropped.
+//! \return #V by 3. \throw InvalidInput for bad options or a texture that does not match \p base.
+MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureApplyOptions& options);
+
+// ---------------------------------------------------------------------------------------------
+// Extraction from a textured mesh alone (`geotex texture extract`, geotex.texture_extract())
+
+struct TextureExtractOptions {
+  //! The automatic base (when no base is given). A step count (steps > 0) asks for the thesis'
+  //! smoothing (BaseMethod::Smoothing) whatever the method says.
+  BaseShapeOptions base;
+  TextureOptions texture;  //!< the tilt fit
+  //! A given base with the textured mesh's connectivity is used vertex for vertex; with this set, the
+  //! textured vertices are projected onto it along its Phong normals, as onto a base of any connectivity.
+  bool project_onto_base = false;
+  //! Table: the base's options, the texture's, project_onto_base; preset "thesis": both thesis presets.
+  static const OptionTable<TextureExtractOptions>& table();
+};
+
+//! Where the base of an extraction came from.
+enum class BaseSource {
+  Given,      //!< the given base, vertex for vertex (same connectivity: the correspondence)
+  Projected,  //!< the textured vertices projected onto the given base along its Phong normals (Sec. 5.2)
+  Automatic,  //!< base_shape() of the textured mesh (Sec. 8.3.1)
+};
+
+struct TextureExtraction {
+  Mesh base;        //!< the base used: the textured mesh's connectivity and vertex order
+  Texture texture;  //!< over \ref base
+  BaseSource source = BaseSource::Automatic;
+  BaseShape shape;  //!< Automatic: what base_shape() found (passes, stopped, projected, weights)
+  size_t missed = 0;  //!< Projected: textured vertices without an inside solution (the closest point taken)
+  double median_off_normal_deg = 0;  //!< median angle of the displacements from the base normals
+  TiltFitReport fit;                 //!< how the tilt was fitted
+  double max_error = 0;  //!< largest distance of a reconstructed vertex from its textured one, in mean edges
+  double height_only_error = 0;  //!< the same for the height field alone (what the tilt adds)
+};
+
+//! The texture of \p textured over \p base, or over the automatic base when \p base is null
+//! (Sec. 8.3.1–8.3.2, Eq. 8.4–8.7), and how well it reconstructs \p textured.
+//! \throw InvalidInput for bad options or meshes; SolverError if a solve fails.
+TextureExtraction texture_extraction(const Mesh& textured, const Mesh* base,
+                                     const TextureExtractOptions& options = {});
+
 // ---------------------------------------------------------------------------------------------
 // Editing and animation (Sec. 8.4.1, Fig. 8.7). Angles in degrees; a direction is any 3D vector,
 // projected onto each vertex's tangent plane.
@@ -175,6 +226,32 @@ Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction,
 //! Animate with phase = frame / frames.
 Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& direction, double amplitude_deg,
                double wavelength, double phase);
+
+//! One edit of a whole texture (Sec. 8.4.1).
+enum class TextureEditKind {
+  SetTilt,      //!< set_tilt()
+  Wrap,         //!< wrap()
+  Wiggle,       //!< wiggle()
+  ScaleHeight,  //!< scale_height()
+};
+//! "set-tilt", "wrap", "wiggle", "scale-height".
+const EnumNames<TextureEditKind>& texture_edit_names();
+
+struct TextureEditOptions {
+  TextureEditKind op = TextureEditKind::SetTilt;
+  Vec3 direction = Vec3::UnitX();  //!< lean direction (projected onto each tangent plane)
+  double angle_deg = 30;           //!< set-tilt lean, wrap bend at the highest point, wiggle amplitude
+  double wavelength = 0;           //!< wiggle: along the direction; 0 = a quarter of the box diagonal
+  double phase = 0;                //!< wiggle: in wavelengths
+  double factor = 1;               //!< scale-height: the factor
+  TextureOptions texture;          //!< re-encoding the edited texture
+  //! Table; preset "thesis": the thesis' encoding and fit (TextureOptions' preset).
+  static const OptionTable<TextureEditOptions>& table();
+};
+
+//! The edited texture, on the same base. \throw InvalidInput for bad options or a texture that does
+//! not match \p base.
+Texture edit_texture(const Mesh& base, const Texture& texture, const TextureEditOptions& options);
 
 //! An edit in motion (Fig. 8.7).
 enum class AnimationKind {
@@ -195,6 +272,9 @@ struct AnimationOptions {
   //! back-substitution per frame) or displace along the edited directions directly (false: the same
   //! surface up to the fit's tolerance, no solve at all).
   bool refit = true;
+  //! Decoding and re-encoding; the tilt system is always factored (TiltSolver::Direct) here.
+  TextureOptions texture;
+  //! Table; preset "thesis": the thesis' encoding and fit (TextureOptions' preset).
   static const OptionTable<AnimationOptions>& table();
 };
 
@@ -204,8 +284,7 @@ struct AnimationOptions {
 class TextureAnimator {
  public:
   //! \throw InvalidInput for bad options or a texture that does not match the base.
-  TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options = {},
-                  const TextureOptions& texture_options = {});
+  TextureAnimator(const Mesh& base, const Texture& texture, const AnimationOptions& options = {});
   ~TextureAnimator();
   TextureAnimator(TextureAnimator&&) noexcept;
   TextureAnimator& operator=(TextureAnimator&&) noexcept;

@@ -85,6 +85,10 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const 
 //! The same with the heat-method distance from \p center (toolkit/geodesic.h).
 DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius);
 
+//! The vertex of \p mesh nearest to \p point (a patch centre given by a point rather than a vertex id).
+//! \throw InvalidInput for a mesh without vertices or a non-finite point.
+int nearest_vertex(const Mesh& mesh, const Vec3& point);
+
 //! A disk patch on the unit disk: the discrete conformal map with the boundary on the circle (Eq. 5.85),
 //! moved by the Möbius transformation z ↦ (z − a)/(1 − ā z) that takes the centre to 0 (conformal, the
 //! circle stays the circle), and turned so that the anchor direction at the centre points along +u.
@@ -186,6 +190,7 @@ struct AtlasOptions {
   double refine_ratio = 1.0;    //!< refine the target where coarser than this × the scaled source (0: never)
   HeatGeodesicOptions geodesic;
   TextureOptions texture;
+  ProgressFn progress;  //!< called after each disk with the share of the target covered
   static const OptionTable<AtlasOptions>& table();
 };
 
