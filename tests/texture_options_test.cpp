@@ -44,6 +44,21 @@ TEST(TextureOptions, TablesAreConsistentAndThePresetsAreTheThesis) {
   expect_table_is_consistent<AtlasOptions>("AtlasOptions");
   expect_table_is_consistent<AnimationOptions>("AnimationOptions");
   expect_table_is_consistent<HeatGeodesicOptions>("HeatGeodesicOptions");
+  expect_table_is_consistent<TextureExtractOptions>("TextureExtractOptions");
+  expect_table_is_consistent<TextureApplyOptions>("TextureApplyOptions");
+  expect_table_is_consistent<TextureEditOptions>("TextureEditOptions");
+  // The commands' thesis presets are their parts' thesis presets.
+  TextureExtractOptions e;
+  TextureExtractOptions::table().apply_preset(e, "thesis");
+  EXPECT_EQ(e.base.method, BaseMethod::Smoothing);
+  EXPECT_FALSE(e.base.project);
+  EXPECT_EQ(e.texture.encoding, TiltEncoding::OneForm);
+  TextureEditOptions d;
+  TextureEditOptions::table().apply_preset(d, "thesis");
+  EXPECT_EQ(d.texture.solver, TiltSolver::Direct);
+  AnimationOptions a;
+  AnimationOptions::table().apply_preset(a, "thesis");
+  EXPECT_TRUE(a.texture.bound_tilt);
   TextureOptions t;
   TextureOptions::table().apply_preset(t, "thesis");
   EXPECT_EQ(t.encoding, TiltEncoding::OneForm);

@@ -308,3 +308,44 @@ TEST(Texture, DiskPatchAndTransferOntoItselfReproducesTheTexture) {
   EXPECT_LT(herr, 1e-9);
   EXPECT_LT(xerr, 1e-3 * s.h);
 }
+
+// What `geotex texture extract|edit|apply` and Python call: the same results as the pieces they are
+// made of, and a texture of another base refused by name rather than read out of bounds.
+TEST(Texture, CommandEntryPointsAreTheirPieces) {
+  const TexturedShape s = make_shape("spiky-sphere", 0);
+  const double h = mean_edge_length(s.base);
+  TextureExtractOptions o;
+  o.texture.solver = TiltSolver::Direct;
+  const TextureExtraction given = texture_extraction(s.textured, &s.base, o);
+  EXPECT_EQ(given.source, BaseSource::Given);
+  const Texture direct = extract_texture(s.base, positions(s.textured), o.texture);
+  EXPECT_LT((given.texture.tilt - direct.tilt).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT(given.max_error, 1e-3);
+  EXPECT_GT(given.height_only_error, 1.0);  // leaning spikes: the tilt matters
+  EXPECT_NEAR(given.max_error * h, max_error(apply_texture(s.base, given.texture), positions(s.textured)), 1e-12);
+  o.project_onto_base = true;
+  EXPECT_EQ(texture_extraction(s.textured, &s.base, o).source, BaseSource::Projected);
+  o.base.steps = 2;  // a step count asks for the thesis' smoothing
+  const TextureExtraction automatic = texture_extraction(s.textured, nullptr, o);
+  EXPECT_EQ(automatic.source, BaseSource::Automatic);
+  EXPECT_EQ(automatic.shape.passes, 2);
+
+  TextureCodec codec(s.base);
+  TextureEditOptions e;
+  e.angle_deg = 25;
+  e.direction = Vec3(0, 1, 0);
+  EXPECT_LT((edit_texture(s.base, given.texture, e).tilt - set_tilt(codec, given.texture, e.direction, 25).tilt)
+                .cwiseAbs().maxCoeff(), 1e-9);
+  TextureApplyOptions a;
+  a.height_scale = 2;
+  a.height_only = true;
+  EXPECT_LT(max_error(apply_texture(s.base, given.texture, a),
+                      apply_texture(s.base, height_field_only(scale_height(given.texture, 2)))), 1e-12);
+
+  const TexturedShape other = make_shape("spiky-sphere", 1);
+  EXPECT_THROW(edit_texture(other.base, given.texture, e), InvalidInput);
+  EXPECT_THROW(apply_texture(other.base, given.texture, a), InvalidInput);
+  EXPECT_THROW(TextureAnimator(other.base, given.texture), InvalidInput);
+  e.wavelength = -1;
+  EXPECT_THROW(edit_texture(s.base, given.texture, e), InvalidOption);
+}

@@ -171,6 +171,7 @@ void bind_texture(py::module_& m) {
     const auto snear = point_or_none(source_near, "source_near"), tnear = point_or_none(target_near, "target_near");
     if (snear && kw.contains("source_center")) throw InvalidOption("give source_center or source_near, not both");
     if (tnear && kw.contains("target_center")) throw InvalidOption("give target_center or target_near, not both");
+    o.progress = call.progress;
     const PyTexture s = texture_of(V_base, F, height, tilt, lean);
     const Mesh target = to_mesh(V_target, F_target);
     if (snear) o.source_center = nearest_vertex(s.base, *snear);

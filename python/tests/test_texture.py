@@ -122,8 +122,10 @@ def test_transfer_and_atlas():
     (Vp, Fp), (Vpb, _) = geotex.generate("bumpy-plate", level=0, with_base=True)
     tex = geotex.texture_extract(Vp, Fp, base=Vpb)
     Vs, Fs = geotex.generate("sphere", level=1)
+    stages = []
     r = geotex.texture_transfer(tex, Vs, Fs, source_near=(0, 0, 0), target_near=(0, 0, 1), source_radius=0.5,
-                                target_radius=0.5, refine_ratio=0)
+                                target_radius=0.5, refine_ratio=0, progress=lambda f, stage: stages.append(stage))
+    assert stages[-1] == "encoding"
     assert r.V.shape == Vs.shape and np.array_equal(r.F, Fs) and r.added_vertices == 0
     assert r.texture.height.shape == (len(Vs),) and np.all(r.texture.height[Vs[:, 2] < 0] == 0)
     assert r.target_center == int(np.argmin(np.linalg.norm(Vs - [0, 0, 1], axis=1)))

@@ -383,6 +383,7 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
                        " out of range [0, " + std::to_string(nt) + ")");
   const detail::SourceDisk src(source_base, source, o.source_center, o.source_radius, o.source_direction,
                                o.rotation_deg, o.geodesic, o.texture);
+  report(o.progress, 0.3, "source disk");
   TransferResult res;
   res.source_patch = src.patch;
   const double lateral = o.target_radius / o.source_radius;
@@ -403,8 +404,10 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
     }
   }
   res.target_patch = extract_disk_patch(res.target, o.target_center, o.target_radius, dist);
+  report(o.progress, 0.6, "target disk");
   const DiskPatch& T = res.target_patch;
   const DiskMap map = disk_map(T, o.target_direction);
+  report(o.progress, 0.8, "conformal map");
   res.source_uv = src.uv;
   res.target_uv = map.uv;
   const MatrixX3d e1_patch = detail::vertex_u_directions(T.mesh, map.e1);
@@ -424,6 +427,7 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
   res.target_vertices = T.vertices.size();
   TextureCodec codec(res.target, o.texture);
   res.texture = texture_from_local(codec, local, e1);
+  report(o.progress, 1.0, "encoding");
   return res;
 }
 

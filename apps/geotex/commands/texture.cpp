@@ -214,6 +214,7 @@ void run_transfer(const TransferFiles& a, const FlagSet& flags) {
   const Mesh target = load_mesh(a.target);
   o.source_center = center_of(src.base, o.source_center, source_near, "source");
   o.target_center = center_of(target, o.target_center, target_near, "target");
+  o.progress = progress_printer("transfer");
   const auto t0 = std::chrono::steady_clock::now();
   const TransferResult r = transfer_texture(src.base, src.texture, target, o);
   warn(r.warnings);

@@ -138,6 +138,7 @@ struct TransferOptions {
   double refine_ratio = 1.0;
   HeatGeodesicOptions geodesic;  //!< geodesic distance on both surfaces
   TextureOptions texture;        //!< decoding the source, encoding the target
+  ProgressFn progress;           //!< called after each stage (source disk, target disk, map, encoding)
   //! Table; preset "thesis": absolute heights, no falloff, no refinement, the one-form encoding.
   static const OptionTable<TransferOptions>& table();
 };
