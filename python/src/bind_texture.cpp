@@ -43,12 +43,6 @@ py::dict texture_dict(const Mesh& base, const Texture& t) {
   return d;
 }
 
-// Warnings of a computation, raised once the GIL is held again.
-void warn(const std::vector<std::string>& warnings) {
-  for (const auto& w : warnings)
-    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
-}
-
 std::optional<Vec3> point_or_none(py::handle p, const char* what) {
   if (p.is_none()) return std::nullopt;
   OptionInfo info;
@@ -182,7 +176,7 @@ void bind_texture(py::module_& m) {
       Y = apply_texture(res.target, res.texture, o.texture);
       return res;
     });
-    warn(r.warnings);
+    for (const auto& w : r.warnings) warn(w);  // the GIL held again
     py::dict d;
     d["V"] = VArray(Y);
     d["F"] = FArray(faces(r.target));
@@ -216,7 +210,7 @@ void bind_texture(py::module_& m) {
       Y = apply_texture(res.target, res.texture, o.texture);
       return res;
     });
-    warn(r.warnings);
+    for (const auto& w : r.warnings) warn(w);  // the GIL held again
     py::dict d;
     d["V"] = VArray(Y);
     d["F"] = FArray(faces(r.target));
