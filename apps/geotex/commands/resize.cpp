@@ -33,7 +33,7 @@ std::string take_feature_file(CLI::App& app) {
   for (const auto& [name, method] : feature_map_names())
     if (value == name) return {};
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(value, ec))
+  if (!std::filesystem::exists(value, ec))
     throw InvalidOption(fmt::format("--features: '{}' is neither a map (auto, height, adf, none) nor a feature file", value));
   opt->clear();
   return value;
