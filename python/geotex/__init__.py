@@ -290,6 +290,15 @@ def _denoise_result(d: dict) -> Result:
     return Result(**d)
 
 
+@with_options("AutoDenoiseOptions")
+def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """The default denoiser (`geotex denoise`, --method auto): estimates the noise, reads whether the
+    surface is creased or smooth, then surfels, positions fitted to them and edge labels, with every
+    parameter derived from the input (auto_denoise.h). Returns a Result: V, F (same connectivity),
+    edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), parameters."""
+    return _denoise_result(_geotex.denoise_auto(*_arrays(mesh, F), options))
+
+
 @with_options("MrfOptions")
 def denoise_mrf(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
     """MRF denoising with a vertex process and an edge-labelling process (thesis ch. 6; `geotex denoise
@@ -312,7 +321,7 @@ def denoise_surfel(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
     return _denoise_result(_geotex.denoise_surfel(*_arrays(mesh, F), options))
 
 
-_DENOISERS = {"mrf": denoise_mrf, "mrf-normal": denoise_mrf_normal, "surfel": denoise_surfel}
+_DENOISERS = {"auto": denoise_auto, "mrf": denoise_mrf, "mrf-normal": denoise_mrf_normal, "surfel": denoise_surfel}
 
 
 def denoise_methods() -> List[str]:
@@ -320,9 +329,9 @@ def denoise_methods() -> List[str]:
     return list(_DENOISERS)
 
 
-def denoise(mesh: MeshLike, F: Any = None, *, method: str = "mrf", **options: Any) -> Result:
+def denoise(mesh: MeshLike, F: Any = None, *, method: str = "auto", **options: Any) -> Result:
     """Denoise a mesh and find its sharp edges (`geotex denoise`). `method` chooses the function
-    called with the same options: 'mrf' → denoise_mrf(), 'mrf-normal' → denoise_mrf_normal(),
+    called with the same options: 'auto' (the default) → denoise_auto(), 'mrf' → denoise_mrf(), 'mrf-normal' → denoise_mrf_normal(),
     'surfel' → denoise_surfel() (see each for its options and defaults; an option of another method
     raises TypeError). preset='thesis' gives each method as the thesis runs it."""
     fn = _DENOISERS.get(method)
