@@ -11,16 +11,6 @@
 
 namespace geotex::python {
 
-namespace {
-
-// The summary's warning (everything or almost nothing marked) as a UserWarning; needs the GIL.
-void warn(const FeatureSummary& s) {
-  if (s.warning.empty()) return;
-  if (PyErr_WarnEx(PyExc_UserWarning, s.warning.c_str(), 1) != 0) throw py::error_already_set();
-}
-
-}  // namespace
-
 void bind_resize(py::module_& m) {
   register_table<ResizeRunOptions>("ResizeRunOptions");
   register_table<FeatureMapOptions>("FeatureMapOptions");
@@ -38,7 +28,7 @@ void bind_resize(py::module_& m) {
         if (!weights.is_none()) f = to_vector(weights, mesh.n_vertices(), "features");
         else if (!feature_file.is_none()) f = read_feature_file(py::cast<std::string>(feature_file), mesh, o.feature_file);
         const ResizeResult r = run(call, [&] { return resize_mesh(mesh, o, D ? &*D : nullptr, f ? &*f : nullptr); });
-        warn(r.summary);
+        if (!r.summary.warning.empty()) warn(r.summary.warning);  // with the GIL, after the work
         return VArray(r.V);
       });
 
@@ -48,7 +38,7 @@ void bind_resize(py::module_& m) {
         o.progress = call.progress;
         const Mesh mesh = to_mesh(V, F);
         const FeatureMap r = run(call, [&] { return feature_map(mesh, o); });
-        warn(r.summary);
+        if (!r.summary.warning.empty()) warn(r.summary.warning);
         return py::dict(py::arg("weights") = r.weights, py::arg("field") = r.field,
                         py::arg("detector") = enum_name(feature_map_names(), r.method),
                         py::arg("marked_fraction") = r.summary.marked_fraction,
