@@ -39,7 +39,7 @@ __all__ = [
     "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
     "texture_extract", "texture_apply", "texture_edit", "texture_animate", "texture_transfer", "texture_atlas",
     "read_texture", "write_texture",
-    "resize", "render", "view",
+    "resize", "feature_map", "render", "view",
 ]
 
 
@@ -475,13 +475,36 @@ def write_texture(path: Union[str, os.PathLike], texture: TextureLike, binary: b
     _geotex.write_texture(_path(path), *_texture(texture), binary)
 
 
-def resize(mesh: MeshLike, F: Any = None, scale: Optional[Sequence[float]] = None, deformed: Any = None,
-           features: Any = "auto", method: str = "sliding", feature_threshold: float = 0.5) -> np.ndarray:
-    """Feature-aware resizing (ch. 9; `geotex resize`). Give scale=(sx, sy, sz) (about the box centre)
-    or deformed=#V×3 positions from any space deformation. features: 'auto', 'height', or #V weights
-    in [0, 1]. method: 'sliding' (default) or 'thesis' (Eq. 9.2–9.3). Returns #V×3 positions."""
+@with_options("ResizeRunOptions")
+def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any = "auto",
+           **options: Any) -> np.ndarray:
+    """Feature-aware resizing and deformation (ch. 9; `geotex resize`, the same library call).
+    The deformation: scale=(sx, sy, sz), twist, bend, arc_radius (about the bounding box's centre), or
+    deformed=#V×3 positions from any other deformation (e.g. deform()). features: a map name ('auto',
+    'height', 'adf', 'none'; the same feature_map() as the command line), #V weights in [0, 1], or a
+    feature file (text, or PLY with vertex 'feature' or 'height'). A UserWarning says when the map marks
+    more than half or less than 0.5% of the surface. Returns the resized #V×3 positions."""
     V, F = _arrays(mesh, F)
-    return _geotex.resize(V, F, scale, deformed, features, method, feature_threshold)
+    weights = path = None
+    if isinstance(features, str) and features in _FEATURE_MAPS:
+        options["features"] = features
+    elif isinstance(features, (str, os.PathLike)):
+        path = _path(features)
+    else:
+        weights = features
+    return _geotex.resize(V, F, deformed, weights, path, options)
+
+
+@with_options("FeatureMapOptions")
+def feature_map(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """The feature map of resizing (Sec. 9.4; what `geotex resize --features` and resize() use).
+    Returns a Result: weights (#V in {0, 1}), field (the height or ADF it was grown on), detector
+    (the one used; for 'auto', the one chosen), marked_fraction, marked_vertices, regions, warning
+    (also raised as a UserWarning), parameters."""
+    return Result(**_geotex.feature_map(*_arrays(mesh, F), options))
+
+
+_FEATURE_MAPS = tuple(next(f for f in table("FeatureMapOptions")["fields"] if f["name"] == "features")["choices"])
 
 
 # ------------------------------------------------------------------------------------------------

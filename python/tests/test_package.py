@@ -159,6 +159,7 @@ CLI_TO_PYTHON = {
     ("texture animate", "animate"): "texture_animate",
     ("texture transfer", "transfer"): "texture_transfer",
     ("texture atlas", "atlas"): "texture_atlas",
+    ("resize", "resize"): "resize",
 }
 
 
