@@ -50,12 +50,6 @@ void save_mesh(const Mesh& mesh, const std::string& path, bool binary) {
   info(fmt::format("wrote {} ({} vertices, {} faces)", path, mesh.n_vertices(), mesh.n_faces()));
 }
 
-void check_output(const std::string& input, const std::string& output) {
-  std::error_code ec;
-  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
-    info(fmt::format("geotex: note: {} is both input and output; it is replaced only once the result is complete", output));
-}
-
 Outputs::Outputs(std::initializer_list<std::string> inputs,
                  std::initializer_list<std::pair<std::string, std::string>> outputs) {
   for (const auto& i : inputs) input(i);
