@@ -96,10 +96,10 @@ DemoRegistrar param{22, "parametrization", [](const DemoContext& ctx) {
                                        "mean |log area ratio| {:.3f}", cap.n_faces(), name, q.flipped,
                                        q.mean_angle_error_deg, q.mean_log_area_ratio));
     static const std::map<std::string, std::string> what = {
-        {"conformal", "keeps angles (squares stay square, shrink towards the rim)"},
-        {"authalic", "keeps areas (squares keep their size, shear near the rim)"},
-        {"combined", "between the two"},
-        {"natural", "conformal with a free boundary"}};
+        {"conformal", "aims to keep angles (squares stay square)"},
+        {"authalic", "aims to keep areas (squares keep their size)"},
+        {"combined", "a mix of the two"},
+        {"natural", "conformal with a free boundary (the rim is not forced onto a circle)"}};
     add_figure(ctx, {.mesh = fmt::format("cap-uv-{}.ply", name),
                      .caption = fmt::format("Parametrization (Sec. 5.4), {}: a UV checkerboard on the spherical cap; "
                                             "{}. Mean angle error {:.2f}&deg;, mean |log area ratio| {:.3f}, {} flipped.",
