@@ -153,7 +153,7 @@ for size in $SIZES; do
   run "$size" cap "texture apply" "$fs" "${G[@]}" texture apply "$o/texture.ply" -o "$o/textured.ply"
 
   run "$size" cap "resize --scale 2,1,1 (auto features, sliding)" "$fp" "${G[@]}" resize "$d/spiky-plane.ply" \
-    -o "$o/resized.ply" --scale 2 1 1
+    -o "$o/resized.ply" --scale 2,1,1
 
   run "$size" cap "param (conformal, disk)" "$fp" "${G[@]}" param "$d/spiky-plane.ply" -o "$o/param.obj" --json
   if [ "$COMPARE" = 1 ]; then

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "geotex/toolkit/editing.h"
 #include "geotex/core/error.h"
@@ -270,4 +271,58 @@ TEST(ResizeCli, ScalesWithAutomaticAndFileFeatures) {
   EXPECT_NE(geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "s.ply" + " --scale 2,1").exit_code, 0);
   EXPECT_NE(geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "s.ply").exit_code, 0);  // no deformation
   EXPECT_EQ(geotex::test::run_cli("resize --help").exit_code, 0);
+}
+
+// The command's flags come from ResizeRunOptions' table; every output is checked before any work.
+TEST(ResizeCli, RefusesBadFlagsAndOutputsBeforeWork) {
+  TempDir tmp;
+  write_mesh(bumpy_plate({.n = 16}).mesh, tmp / "b.ply");
+  const std::string in = geotex::test::read_file(tmp / "b.ply");
+  for (const char* name : {"o.ply", "r.json", "f.ply"}) geotex::test::write_file(tmp / name, "old");
+  const std::string outs = " -o " + tmp / "o.ply" + " --report " + tmp / "r.json" + " --save-features " + tmp / "f.ply";
+  for (const std::string bad : {"--scale 2,1,1 --no-such-flag", "--scale 2,1,1 --transition -1",
+                                "--scale 2,1,1 --features everything", "--scale 2,-1,1", "--scale 2,1,1 --preset best",
+                                "--scale 2,1,1 --laplacian nope"}) {
+    const auto r = geotex::test::run_cli("resize " + tmp / "b.ply" + outs + " " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.err;
+    EXPECT_EQ(r.err.find("resize:"), std::string::npos) << bad << ": no work may start: " << r.err;
+    for (const char* name : {"o.ply", "r.json", "f.ply"}) EXPECT_EQ(geotex::test::read_file(tmp / name), "old") << bad;
+  }
+  // An output that is the input, or another output, is refused before any work.
+  for (const std::string args : {" -o " + tmp / "b.ply", " -o " + tmp / "o.ply" + " --report " + tmp / "b.ply",
+                                 " -o " + tmp / "o.ply" + " --save-features " + tmp / "o.ply"}) {
+    const auto r = geotex::test::run_cli("resize " + tmp / "b.ply" + args + " --scale 2,1,1");
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(r.err.find("resize:"), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(geotex::test::read_file(tmp / "b.ply"), in) << args;
+    EXPECT_EQ(geotex::test::read_file(tmp / "o.ply"), "old") << args;
+  }
+}
+
+// The map written by --save-features is the one used: read back with --features it gives the same
+// result; the report and the printed summary say how much is marked.
+TEST(ResizeCli, SavedFeatureMapRoundTripsAndIsReported) {
+  TempDir tmp;
+  const BumpyPlate b = bumpy_plate({.n = 16});
+  write_mesh(b.mesh, tmp / "b.ply");
+  const auto r = geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "a.ply" + " --scale 2,1,1 --save-features " +
+                                       tmp / "f.ply" + " --report " + tmp / "r.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("% of the surface"), std::string::npos) << r.err;
+  const auto report = nlohmann::json::parse(geotex::test::read_file(tmp / "r.json"));
+  EXPECT_GT(report["marked_fraction"].get<double>(), 0.005);
+  EXPECT_EQ(report["parameters"]["features"], "auto");
+  EXPECT_EQ(report["parameters"]["scale"], nlohmann::json({2.0, 1.0, 1.0}));
+  const auto s = geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "s.ply" + " --scale 2,1,1 --features " +
+                                       tmp / "f.ply");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_EQ(positions(read_mesh(tmp / "a.ply")), positions(read_mesh(tmp / "s.ply")));
+  // Everything marked: the result is close to the plain map, and the user is told.
+  std::string ones;
+  for (size_t i = 0; i < b.mesh.n_vertices(); ++i) ones += "1\n";
+  geotex::test::write_file(tmp / "all.txt", ones);
+  const auto w = geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "w.ply" + " --scale 2,1,1 --features " +
+                                       tmp / "all.txt");
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_NE(w.err.find("warning"), std::string::npos) << w.err;
 }

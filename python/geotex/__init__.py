@@ -38,7 +38,7 @@ __all__ = [
     "auto_diffusion_function",
     "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
     "texture_extract", "texture_apply", "texture_edit", "texture_transfer",
-    "resize", "render", "view",
+    "resize", "feature_map", "render", "view",
 ]
 
 
@@ -290,6 +290,15 @@ def _denoise_result(d: dict) -> Result:
     return Result(**d)
 
 
+@with_options("AutoDenoiseOptions")
+def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """The default denoiser (`geotex denoise`, --method auto): estimates the noise, reads whether the
+    surface is creased or smooth, then surfels, positions fitted to them and edge labels, with every
+    parameter derived from the input (auto_denoise.h). Returns a Result: V, F (same connectivity),
+    edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), parameters."""
+    return _denoise_result(_geotex.denoise_auto(*_arrays(mesh, F), options))
+
+
 @with_options("MrfOptions")
 def denoise_mrf(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
     """MRF denoising with a vertex process and an edge-labelling process (thesis ch. 6; `geotex denoise
@@ -312,7 +321,7 @@ def denoise_surfel(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
     return _denoise_result(_geotex.denoise_surfel(*_arrays(mesh, F), options))
 
 
-_DENOISERS = {"mrf": denoise_mrf, "mrf-normal": denoise_mrf_normal, "surfel": denoise_surfel}
+_DENOISERS = {"auto": denoise_auto, "mrf": denoise_mrf, "mrf-normal": denoise_mrf_normal, "surfel": denoise_surfel}
 
 
 def denoise_methods() -> List[str]:
@@ -320,9 +329,9 @@ def denoise_methods() -> List[str]:
     return list(_DENOISERS)
 
 
-def denoise(mesh: MeshLike, F: Any = None, *, method: str = "mrf", **options: Any) -> Result:
+def denoise(mesh: MeshLike, F: Any = None, *, method: str = "auto", **options: Any) -> Result:
     """Denoise a mesh and find its sharp edges (`geotex denoise`). `method` chooses the function
-    called with the same options: 'mrf' → denoise_mrf(), 'mrf-normal' → denoise_mrf_normal(),
+    called with the same options: 'auto' (the default) → denoise_auto(), 'mrf' → denoise_mrf(), 'mrf-normal' → denoise_mrf_normal(),
     'surfel' → denoise_surfel() (see each for its options and defaults; an option of another method
     raises TypeError). preset='thesis' gives each method as the thesis runs it."""
     fn = _DENOISERS.get(method)
@@ -376,13 +385,36 @@ def texture_transfer(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any,
                                               target_center, target_radius, rotation))
 
 
-def resize(mesh: MeshLike, F: Any = None, scale: Optional[Sequence[float]] = None, deformed: Any = None,
-           features: Any = "auto", method: str = "sliding", feature_threshold: float = 0.5) -> np.ndarray:
-    """Feature-aware resizing (ch. 9; `geotex resize`). Give scale=(sx, sy, sz) (about the box centre)
-    or deformed=#V×3 positions from any space deformation. features: 'auto', 'height', or #V weights
-    in [0, 1]. method: 'sliding' (default) or 'thesis' (Eq. 9.2–9.3). Returns #V×3 positions."""
+@with_options("ResizeRunOptions")
+def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any = "auto",
+           **options: Any) -> np.ndarray:
+    """Feature-aware resizing and deformation (ch. 9; `geotex resize`, the same library call).
+    The deformation: scale=(sx, sy, sz), twist, bend, arc_radius (about the bounding box's centre), or
+    deformed=#V×3 positions from any other deformation (e.g. deform()). features: a map name ('auto',
+    'height', 'adf', 'none'; the same feature_map() as the command line), #V weights in [0, 1], or a
+    feature file (text, or PLY with vertex 'feature' or 'height'). A UserWarning says when the map marks
+    more than half or less than 0.5% of the surface. Returns the resized #V×3 positions."""
     V, F = _arrays(mesh, F)
-    return _geotex.resize(V, F, scale, deformed, features, method, feature_threshold)
+    weights = path = None
+    if isinstance(features, str) and features in _FEATURE_MAPS:
+        options["features"] = features
+    elif isinstance(features, (str, os.PathLike)):
+        path = _path(features)
+    else:
+        weights = features
+    return _geotex.resize(V, F, deformed, weights, path, options)
+
+
+@with_options("FeatureMapOptions")
+def feature_map(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+    """The feature map of resizing (Sec. 9.4; what `geotex resize --features` and resize() use).
+    Returns a Result: weights (#V in {0, 1}), field (the height or ADF it was grown on), detector
+    (the one used; for 'auto', the one chosen), marked_fraction, marked_vertices, regions, warning
+    (also raised as a UserWarning), parameters."""
+    return Result(**_geotex.feature_map(*_arrays(mesh, F), options))
+
+
+_FEATURE_MAPS = tuple(next(f for f in table("FeatureMapOptions")["fields"] if f["name"] == "features")["choices"])
 
 
 # ------------------------------------------------------------------------------------------------

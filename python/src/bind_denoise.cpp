@@ -2,6 +2,9 @@
 
 #include "common.h"
 
+#include <fmt/format.h>
+
+#include "geotex/denoise/auto_denoise.h"
 #include "geotex/denoise/mrf.h"
 #include "geotex/denoise/point_surfels.h"
 #include "geotex/denoise/surfel.h"
@@ -30,11 +33,31 @@ py::dict mrf_result(const Mesh& input, const MrfResult& r, const O& used) {
 }  // namespace
 
 void bind_denoise(py::module_& m) {
+  register_table<AutoDenoiseOptions>("AutoDenoiseOptions");
   register_table<MrfOptions>("MrfOptions");
   register_table<MrfNormalOptions>("MrfNormalOptions");
   register_table<SurfelDenoiseOptions>("SurfelDenoiseOptions");
   register_table<PointSurfelOptions>("PointSurfelOptions");
 
+  m.def("denoise_auto", [](py::handle V, py::handle F, py::dict kw) {
+    CallOptions call = call_options(kw);
+    AutoDenoiseOptions o = to_options<AutoDenoiseOptions>(kw, call);
+    o.progress = call.progress;
+    const Mesh mesh = to_mesh(V, F);
+    const AutoDenoiseResult r = run(call, [&] { return auto_denoise(mesh, o); });
+    if (r.turned_over > 0) warn(fmt::format("geotex: {} faces are left turned over", r.turned_over));
+    py::dict d;
+    d["V"] = VArray(r.positions);
+    d["F"] = FArray(faces(mesh));
+    d["edge_labels"] = r.edge_labels;
+    d["edges"] = MatrixX2i(edges(mesh));
+    d["noise_sigma"] = r.noise.sigma;
+    d["noise_normal_sigma"] = r.noise.normal_sigma;
+    d["choices"] = r.choices;
+    d["turned_over"] = r.turned_over;
+    d["parameters"] = options_dict(r.resolved);
+    return d;
+  });
   m.def("denoise_mrf", [](py::handle V, py::handle F, py::dict kw) {
     CallOptions call = call_options(kw);
     MrfOptions o = to_options<MrfOptions>(kw, call);

@@ -1,47 +1,50 @@
-// Python bindings of feature-aware resizing (thesis ch. 9).
+// Python bindings of feature-aware resizing (thesis ch. 9): the same library calls as `geotex resize`
+// (resize_mesh(), feature_map()), with the options of the same tables.
 
 #include "common.h"
 
+#include <optional>
+
 #include "geotex/core/error.h"
-#include "geotex/core/geometry.h"
+#include "geotex/core/user_files.h"
 #include "geotex/resize/resize.h"
 
 namespace geotex::python {
 
 void bind_resize(py::module_& m) {
-  m.def("resize", [](py::handle V, py::handle F, py::object scale, py::object deformed, py::object features, const std::string& method,
-                     double feature_threshold) {
-        const Mesh mesh = to_mesh(V, F);
-        Eigen::VectorXd f;
-        if (features.is_none() || (py::isinstance<py::str>(features) && py::cast<std::string>(features) == "auto")) {
-          f = features_from_adf(mesh, 0.1, 100, feature_threshold);
-        } else if (py::isinstance<py::str>(features) && py::cast<std::string>(features) == "height") {
-          f = features_from_height(mesh);
-        } else {
-          f = to_vector(features, mesh.n_vertices(), "features");
-          if (f.size() != static_cast<Eigen::Index>(mesh.n_vertices()))
-            throw InvalidInput("features must have one weight per vertex");
-        }
-        ResizeOptions o;
-        if (method == "sliding") o.method = ResizeMethod::Sliding;
-        else if (method == "thesis") o.method = ResizeMethod::Thesis;
-        else throw InvalidInput("method must be 'sliding' or 'thesis'");
-        if (!deformed.is_none()) {
-          const MatrixX3d D = to_points(deformed, "deformed");
-          py::gil_scoped_release release;
-          return VArray(feature_aware_resize(mesh, D, f, o));
-        }
-        const std::vector<double> s = scale.is_none() ? std::vector<double>{2, 1, 1} : py::cast<std::vector<double>>(scale);
-        if (s.size() != 3) throw InvalidInput("scale must have 3 values");
-        py::gil_scoped_release release;
-        return VArray(feature_aware_resize(mesh, scale_map(Vec3(s[0], s[1], s[2]), bounding_box(mesh).center()), f, o));
-      },
-      py::arg("V"), py::arg("F"), py::arg("scale") = py::none(), py::arg("deformed") = py::none(),
-      py::arg("features") = "auto", py::arg("method") = "sliding", py::arg("feature_threshold") = 0.5,
-      R"doc(Feature-aware resizing (ch. 9). Give scale=(sx, sy, sz) (about the box centre) or deformed=#V×3
-positions from any space deformation. features: 'auto' (ADF threshold), 'height', or #V weights in [0, 1].
-method: 'sliding' (default: background slides along the surface) or 'thesis' (Eq. 9.2–9.3).)doc");
+  register_table<ResizeRunOptions>("ResizeRunOptions");
+  register_table<FeatureMapOptions>("FeatureMapOptions");
 
+  // features: None (the map options.features), #V weights, or a feature file path (str).
+  m.def("resize", [](py::handle V, py::handle F, py::handle deformed, py::handle weights, py::handle feature_file,
+                     py::dict kw) {
+        CallOptions call = call_options(kw);
+        ResizeRunOptions o = to_options<ResizeRunOptions>(kw, call);
+        o.progress = call.progress;
+        const Mesh mesh = to_mesh(V, F);
+        std::optional<MatrixX3d> D;
+        if (!deformed.is_none()) D = to_points(deformed, "deformed");
+        std::optional<Eigen::VectorXd> f;
+        if (!weights.is_none()) f = to_vector(weights, mesh.n_vertices(), "features");
+        else if (!feature_file.is_none()) f = read_feature_file(py::cast<std::string>(feature_file), mesh, o.feature_file);
+        const ResizeResult r = run(call, [&] { return resize_mesh(mesh, o, D ? &*D : nullptr, f ? &*f : nullptr); });
+        if (!r.summary.warning.empty()) warn(r.summary.warning);  // with the GIL, after the work
+        return VArray(r.V);
+      });
+
+  m.def("feature_map", [](py::handle V, py::handle F, py::dict kw) {
+        CallOptions call = call_options(kw);
+        FeatureMapOptions o = to_options<FeatureMapOptions>(kw, call);
+        o.progress = call.progress;
+        const Mesh mesh = to_mesh(V, F);
+        const FeatureMap r = run(call, [&] { return feature_map(mesh, o); });
+        if (!r.summary.warning.empty()) warn(r.summary.warning);
+        return py::dict(py::arg("weights") = r.weights, py::arg("field") = r.field,
+                        py::arg("detector") = enum_name(feature_map_names(), r.method),
+                        py::arg("marked_fraction") = r.summary.marked_fraction,
+                        py::arg("marked_vertices") = r.summary.marked_vertices, py::arg("regions") = r.summary.regions,
+                        py::arg("warning") = r.summary.warning, py::arg("parameters") = options_dict(o));
+      });
 }
 
 }  // namespace geotex::python

@@ -102,6 +102,10 @@ Eigen::VectorXd to_vector(py::handle a, Eigen::Index n, const char* what) {
   return v;
 }
 
+void warn(const std::string& message) {
+  if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) != 0) throw py::error_already_set();
+}
+
 Mesh to_mesh(py::handle V, py::handle F) {
   const MatrixX3d X = to_points(V, "V");
   const MatrixX3i T = to_faces(F, X.rows(), "F");
@@ -111,7 +115,7 @@ Mesh to_mesh(py::handle V, py::handle F) {
     const std::string msg = fmt::format(
         "geotex dropped {} face(s) to build a manifold mesh ({} degenerate, {} duplicate, {} non-manifold)",
         rep.dropped(), rep.degenerate_faces, rep.duplicate_faces, rep.nonmanifold_faces);
-    if (PyErr_WarnEx(PyExc_UserWarning, msg.c_str(), 1) != 0) throw py::error_already_set();
+    warn(msg);
   }
   if (mesh.n_faces() == 0) throw InvalidInput("the mesh has no faces");
   return mesh;

@@ -40,6 +40,8 @@ MatrixX3i to_faces(py::handle a, Eigen::Index n_vertices, const char* what);
 Eigen::VectorXd to_vector(py::handle a, Eigen::Index n, const char* what);
 //! A mesh from positions and faces (both checked as above); faces dropped by make_mesh() raise a
 //! UserWarning (with the GIL held). \throw InvalidInput for no faces.
+//! A UserWarning; needs the GIL (never call it inside run()'s released section).
+void warn(const std::string& message);
 Mesh to_mesh(py::handle V, py::handle F);
 //! (V, F) of a mesh as numpy arrays (V float64 #V×3, F int32 #F×3).
 py::tuple from_mesh(const Mesh& mesh);

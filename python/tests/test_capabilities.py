@@ -30,6 +30,27 @@ def test_mrf_denoising_beats_noise_and_labels_cube_edges(noisy_cube, method):
     assert score["f1"] > 0.8
 
 
+def test_default_denoiser_is_auto_and_adapts_to_the_noise(noisy_cube):
+    V, F, Vn = noisy_cube
+    r = geotex.denoise(Vn, F)  # no method: the default pipeline (auto_denoise)
+    assert np.array_equal(r["F"], F)
+    err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
+    assert err(r["V"]) < err(Vn) / 3
+    assert r["parameters"]["creased"] is True  # a cube is read as creased
+    assert r["noise_sigma"] > 0 and any("noise" in c for c in r["choices"])
+    E, labels = r["edges"], r["edge_labels"]
+    truth = E[np.abs(geotex.dihedral_angles(V, F)) > math.radians(30)]
+    assert geotex.score_edge_labels(E[labels > 0.5], truth)["f1"] > 0.8
+    # A noiseless mesh is returned (nearly) as it is: the change is kept in proportion to the noise.
+    clean = geotex.denoise(V, F)
+    assert np.abs(clean["V"] - V).max() < 1e-3 * np.ptp(V, axis=0).max()
+    # A given sigma skips the estimate and is reported as given.
+    given = geotex.denoise(Vn, F, sigma=0.2)
+    assert given["parameters"]["sigma"] == 0.2 and any("given" in c for c in given["choices"])
+    with pytest.raises(TypeError):
+        geotex.denoise(Vn, F, alpha=0.3)  # an option of mrf, not of the default
+
+
 def test_surfel_primal_denoising(noisy_cube):
     V, F, Vn = noisy_cube
     r = geotex.denoise(Vn, F, method="surfel", retrieval="primal")

@@ -143,6 +143,7 @@ def test_pip_install_into_a_virtual_environment(tmp_path):
 CLI_TO_PYTHON = {
     ("smooth", "smooth"): "smooth",
     ("noise", "noise"): "add_noise",
+    ("denoise", "auto"): "denoise_auto",
     ("denoise", "mrf"): "denoise_mrf",
     ("denoise", "mrf-normal"): "denoise_mrf_normal",
     ("denoise", "surfel"): "denoise_surfel",
@@ -152,6 +153,7 @@ CLI_TO_PYTHON = {
     ("surfels", "surfels"): "point_surfels",
     ("render", "render"): "render",
     ("view", "view"): "view",
+    ("resize", "resize"): "resize",
 }
 
 

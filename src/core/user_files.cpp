@@ -238,6 +238,16 @@ Eigen::VectorXd parse_feature_weights(std::string_view text, size_t n_vertices, 
   return out;
 }
 
+const OptionTable<FeatureFileOptions>& FeatureFileOptions::table() {
+  using O = FeatureFileOptions;
+  static const auto t = OptionTable<O>()
+      .add("height_threshold", &O::height_threshold,
+           "feature PLY with 'height': features where |height| exceeds this many mean edge lengths", positive())
+      .add("height_dilate", &O::dilate, "feature PLY with 'height': grow the thresholded features by this many vertex rings",
+           non_negative());
+  return t;
+}
+
 Eigen::VectorXd features_from_ply(const PlyData& ply, const Mesh& mesh, const FeatureFileOptions& options,
                                   const std::string& name) {
   const size_t n = mesh.n_vertices();

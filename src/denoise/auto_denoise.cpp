@@ -187,7 +187,14 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   };
 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
-  r.noise = estimate_noise(mesh);
+  // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
+  if (!o.sigma) {
+    try {
+      r.noise = estimate_noise(mesh);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(fmt::format("{} (too small a mesh to read its noise level from: give the noise level, sigma)", e.what()));
+    }
+  }
   double normal_noise = r.noise.rms_normal_sigma;
   if (o.sigma) {
     normal_noise = *o.sigma / std::sqrt(3.0);

@@ -263,6 +263,7 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
   out.field = Eigen::VectorXd::Zero(n);
   out.method = FeatureMapMethod::None;
   if (o.method == FeatureMapMethod::Adf || o.method == FeatureMapMethod::Auto) {
+    report(o.progress, 0.0, "adf");
     out.weights = adf_features(mesh, o, &out.field);
     // Auto: the ADF finds protrusions (the thesis' choice, Sec. 9.4); a surface without any, such as
     // a relief on an open plate (where the ADF peaks at the border instead), gets the height map.
@@ -272,12 +273,15 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
       out.method = FeatureMapMethod::Adf;
   }
   if (o.method == FeatureMapMethod::Height || out.method == FeatureMapMethod::Height) {
+    report(o.progress, o.method == FeatureMapMethod::Height ? 0.0 : 0.8, "height");
     out.field = height_over_base(mesh, o.smoothing_scale);
     out.weights = significant_basins(mesh, out.field, o.significance);
     out.method = FeatureMapMethod::Height;
   }
   if (o.dilate > 0) out.weights = dilate_features(mesh, out.weights, o.dilate);
   out.summary = summarize_features(mesh, out.weights);
+  if (o.method == FeatureMapMethod::None) out.summary.warning.clear();  // asked for: the plain map is meant
+  report(o.progress, 1.0, "done");
   return out;
 }
 

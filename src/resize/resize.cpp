@@ -82,14 +82,17 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
               "sliding (background slides along the surface, default) or thesis (Eq. 9.2-9.3)", "Sec. 9.4")
       .add("position_weight", &O::position_weight, "w: weight of the position terms against the feature terms",
            positive(), "Eq. (9.2)")
+      .alias("weight")
       .add("keep_feature_size", &O::keep_feature_size,
            "features keep their size (T_i rotations); false: T_i similarities, features scale with the map", {},
            "Sec. 9.4")
+      .alias("scale_features", "false")
       .add("square_weights", &O::square_weights,
            "thesis: weigh the energy by f_i^2 and (w p_i)^2, as the least-squares system of Eq. (9.3) does", {},
            "Eq. (9.3)")
       .add("background_smoothness", &O::background_smoothness, "sliding: weight of the background's membrane term",
            positive())
+      .alias("smoothness")
       .add("transition", &O::transition,
            "sliding: width of the band around features where the stretch passes to the space map's, in units of "
            "sqrt(area / 4 pi)", non_negative())
@@ -757,6 +760,63 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
                                const ResizeOptions& options) {
   return feature_aware_resize(mesh, apply_space_map(map, positions(mesh)), features, options);
+}
+
+const OptionTable<ResizeRunOptions>& ResizeRunOptions::table() {
+  using O = ResizeRunOptions;
+  static const auto t = [] {
+    OptionTable<O> t;
+    t.nest(&O::map, SpaceMapOptions::table())
+        .nest(&O::features, FeatureMapOptions::table())
+        .nest(&O::feature_file, FeatureFileOptions::table())
+        .nest(&O::resize, ResizeOptions::table());
+    for (const auto& p : ResizeOptions::table().presets())
+      t.preset(p.name, p.help, [apply = p.apply](O& o) { apply(o.resize); });
+    return t;
+  }();
+  return t;
+}
+
+ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, const MatrixX3d* deformed,
+                         const Eigen::VectorXd* features) {
+  check_options(options);
+  require_valid(mesh, "resize input");
+  if (options.map.identity() == (deformed == nullptr))
+    throw InvalidInput(deformed ? "give either a deformed copy or a space map (scale, bend, twist, arc_radius), not both"
+                                : "give a deformation: scale, bend, twist, arc_radius (any together), or a deformed copy");
+  const Eigen::Index n = mesh.n_vertices();
+  ResizeResult r;
+  if (deformed) {
+    if (deformed->rows() != n)
+      throw InvalidInput(fmt::format("the deformed copy has {} vertices, the input {}", deformed->rows(), n));
+    r.mapped = *deformed;
+  } else {
+    r.mapped = apply_space_map(space_map(options.map, bounding_box(mesh)), positions(mesh));
+  }
+  // The feature map (an ADF needs a Laplace spectrum: seconds on large models) takes the first part
+  // of the progress, the solve the rest.
+  const double split = features ? 0.0 : 0.4;
+  const ProgressFn& progress = options.progress;
+  const auto part = [&progress](double lo, double hi) -> ProgressFn {
+    if (!progress) return {};
+    return [&progress, lo, hi](double f, std::string_view stage) { progress(lo + (hi - lo) * f, stage); };
+  };
+  if (features) {
+    if (features->size() != n) throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", features->size(), n));
+    r.features = *features;
+    r.summary = summarize_features(mesh, r.features);
+  } else {
+    FeatureMapOptions fo = options.features;
+    fo.progress = part(0.0, split);
+    FeatureMap map = feature_map(mesh, fo);
+    r.features = std::move(map.weights);
+    r.detector = map.method;
+    r.summary = std::move(map.summary);
+  }
+  ResizeOptions ro = options.resize;
+  ro.progress = part(split, 1.0);
+  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro);
+  return r;
 }
 
 }  // namespace geotex

@@ -18,7 +18,7 @@ std::vector<DenoiseMethod>& denoise_methods() {
 namespace {
 
 struct Args {
-  std::string method = "mrf", edges_ply, edges_obj, report;
+  std::string method = "auto", edges_ply, edges_obj, report;
   double label_threshold = 0.5;
 };
 

@@ -13,6 +13,7 @@
 
 #include "geotex/core/io.h"
 #include "geotex/core/mesh.h"
+#include "geotex/core/options.h"
 
 namespace geotex {
 
@@ -52,8 +53,9 @@ HandleSet read_handles(const std::filesystem::path& path, const MatrixX3d& X, do
 
 //! How a feature PLY's "height" becomes weights (features_from_values() in resize.h).
 struct FeatureFileOptions {
-  double height_threshold = 0.5;  //!< |height| threshold in mean edge lengths (the CLI's --height-threshold)
-  int dilate = 2;                 //!< grow thresholded features by this many vertex rings
+  double height_threshold = 0.5;  //!< |height| threshold in mean edge lengths (option "height_threshold")
+  int dilate = 2;                 //!< grow thresholded features by this many vertex rings (option "height_dilate")
+  static const OptionTable<FeatureFileOptions>& table();
 };
 
 //! Feature weights from text: one number in [0, 1] per vertex and line; blank lines and lines starting

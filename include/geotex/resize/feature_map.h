@@ -21,6 +21,7 @@
 
 #include "geotex/core/mesh.h"
 #include "geotex/core/options.h"
+#include "geotex/core/progress.h"
 
 namespace geotex {
 
@@ -53,6 +54,7 @@ struct FeatureMapOptions {
   double max_extent = 0.5;
   int adf_levels = 4;  //!< ADF: diffusion times tried (adf_t, adf_t/2, …)
   int dilate = 0;  //!< grow the map by this many vertex rings afterwards
+  ProgressFn progress;
   static const OptionTable<FeatureMapOptions>& table();
 };
 

@@ -33,6 +33,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/mesh.h"
 #include "geotex/core/options.h"
+#include "geotex/core/user_files.h"
 #include "geotex/core/progress.h"
 #include "geotex/resize/feature_map.h"
 #include "geotex/resize/measure.h"
@@ -123,5 +124,35 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& deformed, cons
 //! Convenience: apply \p map to every vertex and call the function above.
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
                                const ResizeOptions& options = {});
+
+//! Everything one resize takes: the space map, the feature map (or how a feature file is read) and the
+//! solver; the options of `geotex resize` and geotex.resize(), one flag or keyword per field. The
+//! preset "thesis" is ResizeOptions' own.
+struct ResizeRunOptions {
+  SpaceMapOptions map;
+  FeatureMapOptions features;
+  FeatureFileOptions feature_file;  //!< used by the front ends when they read a feature file
+  ResizeOptions resize;
+  ProgressFn progress;  //!< the whole run: the feature map, then the solve
+  static const OptionTable<ResizeRunOptions>& table();
+};
+
+struct ResizeResult {
+  MatrixX3d V;                 //!< #V by 3 resized positions
+  MatrixX3d mapped;            //!< #V by 3 positions c_i under the plain deformation
+  Eigen::VectorXd features;    //!< #V weights f_i used
+  //! The detector that made the map (Height or Adf; for Auto, the one chosen); None when the weights
+  //! were given or the method is none.
+  FeatureMapMethod detector = FeatureMapMethod::None;
+  FeatureSummary summary;      //!< share of the surface marked, and the warning when it is implausible
+};
+
+//! One feature-aware resize as the front ends run it: the deformation is options.map (about the
+//! bounding box's centre) or, when given, \p deformed (#V by 3, e.g. an edited copy; options.map must
+//! then be the identity); the features are \p features (#V weights in [0, 1]) when given, else
+//! feature_map() with options.features (the one definition of "auto").
+//! \throw InvalidInput for no deformation or two, sizes that do not match, bad options.
+ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, const MatrixX3d* deformed = nullptr,
+                         const Eigen::VectorXd* features = nullptr);
 
 }  // namespace geotex

@@ -1,0 +1,45 @@
+// `geotex denoise` (--method auto, the default): the pipeline of auto_denoise.h, its parameters derived
+// from the input's noise level and from whether it is creased or smooth.
+
+#include <fmt/format.h>
+
+#include "cli.h"
+#include "denoise_methods.h"
+#include "geotex/denoise/auto_denoise.h"
+
+namespace geotex::cli {
+namespace {
+
+DenoiseRegistrar reg{
+    "auto", "the default: estimates the noise, reads creased or smooth, then surfels + fitted positions + labels",
+    [](FlagSet& f) { f.add("auto", AutoDenoiseOptions::table(), "auto"); },
+    [](const FlagSet& f) -> DenoiseRun {
+      const AutoDenoiseOptions o = f.resolve<AutoDenoiseOptions>("auto");
+      return [o](const Mesh& mesh, const ProgressFn& progress) {
+        AutoDenoiseOptions run = o;
+        run.progress = progress;
+        const AutoDenoiseResult r = auto_denoise(mesh, run);
+        for (const std::string& line : r.choices) info("auto: " + line);
+        if (r.turned_over > 0) info(fmt::format("auto: warning: {} faces are left turned over", r.turned_over));
+        DenoiseOutput out;
+        out.mesh = mesh;
+        set_positions(out.mesh, r.positions);
+        out.edge_labels = r.edge_labels;
+        nlohmann::json& j = out.report;
+        j["parameters"] = options_json(r.resolved);
+        j["noise"] = {{"sigma", r.noise.sigma},
+                      {"normal_sigma", r.noise.normal_sigma},
+                      {"rms_normal_sigma", r.noise.rms_normal_sigma},
+                      {"outliers", r.noise.outliers},
+                      {"mean_edge", r.noise.mean_edge},
+                      {"clean_edge", r.noise.clean_edge},
+                      {"samples", r.noise.samples}};
+        j["choices"] = r.choices;
+        j["turned_over"] = r.turned_over;
+        for (const auto& [stage, sec] : r.seconds) j["seconds_per_stage"][stage] = sec;
+        return out;
+      };
+    }};
+
+}  // namespace
+}  // namespace geotex::cli

@@ -1,0 +1,135 @@
+"""geotex.resize and geotex.feature_map: the options of `geotex resize`, the same library calls."""
+
+import inspect
+import os
+import subprocess
+import warnings
+
+import numpy as np
+import pytest
+
+import geotex
+from geotex import _options
+
+
+@pytest.fixture(scope="module")
+def plate():
+    return geotex.generate("bumpy-plate", level=0)
+
+
+def test_signature_comes_from_the_tables():
+    params = inspect.signature(geotex.resize).parameters
+    for f in _options.table("ResizeRunOptions")["fields"]:
+        p = params[_options.python_name(f["name"])]
+        assert p.kind == inspect.Parameter.KEYWORD_ONLY and p.default == f["default"], f["name"]
+    # The space map, the feature map, the feature file and the solver are all reachable.
+    for name in ("scale", "twist", "arc_radius", "features", "adf_t", "significance", "height_threshold",
+                 "height_dilate", "method", "position_weight", "transition", "preset", "progress", "threads"):
+        assert name in params, name
+    assert params["scale"].default == (1.0, 1.0, 1.0) and params["features"].default == "auto"
+    assert "features" in inspect.signature(geotex.feature_map).parameters
+
+
+def test_auto_is_the_feature_map_of_the_library(plate):
+    V, F = plate
+    fm = geotex.feature_map(V, F)  # features="auto"
+    assert fm.detector in ("adf", "height") and fm.weights.shape == (len(V),)
+    assert 0.005 < fm.marked_fraction < 0.5 and fm.warning == ""
+    assert fm.parameters["features"] == "auto"
+    # resize(features="auto") uses exactly that map: giving its weights gives the same result.
+    a = geotex.resize(V, F, scale=(2, 1, 1))
+    b = geotex.resize(V, F, scale=(2, 1, 1), features=fm.weights)
+    assert np.array_equal(a, b)
+    # And a different map gives a different result.
+    c = geotex.resize(V, F, scale=(2, 1, 1), features="none")
+    assert np.abs(a - c).max() > 1e-3
+
+
+def test_user_weights_and_feature_files(plate, tmp_path):
+    V, F = plate
+    f = geotex.feature_map(V, F, features="height").weights
+    a = geotex.resize(V, F, scale=(2, 1, 1), features=f)
+    path = tmp_path / "f.txt"
+    path.write_text("".join(f"{x}\n" for x in f))
+    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=path), a)
+    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=str(path)), a)
+    with pytest.raises(geotex.InvalidInput):
+        geotex.resize(V, F, scale=(2, 1, 1), features=f[:-1])  # one weight short
+    with pytest.raises(geotex.InvalidInput):
+        geotex.resize(V, F, scale=(2, 1, 1), features=np.full(len(V), 2.0))  # outside [0, 1]
+    with pytest.raises(geotex.IoError):
+        geotex.resize(V, F, scale=(2, 1, 1), features=tmp_path / "missing.txt")
+
+
+def test_none_features_scale_the_box_exactly(plate):
+    V, F = plate
+    out = geotex.resize(V, F, scale=(2, 1, 1), features="none")
+    ext, ext0 = np.ptp(out, axis=0), np.ptp(V, axis=0)
+    assert ext[0] == pytest.approx(2 * ext0[0], rel=1e-6) and ext[1] == pytest.approx(ext0[1], rel=1e-6)
+
+
+def test_deformed_copy_instead_of_a_map(plate):
+    V, F = plate
+    f = geotex.feature_map(V, F).weights
+    lo, hi = V.min(axis=0), V.max(axis=0)
+    D = (lo + hi) / 2 + (V - (lo + hi) / 2) * np.array([2.0, 1.0, 1.0])  # scale=(2, 1, 1) about the box centre
+    assert np.allclose(geotex.resize(V, F, D, features=f), geotex.resize(V, F, scale=(2, 1, 1), features=f), atol=1e-9)
+    with pytest.raises(geotex.InvalidInput, match="not both"):
+        geotex.resize(V, F, D, scale=(2, 1, 1))
+    with pytest.raises(geotex.InvalidInput, match="deformation"):
+        geotex.resize(V, F)
+
+
+def test_warning_when_everything_is_marked(plate):
+    V, F = plate
+    with pytest.warns(UserWarning, match="surface"):
+        geotex.resize(V, F, scale=(2, 1, 1), features=np.ones(len(V)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        geotex.resize(V, F, scale=(2, 1, 1))  # a plausible map: no warning
+
+
+def test_options_are_checked(plate):
+    V, F = plate
+    with pytest.raises(geotex.InvalidInput, match="features"):
+        geotex.feature_map(V, F, features="everything")
+    with pytest.raises(geotex.InvalidInput, match="scale"):
+        geotex.resize(V, F, scale=(2, -1, 1))
+    with pytest.raises(geotex.InvalidInput, match="position_weight"):
+        geotex.resize(V, F, scale=(2, 1, 1), position_weight=float("nan"))
+    with pytest.raises(TypeError):
+        geotex.resize(V, F, scale=(2, 1, 1), no_such_option=1)
+    with pytest.raises(geotex.InvalidInput):
+        geotex.resize(V, F, scale=(2, 1, 1), preset="best")
+
+
+def test_preset_and_progress(plate):
+    V, F = plate
+    seen = []
+    a = geotex.resize(V, F, scale=(2, 1, 1), features="height", preset="thesis",
+                      progress=lambda f, stage: seen.append(f))
+    b = geotex.resize(V, F, scale=(2, 1, 1), features="height", method="thesis", square_weights=True,
+                      keep_feature_size=False)
+    assert np.array_equal(a, b)
+    assert seen and seen == sorted(seen) and seen[-1] == pytest.approx(1.0)
+
+    def stop(fraction, stage):
+        raise KeyError("stop")
+
+    with pytest.raises(KeyError):
+        geotex.resize(V, F, scale=(2, 1, 1), features="none", progress=stop)
+
+
+@pytest.mark.skipif(not os.environ.get("GEOTEX_CLI"), reason="GEOTEX_CLI not set (ctest sets it)")
+def test_cli_and_python_give_the_same_result(tmp_path):
+    cli = os.environ["GEOTEX_CLI"]
+    mesh, out = tmp_path / "plate.ply", tmp_path / "out.ply"
+    subprocess.run([cli, "generate", "bumpy-plate", "--level", "0", "-o", str(mesh)], check=True, capture_output=True)
+    r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "2,1,1.5", "--features", "auto",
+                        "--transition", "0.2"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "of the surface" in r.stderr  # the marked fraction is printed
+    V, F = geotex.read_mesh(mesh)
+    expected = geotex.resize(V, F, scale=(2, 1, 1.5), features="auto", transition=0.2)
+    got, _ = geotex.read_mesh(out)
+    assert np.abs(got - expected).max() < 1e-9
