@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <string>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
@@ -179,6 +181,46 @@ TEST(Render, FieldColoursFollowTheColourMap) {
   const Rendering top = render_mesh(sphere, o, layers);
   const Vec3 yellow = colour_map(1.0);
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(top.image.pixel(150, 150)[j], 255 * yellow[j], 1);
+}
+
+// A plate seen from the top with uv = (x, y): the picture is a checkerboard whose squares have the side
+// the camera's scale gives checker_size, and the colour flips between neighbouring squares.
+TEST(Render, UvCheckerboardFollowsTheCoordinates) {
+  const Mesh plate = plane(8, 1.0);  // [-0.5, 0.5]²
+  RenderOptions o;
+  o.width = o.height = 200;
+  o.view = ViewDirection::Top;
+  o.up = UpAxis::Z;
+  o.supersampling = 1;
+  o.specular = 0;
+  RenderLayers l;
+  const MatrixX3d V = positions(plate);
+  l.uv = V.leftCols<2>();
+  l.checker_size = 0.25;
+  const Rendering r = render_mesh(plate, o, l);
+  auto at = [&](double x, double y) {  // the pixel of plate point (x, y)
+    const Vec3 d = Vec3(x, y, 0) - r.camera.centre;
+    const int px = static_cast<int>(r.camera.scale * d.dot(r.camera.right) + o.width / 2.0);
+    const int py = static_cast<int>(-r.camera.scale * d.dot(r.camera.up) + o.height / 2.0);
+    return r.image.pixel(px, py)[2];  // the blue channel tells the two colours apart
+  };
+  // Centres of the 4 × 4 squares: the colour depends only on the parity of the square.
+  std::set<int> even, odd;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) ((i + j) % 2 ? odd : even).insert(at(-0.375 + 0.25 * i, -0.375 + 0.25 * j));
+  ASSERT_EQ(even.size(), 1u);
+  ASSERT_EQ(odd.size(), 1u);
+  EXPECT_GT(std::abs(*even.begin() - *odd.begin()), 10);
+  // Inside one face the colour changes where uv crosses a square's side (per pixel, not per vertex).
+  l.checker_size = 0.0625;  // half of an edge of the 8 × 8 grid
+  const Rendering fine = render_mesh(plate, o, l);
+  auto fine_at = [&](double x, double y) {
+    const Vec3 d = Vec3(x, y, 0) - fine.camera.centre;
+    return fine.image.pixel(static_cast<int>(fine.camera.scale * d.dot(fine.camera.right) + o.width / 2.0),
+                            static_cast<int>(-fine.camera.scale * d.dot(fine.camera.up) + o.height / 2.0))[2];
+  };
+  EXPECT_NE(fine_at(0.03, 0.01), fine_at(0.09, 0.01));
+  EXPECT_THROW(render_mesh(plate, o, [&] { RenderLayers b = l; b.uv.conservativeResize(3, 2); return b; }()), InvalidInput);
 }
 
 TEST(Render, LegendAddsABarBesideTheMesh) {
@@ -505,6 +547,45 @@ TEST(RenderOptionsTable, DefaultsRoundTripAndBadValuesAreRefused) {
   EXPECT_THROW(t.set(o, "frame", std::string("wide")), InvalidOption);
   ViewerOptions v;
   EXPECT_THROW(ViewerOptions::table().set(v, "position_bits", int64_t{30}), InvalidOption);
+}
+
+// The quick demo (coarse shapes, no real model): the page follows the pipeline, and every figure a step
+// asked for has a caption and a picture that exists.
+TEST(DemoReport, QuickDemoFollowsThePipelineWithCaptionedPictures) {
+  TempDir dir;
+  const auto r = run_cli("-q demo --quick -o " + (dir / "demo"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string index = geotex::test::read_file(dir / "demo/index.html");
+  size_t last = 0;
+  for (const char* section : {"Input", "Toolkit", "Denoising", "Texture", "Resizing"}) {
+    const size_t at = index.find(fmt::format("data-section=\"{}\"", section));
+    ASSERT_NE(at, std::string::npos) << section;
+    EXPECT_GT(at, last) << section << " out of the pipeline's order";
+    last = at;
+  }
+  const auto report = nlohmann::json::parse(geotex::test::read_file(dir / "demo/report.json"));
+  size_t figures = 0;
+  for (const auto& step : report["steps"]) {
+    if (!step.contains("figures")) continue;
+    for (const auto& f : step["figures"]) {
+      ++figures;
+      EXPECT_GT(f["caption"].get<std::string>().size(), 20u) << f["mesh"];
+      const std::string png = "pictures/" + std::filesystem::path(f["mesh"].get<std::string>()).stem().string() + ".png";
+      EXPECT_TRUE(std::filesystem::exists(dir / ("demo/" + png))) << png;
+      EXPECT_NE(index.find(png), std::string::npos) << png;
+    }
+  }
+  EXPECT_GE(figures, 40u);
+  // One caption per picture.
+  size_t imgs = 0, captions = 0;
+  for (size_t p = index.find("<img "); p != std::string::npos; p = index.find("<img ", p + 1)) ++imgs;
+  for (size_t p = index.find("<figcaption>"); p != std::string::npos; p = index.find("<figcaption>", p + 1)) ++captions;
+  EXPECT_EQ(imgs, figures);
+  EXPECT_EQ(captions, figures);
+  // Denoising: the default beside the thesis presets, the real model skipped with a note in --quick.
+  for (const char* m : {"denoise-cube-default", "denoise-cube-mrf-thesis", "denoise-cube-surfel-thesis"})
+    EXPECT_NE(index.find(std::string("pictures/") + m + ".png"), std::string::npos) << m;
+  EXPECT_NE(index.find("real model skipped"), std::string::npos);
 }
 
 TEST(DemoReport, IndexShowsEveryMeshWithItsPicture) {

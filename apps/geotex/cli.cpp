@@ -22,6 +22,27 @@ std::vector<DemoStep>& demo_steps() {
   return s;
 }
 
+std::string demo_section(int order) {
+  // The pipeline: what goes in, the toolkit under everything, then denoising, texture, resizing.
+  static const std::pair<int, const char*> sections[] = {
+      {0, "Input"}, {20, "Toolkit"}, {40, "Denoising"}, {80, "Texture"}, {85, "Resizing"}, {900, "Report"}};
+  const char* name = sections[0].second;
+  for (const auto& [from, s] : sections)
+    if (order >= from) name = s;
+  return name;
+}
+
+void add_figure(const DemoContext& ctx, const DemoFigure& f) {
+  nlohmann::json j = {{"mesh", f.mesh}, {"caption", f.caption}, {"view", f.view}};
+  if (!f.compare.empty()) j["compare"] = f.compare;
+  if (!f.field.empty()) j["field"] = f.field;
+  if (!f.truth.empty()) j["truth"] = f.truth;
+  if (!f.edges.empty()) j["edges"] = f.edges;
+  if (f.checker) j["checker"] = true;
+  if (!f.sets_range) j["sets_range"] = false;
+  (*ctx.report)["figures"].push_back(std::move(j));
+}
+
 MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
   app.add_option("IN", input, "input mesh")->required()->check(ExistingMeshFile);
   app.add_option("-o,--output", output, output_help)->required();

@@ -39,7 +39,29 @@ struct Registrar {
 struct DemoContext {
   std::filesystem::path dir;  // output folder
   nlohmann::json* report;     // each step adds its own section
+  const nlohmann::json* steps = nullptr;  // the sections of the steps run before (the report reads them)
+  bool quick = false;         // --quick: coarse shapes and no real model (tests)
+  std::filesystem::path data; // the shared data folder ("" or absent: generated shapes only)
 };
+
+// The part of the report page a step belongs to, from its order: the pipeline's order (input,
+// toolkit, denoising, texture, resizing; then the report itself).
+std::string demo_section(int order);
+
+// A picture on the demo's index.html, added by a step with add_figure() and drawn by the report step
+// (demo/report.cpp) in the steps' order.
+struct DemoFigure {
+  std::string mesh;      // mesh file in the demo folder
+  std::string caption;   // what it shows, with the measured numbers
+  std::string compare;   // figures with the same key share their camera and their colour range
+  std::string field;     // vertex property shown in colour ("error": distance to `truth`; "": none)
+  std::string truth;     // the clean mesh file for "error"
+  std::string edges;     // a PLY file with an edge "label" property, drawn as red lines
+  bool checker = false;  // draw the mesh's "param_u", "param_v" vertex properties as a checkerboard
+  bool sets_range = true;  // false: its colours may saturate (a noisy input beside its results)
+  std::string view = "iso";  // iso, front, top
+};
+void add_figure(const DemoContext& ctx, const DemoFigure& figure);
 struct DemoStep {
   int order;
   std::string name;

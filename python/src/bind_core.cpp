@@ -51,6 +51,12 @@ void bind_core(py::module_& m) {
     for (const auto& [name, describe] : option_tables()) d[py::str(name)] = describe();
     return d;
   });
+  // Raises as the call would (InvalidOption, TypeError) for options of table `name`, or returns None.
+  m.def("_check_options", [](const std::string& name, py::dict kw) {
+    const auto it = option_checkers().find(name);
+    if (it == option_checkers().end()) throw py::key_error("no options table '" + name + "'");
+    it->second(kw);
+  });
 
   m.def("read_mesh", [](const std::string& path, bool strict) {
         ReadOptions o;

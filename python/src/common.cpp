@@ -254,4 +254,9 @@ std::map<std::string, std::function<py::dict()>>& option_tables() {
   return t;
 }
 
+std::map<std::string, std::function<void(py::dict)>>& option_checkers() {
+  static std::map<std::string, std::function<void(py::dict)>> t;
+  return t;
+}
+
 }  // namespace geotex::python

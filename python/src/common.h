@@ -121,9 +121,17 @@ py::dict table_description(const OptionTable<O>& table = O::table()) {
 
 //! The tables the Python side sees, by struct name (filled by each bind_* file).
 std::map<std::string, std::function<py::dict()>>& option_tables();
+//! Checks of a dict of options against each table, as a call would make them (no computation): for
+//! batch runs, which validate every option before any file is processed.
+std::map<std::string, std::function<void(py::dict)>>& option_checkers();
 template <class O>
 void register_table(const std::string& name) {
   option_tables()[name] = [] { return table_description<O>(); };
+  option_checkers()[name] = [](py::dict kw) {
+    py::dict copy(kw);
+    const CallOptions call = call_options(copy);
+    (void)to_options<O>(copy, call);
+  };
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -256,9 +256,13 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
     throw InvalidInput("edge segment refers to a vertex outside the mesh");
   if (layers.segment_labels.size() > 0 && layers.segment_labels.size() != layers.segments.rows())
     throw InvalidInput("segment labels and segments differ in number");
+  const bool has_uv = layers.uv.rows() > 0;
+  if (has_uv && layers.uv.rows() != nv)
+    throw InvalidInput(fmt::format("uv has {} rows for a mesh of {} vertices", layers.uv.rows(), nv));
+  if (has_uv && !(layers.checker_size > 0)) throw InvalidInput("checker size must be positive");
 
   Rendering out;
-  const bool show_legend = has_field && o.legend;
+  const bool show_legend = has_field && !has_uv && o.legend;
   out.camera = o.camera ? *o.camera : fit_camera(mesh, o, show_legend ? legend_width(o.width) : 0);
   const Camera& cam = out.camera;
 
@@ -352,6 +356,11 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
         if (has_field) {
           const double v = w0 * layers.field[F(f, 0)] + w1 * layers.field[F(f, 1)] + w2 * layers.field[F(f, 2)];
           base = colour_map((v - lo) / (hi - lo));
+        }
+        if (has_uv) {
+          const Eigen::Vector2d t = w0 * layers.uv.row(F(f, 0)) + w1 * layers.uv.row(F(f, 1)) + w2 * layers.uv.row(F(f, 2));
+          const auto cell = [&](double c) { return static_cast<int64_t>(std::floor(c / layers.checker_size)); };
+          base = ((cell(t[0]) + cell(t[1])) & 1) ? Vec3(0.95, 0.95, 0.95) : Vec3(0.20, 0.38, 0.70);
         }
         const double diffuse = std::max(0.0, n.dot(light));
         const double spec = o.specular * std::pow(std::max(0.0, n.dot(half)), o.shininess);

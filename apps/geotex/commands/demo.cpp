@@ -15,6 +15,12 @@ namespace {
 struct Args {
   std::string dir = "geotex-demo";
   std::vector<std::string> only;
+  bool quick = false;
+#ifdef GEOTEX_DEMO_DATA
+  std::string data = GEOTEX_DEMO_DATA;
+#else
+  std::string data;
+#endif
 };
 
 void run(const Args& a) {
@@ -34,7 +40,8 @@ void run(const Args& a) {
     info(fmt::format("[{}/{}] {}", k, steps.size(), s.name));
     const auto t0 = std::chrono::steady_clock::now();
     nlohmann::json section;
-    s.run({fs::path(a.dir), &section});
+    s.run({fs::path(a.dir), &section, &report["steps"], a.quick, a.quick ? fs::path() : fs::path(a.data)});
+    section["section"] = demo_section(s.order);
     section["name"] = s.name;
     section["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     report["steps"].push_back(section);
@@ -57,6 +64,9 @@ Registrar reg{1000, "demo", "Run the whole pipeline on generated shapes, writing
   auto a = std::make_shared<Args>();
   app.add_option("-o,--output", a->dir, "output folder (created)")->capture_default_str();
   app.add_option("--only", a->only, "run only the named steps");
+  app.add_flag("--quick", a->quick, "coarse shapes and no real model (a quick check of the whole pipeline)");
+  app.add_option("--data", a->data, "folder of the shared meshes (denoise/Fandisk0.3 is shown when present)")
+      ->capture_default_str();
   app.callback([a] { run(*a); });
 }};
 

@@ -42,6 +42,13 @@ DemoRegistrar step{15, "bad input", [](const DemoContext& ctx) {
   r["summary"].push_back(fmt::format("broken.obj ({} faces in the file) read as {} faces, {} components, closed: {}",
                                      rep.file_polygons, s.faces, s.components, s.closed ? "yes" : "no"));
   for (const auto& w : rep.warnings) r["summary"].push_back("  " + w);
+  add_figure(ctx, {.mesh = "broken-repaired.ply",
+                   .caption = fmt::format("broken.obj: two spheres touching at a vertex, 4 flipped faces, a duplicate, "
+                                          "a degenerate face, a stray vertex; read as {} faces in {} components "
+                                          "({} flipped faces turned, {} vertices split, {} duplicate and {} degenerate "
+                                          "faces dropped).",
+                                          s.faces, s.components, rep.build.flipped_faces, rep.build.split_vertices,
+                                          rep.build.duplicate_faces, rep.build.degenerate_faces)});
   r["build"] = {{"flipped_faces", rep.build.flipped_faces},     {"split_vertices", rep.build.split_vertices},
                 {"duplicate_faces", rep.build.duplicate_faces}, {"degenerate_faces", rep.build.degenerate_faces},
                 {"isolated_vertices", rep.build.isolated_vertices}};

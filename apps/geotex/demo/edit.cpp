@@ -1,6 +1,8 @@
 // Demo steps for the differential-geometry toolkit: Laplacian editing (Sec. 5.1.4), parametrization
 // (Sec. 5.4) and the auto diffusion function (Gębal et al. 2009).
 
+#include <map>
+
 #include <fmt/format.h>
 
 #include "cli.h"
@@ -13,7 +15,7 @@
 namespace geotex::cli {
 namespace {
 
-DemoRegistrar edit{80, "laplacian editing", [](const DemoContext& ctx) {
+DemoRegistrar edit{21, "laplacian editing", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
   // A spiky plate: the left end held, the right end turned by 90 degrees about y (a bend).
   const TexturedShape sh = make_shape("spiky-plane", 1);
@@ -33,6 +35,10 @@ DemoRegistrar edit{80, "laplacian editing", [](const DemoContext& ctx) {
     C.row(k) = (moved[h[k]] ? Vec3(R * (x - Vec3(0.4, 0, 0)) + Vec3(0.4, 0, 0.1)) : x).transpose();
   }
   save_mesh(m, (ctx.dir / "edit-input.ply").string());
+  add_figure(ctx, {.mesh = "edit-input.ply",
+                   .caption = fmt::format("Laplacian editing (Sec. 5.1.4): the spiky plate; {} vertices at the ends are "
+                                          "handles, the right end is turned by 90&deg; about y.", h.size()),
+                   .compare = "edit"});
   for (auto [method, name] : {std::pair{EditMethod::Plain, "plain"}, std::pair{EditMethod::MembraneFit, "membrane-fit"},
                               std::pair{EditMethod::Linear, "linear"}}) {
     EditOptions o;
@@ -40,23 +46,31 @@ DemoRegistrar edit{80, "laplacian editing", [](const DemoContext& ctx) {
     const MatrixX3d Y = LaplacianEditor(m, h, {}, o).solve(C);
     Mesh out = m;
     set_positions(out, Y);
-    save_mesh(out, (ctx.dir / fmt::format("edit-{}.ply", name)).string());
-    const double e = detail_error(m, X, Y).mean();
+    const Eigen::VectorXd d = detail_error(m, X, Y);
+    PlyExtras x;
+    x.vertex_scalars["detail"] = std::vector<double>(d.data(), d.data() + d.size());
+    write_ply(out, ctx.dir / fmt::format("edit-{}.ply", name), x);
+    const double e = d.mean();
     r["detail_error"][name] = e;
+    add_figure(ctx, {.mesh = fmt::format("edit-{}.ply", name),
+                     .caption = fmt::format("{} editing: mean detail error {:.3f} (|&delta;' &minus; sR&delta;| / mean "
+                                            "|&delta;|; colour, shared by the row): the spikes should turn with the plate.",
+                                            name, e),
+                     .compare = "edit", .field = "detail"});
     r["summary"].push_back(fmt::format("spiky plate, right end turned 90 deg, {}: mean detail error {:.3f} "
                                        "(|delta' - s R delta| / mean |delta|)", name, e));
   }
 }};
 
-DemoRegistrar param{81, "parametrization", [](const DemoContext& ctx) {
+DemoRegistrar param{22, "parametrization", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
-  // A spherical cap (the icosphere above z = -0.2) and a flat plate, mapped to the unit disk.
+  // A spherical cap (the icosphere above z = -0.5: large enough for the maps to differ), mapped to the unit disk.
   const Mesh s = icosphere(4);
   const MatrixX3d V = positions(s);
   const MatrixX3i F = faces(s);
   std::vector<int> keep_f;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    if ((V(F(f, 0), 2) + V(F(f, 1), 2) + V(F(f, 2), 2)) / 3 > -0.2) keep_f.push_back(static_cast<int>(f));
+    if ((V(F(f, 0), 2) + V(F(f, 1), 2) + V(F(f, 2), 2)) / 3 > -0.5) keep_f.push_back(static_cast<int>(f));
   std::vector<int> id(V.rows(), -1);
   int nv = 0;
   MatrixX3i Fc(keep_f.size(), 3);
@@ -74,14 +88,27 @@ DemoRegistrar param{81, "parametrization", [](const DemoContext& ctx) {
                               std::pair{ParamMethod::Combined, "combined"}, std::pair{ParamMethod::NaturalConformal, "natural"}}) {
     const MatrixX2d uv = parametrize(cap, {method});
     write_obj_with_uv(cap, uv, ctx.dir / fmt::format("cap-uv-{}.obj", name));
+    PlyExtras x;  // the same UVs as vertex properties, for the report's checkerboard
+    for (int c : {0, 1}) x.vertex_scalars[c ? "param_v" : "param_u"] = std::vector<double>(uv.col(c).data(), uv.col(c).data() + uv.rows());
+    write_ply(cap, ctx.dir / fmt::format("cap-uv-{}.ply", name), x);
     const ParamQuality q = parametrization_quality(cap, uv);
     r["summary"].push_back(fmt::format("spherical cap ({} faces), {}: {} flipped, mean angle error {:.2f} deg, "
                                        "mean |log area ratio| {:.3f}", cap.n_faces(), name, q.flipped,
                                        q.mean_angle_error_deg, q.mean_log_area_ratio));
+    static const std::map<std::string, std::string> what = {
+        {"conformal", "aims to keep angles (squares stay square)"},
+        {"authalic", "aims to keep areas (squares keep their size)"},
+        {"combined", "a mix of the two"},
+        {"natural", "conformal with a free boundary (the rim is not forced onto a circle)"}};
+    add_figure(ctx, {.mesh = fmt::format("cap-uv-{}.ply", name),
+                     .caption = fmt::format("Parametrization (Sec. 5.4), {}: a UV checkerboard on the spherical cap; "
+                                            "{}. Mean angle error {:.2f}&deg;, mean |log area ratio| {:.3f}, {} flipped.",
+                                            name, what.at(name), q.mean_angle_error_deg, q.mean_log_area_ratio, q.flipped),
+                     .compare = "param", .checker = true});
   }
 }};
 
-DemoRegistrar adf{82, "auto diffusion function", [](const DemoContext& ctx) {
+DemoRegistrar adf{23, "auto diffusion function", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
   const TexturedShape sh = make_shape("spiky-sphere", 0);
   const LaplaceSpectrum sp = laplace_spectrum(sh.textured, 100);
@@ -95,6 +122,12 @@ DemoRegistrar adf{82, "auto diffusion function", [](const DemoContext& ctx) {
     r["summary"].push_back(fmt::format("spiky sphere, ADF t = {} over 100 eigenpairs: mean at the {} spike tips {:.3g}, "
                                        "mean overall {:.3g}", t, sh.spike_centres.size(), tips / sh.spike_centres.size(),
                                        a.mean()));
+    add_figure(ctx, {.mesh = fmt::format("spiky-sphere-adf-t{}.ply", t),
+                     .caption = fmt::format("Auto diffusion function, t = {} (100 eigenpairs): {:.3g} on average at the "
+                                            "{} spike tips, {:.3g} overall; {}.",
+                                            t, tips / sh.spike_centres.size(), sh.spike_centres.size(), a.mean(),
+                                            t < 0.1 ? "small t picks out the tips" : "large t shows the coarse shape"),
+                     .field = "adf"});
   }
 }};
 

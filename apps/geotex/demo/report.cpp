@@ -1,19 +1,19 @@
-// Demo step "report": pictures of every mesh the other steps wrote, their metrics against the clean
-// input, 3D viewer pages, and an index.html that puts them side by side. Runs after the capability
-// steps (order 900). A step only sees its own report section, so the meshes are found by scanning
-// the demo folder; files are grouped by the name before their first '-' ("cube-noisy.ply" → cube).
+// Demo step "report": index.html, the pictures the other steps asked for (add_figure() in cli.h) in the
+// pipeline's order (input, toolkit, denoising, texture, resizing), each with its caption, and 3D viewer
+// pages. Figures of one comparison share their camera and their colour range. Runs last (order 900);
+// mesh files no figure shows are listed at the end.
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
 #include "cli.h"
 #include "geotex/core/geometry.h"
-#include "geotex/tools/metrics.h"
 #include "geotex/tools/render.h"
 #include "geotex/tools/viewer.h"
 
@@ -23,36 +23,33 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr size_t kMaxFaces = 300000;  // larger meshes are listed but neither drawn nor put in a page
-constexpr size_t kMaxMeshes = 80;     // keeps the step within seconds however much the other steps write
+constexpr int kWidth = 400, kHeight = 300;  // pictures; shown at half size (sharp on high-density screens)
 
-std::string html(const std::string& s) {
+std::string html_escape(const std::string& s) {
   std::string out;
   for (char c : s) out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : c == '"' ? "&quot;" : std::string(1, c);
   return out;
 }
 
-struct Entry {
-  fs::path file;
-  std::string stem, group;
+std::string id_of(const std::string& s) {
+  std::string out;
+  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? static_cast<char>(std::tolower(c)) : '-';
+  return out;
+}
+
+struct Loaded {
   Mesh mesh;
   MeshLayers layers;
-  MeshSummary summary;
-  std::string picture, page, field, note;
-  std::optional<Comparison> vs_truth;
-  std::string truth;
 };
 
-bool is_truth(const std::string& stem) {
-  return stem.find("clean") != std::string::npos || stem.find("truth") != std::string::npos;
-}
-
-// The field a picture shows: the mesh's own "feature", "height" or "error" property, else its first
-// per-vertex property (e.g. "adf"), else none.
-std::string picture_field(const MeshLayers& l) {
-  for (const char* name : {"feature", "height", "error"})
-    if (l.fields.count(name)) return name;
-  return l.fields.empty() ? "" : l.fields.begin()->first;
-}
+struct Figure {
+  std::string section, step;
+  nlohmann::json spec;  // as add_figure() wrote it
+  const Loaded* data = nullptr;
+  Eigen::VectorXd field;  // the colours' values (empty: none)
+  MeshLayers layers;      // what the 3D page shows (with the error field and the edges)
+  std::string picture, page, problem;
+};
 
 DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
@@ -61,59 +58,135 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
   fs::create_directories(pictures);
   fs::create_directories(views);
 
-  // Every mesh file the earlier steps wrote, in name order.
-  std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(ctx.dir)) {
-    if (!e.is_regular_file()) continue;
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext == ".ply" || ext == ".obj" || ext == ".off" || ext == ".stl") files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  if (files.size() > kMaxMeshes) {
-    r["summary"].push_back(fmt::format("{} meshes found; the report shows the first {}", files.size(), kMaxMeshes));
-    files.resize(kMaxMeshes);
-  }
-
-  std::vector<Entry> entries;
-  for (const auto& f : files) {
-    Entry e;
-    e.file = f;
-    e.stem = f.stem().string();
-    e.group = e.stem.substr(0, e.stem.find('-'));
-    try {
-      ReadReport rep;
-      e.mesh = read_mesh(f, {}, &rep);
-      e.layers = read_mesh_layers(f, e.mesh.n_vertices());
-    } catch (const Error&) {
-      continue;  // not a surface (e.g. an OBJ of line segments): nothing to draw
+  // The figures, in the steps' order, and the steps' notes.
+  std::vector<Figure> figures;
+  std::vector<std::pair<std::string, std::string>> steps;  // (section, step) in order
+  std::map<std::string, std::vector<std::string>> notes;   // step → notes
+  if (ctx.steps)
+    for (const auto& s : *ctx.steps) {
+      const std::string section = s.value("section", std::string("Other")), name = s.value("name", std::string());
+      if (s.contains("notes"))
+        for (const auto& n : s["notes"]) notes[name].push_back(n.get<std::string>());
+      if (!s.contains("figures") && !notes.count(name)) continue;
+      steps.emplace_back(section, name);
+      if (s.contains("figures"))
+        for (const auto& f : s["figures"]) figures.push_back({section, name, f});
     }
-    e.summary = summarize(e.mesh);
-    entries.push_back(std::move(e));
+
+  // Meshes, read once each.
+  std::map<std::string, Loaded> meshes;
+  auto load = [&](const std::string& file) -> const Loaded* {
+    if (auto it = meshes.find(file); it != meshes.end()) return &it->second;
+    Loaded l;
+    l.mesh = read_mesh(ctx.dir / file);
+    l.layers = read_mesh_layers(ctx.dir / file, l.mesh.n_vertices());
+    return &meshes.emplace(file, std::move(l)).first->second;
+  };
+  for (auto& f : figures) {
+    const nlohmann::json& sp = f.spec;
+    try {
+      f.data = load(sp["mesh"].get<std::string>());
+      if (f.data->mesh.n_faces() > kMaxFaces) {
+        f.problem = "too large to draw here";
+        continue;
+      }
+      f.layers = f.data->layers;
+      const std::string field = sp.value("field", std::string());
+      if (field == "error") {
+        f.field = distance_to_surface(f.data->mesh, load(sp["truth"].get<std::string>())->mesh);
+        f.layers.fields["error"] = f.field;
+      } else if (!field.empty()) {
+        if (!f.layers.fields.count(field)) throw InvalidInput("no vertex property '" + field + "'");
+        f.field = f.layers.fields.at(field);
+      }
+      if (sp.contains("edges")) read_edge_labels(ctx.dir / sp["edges"].get<std::string>(), f.data->mesh.n_vertices(), f.layers);
+    } catch (const Error& e) {
+      f.problem = e.what();
+    }
   }
 
-  // Metrics against the clean mesh: the truth of the same group, or a "<shape>-clean" whose shape
-  // name appears in this file's name (mrf-cube-… → cube-clean), if it really is the same shape.
-  std::vector<const Entry*> truths;
-  for (const auto& e : entries)
-    if (is_truth(e.stem)) truths.push_back(&e);
-  for (auto& e : entries) {
-    if (is_truth(e.stem) || e.mesh.n_faces() > kMaxFaces) continue;
-    const Entry* truth = nullptr;
-    for (const Entry* t : truths)
-      if (t->group == e.group) truth = t;
-    if (!truth)
-      for (const Entry* t : truths)
-        if (("-" + e.stem + "-").find("-" + t->group + "-") != std::string::npos) truth = t;
-    if (!truth || truth->mesh.n_faces() > kMaxFaces) continue;
-    const Comparison c = compare_meshes(e.mesh, truth->mesh);
-    if (c.hausdorff_relative > 0.25) continue;  // a different shape after all
-    e.vs_truth = c;
-    e.truth = truth->stem;
-    e.layers.fields["error"] = distance_to_surface(e.mesh, truth->mesh);
+  // Comparisons: one camera for all their meshes, one colour range for their fields.
+  struct Shared {
+    std::vector<Figure*> members;
+    double lo = 0, hi = 0;
+    std::optional<Camera> camera;
+  };
+  std::map<std::string, Shared> shared;
+  for (auto& f : figures)
+    if (f.spec.contains("compare") && f.problem.empty()) shared[f.spec["compare"].get<std::string>()].members.push_back(&f);
+  RenderOptions base;
+  base.width = kWidth;
+  base.height = kHeight;
+  base.up = UpAxis::Z;  // the demo's shapes are generated z-up
+  for (auto& [key, g] : shared) {
+    bool error = false, any_field = false;
+    Eigen::Index rows = 0;
+    std::vector<double> values;  // of the members that set the range
+    for (Figure* f : g.members) {
+      rows += face_vertices(f->data->mesh).rows();
+      if (f->field.size() == 0) continue;
+      any_field = true;
+      const std::string field = f->spec.value("field", std::string());
+      error = error || field == "error" || field == "detail";  // errors: ≥ 0, a few large ones
+      if (f->spec.value("sets_range", true)) values.insert(values.end(), f->field.data(), f->field.data() + f->field.size());
+    }
+    if (!values.empty()) {
+      // Error maps: from 0 to the 98th percentile of all the row's errors (a few large errors of one
+      // result must not leave the others in one dark colour); other fields: their whole range.
+      std::sort(values.begin(), values.end());
+      g.lo = error ? 0.0 : values.front();
+      g.hi = error ? values[static_cast<size_t>(0.98 * (values.size() - 1))] : values.back();
+      if (!(g.hi > g.lo)) g.hi = g.lo + 1;
+    }
+    MatrixX3d all(rows, 3);
+    Eigen::Index at = 0;
+    for (Figure* f : g.members) {
+      const MatrixX3d P = face_vertices(f->data->mesh);
+      all.middleRows(at, P.rows()) = P;
+      at += P.rows();
+    }
+    RenderOptions o = base;
+    o.view = view_direction_from_name(g.members.front()->spec.value("view", std::string("iso")));
+    g.camera = fit_camera(all, o, any_field ? legend_width(o.width) : 0);
   }
 
-  // Pictures and viewer pages.
+  // Pictures.
+  size_t drawn = 0;
+  std::set<std::string> shown;
+  for (auto& f : figures) {
+    if (f.data) shown.insert(f.spec["mesh"].get<std::string>());
+    if (!f.problem.empty()) continue;
+    RenderOptions o = base;
+    o.view = view_direction_from_name(f.spec.value("view", std::string("iso")));
+    RenderLayers rl;
+    rl.field = f.field;
+    rl.segments = f.layers.segments;
+    rl.segment_labels = f.layers.labels;
+    if (f.spec.value("checker", false)) {
+      const auto& u = f.layers.fields;
+      if (!u.count("param_u") || !u.count("param_v")) {
+        f.problem = "no param_u, param_v vertex properties for the checkerboard";
+        continue;
+      }
+      rl.uv.resize(f.data->mesh.n_vertices(), 2);
+      rl.uv.col(0) = u.at("param_u");
+      rl.uv.col(1) = u.at("param_v");
+      rl.checker_size = 0.125;
+      rl.field.resize(0);
+    }
+    if (f.spec.contains("compare")) {
+      const Shared& g = shared.at(f.spec["compare"].get<std::string>());
+      o.camera = g.camera;
+      rl.field_lo = g.lo;
+      rl.field_hi = g.hi;
+    }
+    const std::string stem = fs::path(f.spec["mesh"].get<std::string>()).stem().string();
+    f.picture = "pictures/" + stem + ".png";
+    write_png(render_mesh(f.data->mesh, o, rl).image, ctx.dir / f.picture);
+    ++drawn;
+  }
+
+  // 3D pages: one per comparison (up to six meshes, linked cameras), one per figure outside any.
   std::string script;
   try {
     script = viewer_script();
@@ -121,125 +194,110 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
   } catch (const IoError& err) {
     r["summary"].push_back(std::string("3D pages skipped: ") + err.what());
   }
-  std::map<std::string, Camera> truth_camera;
-  std::map<std::string, std::vector<const Entry*>> groups;
-  size_t drawn = 0, pages = 0;
-  for (auto& e : entries) {
-    groups[e.group].push_back(&e);
-    if (e.mesh.n_faces() > kMaxFaces) {
-      e.note = "too large to draw here";
-      continue;
-    }
-    RenderOptions o;
-    o.width = 480;
-    o.height = 360;
-    o.up = UpAxis::Z;  // the demo's shapes are generated z-up
-    RenderLayers rl;
-    e.field = e.vs_truth ? "error" : picture_field(e.layers);
-    if (!e.field.empty()) rl.field = e.layers.fields.at(e.field);
-    rl.segments = e.layers.segments;
-    rl.segment_labels = e.layers.labels;
-    // Results share their clean input's camera, so that they line up with it; the legend's room is
-    // kept free whenever a picture of the set may show one.
-    const std::string key = e.vs_truth ? e.truth : is_truth(e.stem) ? e.stem : "";
-    const int legend_room = key.empty() && e.field.empty() ? 0 : legend_width(o.width);
-    if (auto it = truth_camera.find(key); !key.empty() && it != truth_camera.end()) o.camera = it->second;
-    else {
-      const Entry* framed = &e;
-      for (const Entry* t : truths)
-        if (t->stem == key) framed = t;
-      o.camera = fit_camera(framed->mesh, o, legend_room);
-      if (!key.empty()) truth_camera[key] = *o.camera;
-    }
-    const Rendering pic = render_mesh(e.mesh, o, rl);
-    e.picture = "pictures/" + e.stem + ".png";
-    write_png(pic.image, ctx.dir / e.picture);
-    ++drawn;
-    if (!script.empty()) {
-      ++pages;
-      ViewerOptions v;
-      v.up = UpAxis::Z;
-      v.title = e.file.filename().string();
-      v.initial_field = e.field;
-      v.script_src = "geotex-viewer.js";
-      e.page = "views/" + e.stem + ".html";
-      write_text_atomic(ctx.dir / e.page, viewer_page({{e.file.filename().string(), e.mesh, e.layers}}, v, script));
-    }
-  }
-
-  // Group pages: up to six meshes of a group side by side with linked cameras.
-  std::map<std::string, std::string> group_page;
-  if (!script.empty())
-    for (const auto& [g, members] : groups) {
+  size_t pages = 0;
+  if (!script.empty()) {
+    auto page = [&](const std::vector<Figure*>& fs_, const std::string& name, const std::string& title) {
       std::vector<ViewerMesh> ms;
       std::string field;
-      for (const Entry* e : members)
-        if (!e->page.empty() && ms.size() < 6) {
-          ms.push_back({e->file.filename().string(), e->mesh, e->layers});
-          if (e->vs_truth) field = "error";
-        }
-      if (ms.size() < 2) continue;
+      for (Figure* f : fs_) {
+        if (ms.size() == 6) break;
+        ms.push_back({f->spec["mesh"].get<std::string>(), f->data->mesh, f->layers});
+        if (field.empty()) field = f->spec.value("field", std::string());
+      }
       ViewerOptions v;
       v.up = UpAxis::Z;
-      v.title = "geotex demo: " + g;
+      v.title = title;
       v.initial_field = field;
       v.script_src = "geotex-viewer.js";
-      group_page[g] = "views/group-" + g + ".html";
+      const std::string path = "views/" + name + ".html";
+      write_text_atomic(ctx.dir / path, viewer_page(ms, v, script));
       ++pages;
-      write_text_atomic(ctx.dir / group_page[g], viewer_page(ms, v, script));
-    }
+      for (Figure* f : fs_) f->page = path;
+    };
+    for (auto& [key, g] : shared) page(g.members, "compare-" + id_of(key), "geotex demo: " + key);
+    for (auto& f : figures)
+      if (f.problem.empty() && !f.spec.contains("compare"))
+        page({&f}, fs::path(f.spec["mesh"].get<std::string>()).stem().string(), f.spec["mesh"].get<std::string>());
+  }
 
-  // index.html
-  std::string body;
-  for (const auto& [g, members] : groups) {
-    body += fmt::format("<section><h2>{}</h2>", html(g));
-    if (group_page.count(g)) body += fmt::format("<p><a href=\"{}\">compare side by side in 3D</a></p>", group_page[g]);
-    body += "<div class=\"grid\">";
-    for (const Entry* e : members) {
-      body += "<figure>";
-      if (!e->picture.empty()) {
-        const std::string img = fmt::format("<img src=\"{}\" alt=\"{}\" width=\"480\" height=\"360\">", e->picture, html(e->stem));
-        body += e->page.empty() ? img : fmt::format("<a href=\"{}\">{}</a>", e->page, img);
+  // index.html: a section per part of the pipeline, a heading per step, a grid of captioned pictures.
+  std::string body, section;
+  for (const auto& [sec, name] : steps) {
+    if (sec != section) {
+      if (!section.empty()) body += "</section>\n";
+      section = sec;
+      body += fmt::format("<section id=\"{}\" data-section=\"{}\"><h2>{}</h2>\n", id_of(sec), html_escape(sec),
+                          html_escape(sec));
+    }
+    body += fmt::format("<h3 data-step=\"{0}\">{0}</h3>", html_escape(name));
+    for (const auto& n : notes[name]) body += "<p class=\"note\">" + html_escape(n) + "</p>";
+    // A row (grid) per comparison: its pictures side by side, the next comparison below.
+    std::optional<std::string> row;
+    for (const auto& f : figures) {
+      if (f.step != name) continue;
+      const std::string key = f.spec.value("compare", std::string());
+      if (!row || *row != key) {
+        body += row ? "</div><div class=\"grid\">" : "<div class=\"grid\">";
+        row = key;
       }
-      body += fmt::format("<figcaption><b><a href=\"{0}\">{0}</a></b><br>{1} vertices, {2} faces", html(e->file.filename().string()),
-                          e->summary.vertices, e->summary.faces);
-      if (e->summary.genus >= 0) body += fmt::format(", genus {}", e->summary.genus);
-      if (e->layers.segments.rows() > 0) body += fmt::format("<br>{} labelled edges (red lines)", e->layers.segments.rows());
-      if (e->vs_truth)
-        body += fmt::format("<br>vs {}: normal error {:.2f}&deg;, Ev {:.2e}, Hausdorff {:.2e} (of the diagonal)",
-                            html(e->truth), e->vs_truth->mean_normal_error_deg, e->vs_truth->ev_relative,
-                            e->vs_truth->hausdorff_relative);
-      if (!e->field.empty()) body += fmt::format("<br>colour: {}", e->field == "error" ? "distance to " + html(e->truth) : html(e->field));
-      if (!e->page.empty()) body += fmt::format("<br><a href=\"{}\">3D view</a>", e->page);
-      if (!e->note.empty()) body += "<br><i>" + html(e->note) + "</i>";
+      const std::string file = f.spec["mesh"].get<std::string>();
+      body += "<figure>";
+      if (!f.picture.empty())
+        body += fmt::format("<a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\" width=\"{2}\" height=\"{3}\" loading=\"lazy\"></a>",
+                            f.picture, html_escape(file), kWidth / 2, kHeight / 2);
+      // Captions are written by the steps as HTML (entities, <b>, <sub>).
+      body += "<figcaption>" + f.spec.value("caption", std::string());
+      body += fmt::format(" <span class=\"files\"><a href=\"{0}\">{0}</a>", html_escape(file));
+      if (f.data) body += fmt::format(", {} faces", f.data->mesh.n_faces());
+      if (!f.page.empty()) body += fmt::format(" &middot; <a href=\"{}\">3D</a>", f.page);
+      body += "</span>";
+      if (!f.problem.empty()) body += "<br><i>" + html_escape(f.problem) + "</i>";
       body += "</figcaption></figure>";
     }
-    body += "</div></section>\n";
+    if (row) body += "</div>\n";
   }
-  const std::string page = fmt::format(R"(<!doctype html>
+  if (!section.empty()) body += "</section>\n";
+
+  // Mesh files that no figure shows.
+  std::vector<std::string> rest;
+  for (const auto& e : fs::directory_iterator(ctx.dir)) {
+    const std::string ext = e.path().extension().string();
+    if (e.is_regular_file() && (ext == ".ply" || ext == ".obj" || ext == ".off" || ext == ".stl") &&
+        !shown.count(e.path().filename().string()))
+      rest.push_back(e.path().filename().string());
+  }
+  std::sort(rest.begin(), rest.end());
+  if (!rest.empty()) {
+    body += "<section id=\"files\" data-section=\"Files\"><h2>Other files</h2><p class=\"files\">";
+    for (size_t k = 0; k < rest.size(); ++k)
+      body += fmt::format("{}<a href=\"{}\">{}</a>", k ? " &middot; " : "", html_escape(rest[k]), html_escape(rest[k]));
+    body += "</p></section>\n";
+  }
+
+  const std::string html = fmt::format(R"(<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>geotex demo</title>
 <style>
-  body {{ font: 14px/1.45 system-ui, sans-serif; margin: 24px; color: #222; }}
-  h1 {{ margin-top: 0; }} h2 {{ border-bottom: 1px solid #ddd; padding-bottom: 4px; margin-top: 32px; }}
-  .grid {{ display: flex; flex-wrap: wrap; gap: 18px; }}
-  figure {{ margin: 0; width: 480px; }} img {{ border: 1px solid #e4e4e4; display: block; }}
-  figcaption {{ font-size: 13px; color: #444; margin-top: 4px; }}
+  body {{ font: 13px/1.4 system-ui, sans-serif; margin: 16px 24px; color: #222; }}
+  h1 {{ margin: 0 0 4px; }} h2 {{ border-bottom: 1px solid #ccc; margin: 20px 0 4px; }} h3 {{ margin: 10px 0 4px; font-size: 14px; }}
+  .grid {{ display: grid; grid-template-columns: repeat(auto-fill, {}px); gap: 10px 12px; margin-bottom: 12px; }}
+  figure {{ margin: 0; }} img {{ border: 1px solid #e4e4e4; display: block; }}
+  figcaption {{ font-size: 11.5px; line-height: 1.3; color: #333; margin-top: 2px; }} .files {{ color: #777; }} .note {{ color: #a33; margin: 2px 0; }}
 </style></head><body>
 <h1>geotex demo</h1>
-<p>Every mesh the demo wrote, grouped by name: a picture (click for a 3D view), its size, and its distance to
-the clean input where there is one (normal error in degrees, E<sub>v</sub> and Hausdorff distance relative to the
-bounding-box diagonal; the colour map shows each vertex's distance). Step summaries and timings:
+<p>The pipeline in order: input, the differential-geometry toolkit, denoising, texture, resizing. Each picture's
+caption says what it shows and what was measured; pictures of one row share their camera and colour range (the
+bar at their right). Click a picture to enlarge it, "3D" for a viewer page. Step summaries and timings:
 <a href="README.md">README.md</a>, <a href="report.json">report.json</a>.</p>
 {}
 </body></html>
 )",
-                                       body);
-  write_text_atomic(ctx.dir / "index.html", page);
+                                       kWidth / 2, body);
+  write_text_atomic(ctx.dir / "index.html", html);
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r["index"] = (ctx.dir / "index.html").string();
   r["pictures"] = drawn;
-  r["summary"].push_back(fmt::format("index.html: {} meshes in {} groups, {} pictures, {} 3D pages, in {:.1f} s",
-                                     entries.size(), groups.size(), drawn, pages, sec));
+  r["summary"].push_back(fmt::format("index.html: {} figures in {} steps, {} pictures, {} 3D pages, {} other files, in {:.1f} s",
+                                     figures.size(), steps.size(), drawn, pages, rest.size(), sec));
 }};
 
 }  // namespace

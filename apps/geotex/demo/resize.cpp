@@ -27,17 +27,26 @@ std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const M
   return {{"plain", C}, {"thesis", feature_aware_resize(mesh, C, f, thesis)}, {"sliding", feature_aware_resize(mesh, C, f)}};
 }
 
+const char* method_label(const std::string& name) {
+  return name == "plain" ? "plain space map" : name == "thesis" ? "preset thesis (Eq. 9.2&ndash;9.3)" : "default (sliding)";
+}
+
 DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
-  const BumpyPlate b = ridge_plate();
+  const BumpyPlate b = ridge_plate(ctx.quick ? 40 : 80);
   const MatrixX3d X = positions(b.mesh);
   const FeatureMap fm = feature_map(b.mesh);
   r["ridge_plate_features"] = fm.summary.describe();
   r["summary"].push_back("ridge plate, automatic " + fm.summary.describe());
   save_with_features(b.mesh, X, fm.weights, ctx.dir / "ridge-plate-features.ply");
+  add_figure(ctx, {.mesh = "ridge-plate-features.ply",
+                   .caption = "Ridge plate: round bumps and a ridge. Colour: the automatic feature map (1: feature, "
+                              "kept rigid; 0: stretchable), " + fm.summary.describe() + ".",
+                   .compare = "ridge-plate", .field = "feature"});
   const std::pair<SpaceMap, const char*> maps[] = {
       {scale_map({2, 1, 1}), "scale-2-1-1"}, {bend_map(1.5), "bend-1.5"}, {twist_map(1.0), "twist-1"}};
   for (const auto& [map, label] : maps) {
+    if (ctx.quick && std::string(label) != "scale-2-1-1") continue;  // --quick: the scaling only
     for (const auto& [name, Y] : results(b.mesh, apply_space_map(map, X), fm.weights)) {
       save_with_features(b.mesh, Y, fm.weights, ctx.dir / fmt::format("ridge-plate-{}-{}.ply", label, name));
       double aspect = 0, height = 0, tilt = 0;
@@ -57,6 +66,14 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
                                          "{:.1f} deg; ridge's aspect change {:.1f}%; largest crease at feature rims "
                                          "{:.1f} deg (input {:.1f})",
                                          label, name, 100 * aspect, 100 * height, tilt, 100 * ridge, crease, crease0));
+      if (name != "plain" || std::string(label) == "scale-2-1-1")
+        add_figure(ctx, {.mesh = fmt::format("ridge-plate-{}-{}.ply", label, name),
+                         .caption = fmt::format("Ridge plate {}, <b>{}</b>: bumps' aspect change {:.1f}%, height {:.1f}%, "
+                                                "tilt {:.1f}&deg;; ridge's aspect {:.1f}%; crease at feature rims "
+                                                "{:.1f}&deg; (input {:.1f}&deg;).",
+                                                label, method_label(name), 100 * aspect, 100 * height, tilt, 100 * ridge,
+                                                crease, crease0),
+                         .compare = "ridge-plate", .field = "feature"});
     }
   }
   // The tentacle stick (coarse level, to keep the demo quick), ×2 along its axis and bent into an arc.
@@ -73,6 +90,11 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
   }
   r["summary"].push_back(fmt::format("tentacle stick, automatic {}; IoU with the true tentacles {:.3f}",
                                      sf.summary.describe(), inter / uni));
+  save_with_features(m, S, sf.weights, ctx.dir / "tentacle-stick-features.ply");
+  add_figure(ctx, {.mesh = "tentacle-stick-features.ply",
+                   .caption = fmt::format("Tentacle stick: nine curved tentacles on a capsule. Colour: the automatic "
+                                          "feature map; IoU with the true tentacles {:.2f}.", inter / uni),
+                   .compare = "stick", .field = "feature"});
   SpaceMapOptions so;
   so.scale = Vec3(2, 1, 1);
   so.arc_radius = 6;
@@ -89,6 +111,12 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
     r["summary"].push_back(fmt::format("tentacle stick x2 and arc, {}: worst tentacle length change {:.1f}%, worst "
                                        "change of its angle to the local base {:.1f} deg",
                                        name, 100 * length, angle));
+    add_figure(ctx, {.mesh = fmt::format("tentacle-stick-arc-{}.ply", name),
+                     .caption = fmt::format("Stick &times;2 along its axis and bent into an arc (radius 6), <b>{}</b>: "
+                                            "worst tentacle length change {:.1f}%, worst change of its angle to the "
+                                            "base {:.1f}&deg;.",
+                                            method_label(name), 100 * length, angle),
+                     .compare = "stick", .field = "feature"});
   }
 }};
 

@@ -114,6 +114,11 @@ struct RenderLayers {
   MatrixX2i segments;
   //! #S per-segment labels choosing the line colour (empty: all label 1)
   Eigen::VectorXi segment_labels;
+  //! #V by 2 texture coordinates shown as a checkerboard (empty: none; it replaces the field's colours):
+  //! a parametrization's angle distortion shows as squares turned into diamonds, its area distortion as
+  //! squares of different sizes. Interpolated per pixel (exact for the orthographic camera).
+  MatrixX2d uv;
+  double checker_size = 0.1;  //!< side of a checker square in uv units
 };
 
 struct Rendering {
