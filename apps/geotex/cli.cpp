@@ -51,9 +51,12 @@ void save_mesh(const Mesh& mesh, const std::string& path, bool binary) {
 }
 
 void check_output(const std::string& input, const std::string& output) {
-  std::error_code ec;
-  if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
-    info(fmt::format("geotex: note: {} is both input and output; it is replaced only once the result is complete", output));
+  // The rules of Outputs (an output may not be an input, also through a link; a usable target), checked
+  // before any work: a note here let `texture apply T -o T` replace the texture (issue 14, class 2).
+  // Declaring touches no file; the transaction ends here, and the command's writes stay atomic.
+  OutputTransaction check;
+  check.declare_input(input);
+  check.declare(output, "-o");
 }
 
 Outputs::Outputs(std::initializer_list<std::string> inputs,

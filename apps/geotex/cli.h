@@ -63,7 +63,7 @@ struct MeshIo {
 Mesh load_mesh(const std::string& path, ReadReport* report = nullptr, bool strict = false);
 // Write a mesh (atomically) and say where it went unless quiet.
 void save_mesh(const Mesh& mesh, const std::string& path, bool binary = true);
-// Transitional (texture, resize): a note when the output names the input.
+// Transitional (texture, resize): the output checked against the input before any work (as Outputs does).
 void check_output(const std::string& input, const std::string& output);
 
 // The files of one run (geotex/core/output.h): inputs and outputs are declared, and every output is

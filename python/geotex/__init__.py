@@ -371,7 +371,8 @@ def texture_edit(V_base: Any, F: Any, height: Any, tilt: Any, op: str, direction
 def texture_transfer(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any, F_target: Any, source_center: int,
                      source_radius: float, target_center: int, target_radius: float, rotation: float = 0.0) -> Result:
     """Transfer a disk patch of texture to a disk patch of another base via conformal maps (Sec. 8.3.3;
-    `geotex texture transfer`). Returns a Result: height, tilt, V (the textured target), target_vertices."""
+    `geotex texture transfer`). Returns a Result: height, tilt, V and F (the textured target, refined in
+    the patch where it was coarser), target_vertices."""
     return Result(**_geotex.texture_transfer(V_base, F, height, tilt, V_target, F_target, source_center, source_radius,
                                               target_center, target_radius, rotation))
 

@@ -88,8 +88,10 @@ CLI's --tilt-fit and --tilt-solver). Returns V_base, height (#V), tilt (#E).)doc
         const Mesh target = to_mesh(V_target, F_target);
         const Mesh source = to_mesh(V_base, F);
         const TransferResult r = transfer_texture(source, texture_of(source, height_, tilt_), target, o);
+        // The texture lives on r.target (the target refined in the patch when it was coarser): apply it
+        // there, and return its faces (applying it to the unrefined target failed with a size error).
         return py::dict(py::arg("height") = r.texture.height, py::arg("tilt") = r.texture.tilt,
-                        py::arg("V") = VArray(apply_texture(target, r.texture)),
+                        py::arg("V") = VArray(apply_texture(r.target, r.texture)), py::arg("F") = FArray(faces(r.target)),
                         py::arg("target_vertices") = r.target_vertices);
       },
       py::arg("V_base"), py::arg("F"), py::arg("height"), py::arg("tilt"), py::arg("V_target"), py::arg("F_target"),
