@@ -212,8 +212,8 @@ def test_class4_nan_and_inf_options_are_refused(tmp_path):
         import math
         import numpy as np
         import geotex
-        V, F = geotex.generate("sphere", level=1)
-        Vp, Fp = geotex.generate("plane", level=2)
+        V, F = geotex.generate("sphere", level=0)
+        Vp, Fp = geotex.generate("plane", level=1)
         tex = geotex.texture_extract(Vp, Fp)
         h, t = tex.height, tex.tilt
         calls = {
@@ -233,7 +233,9 @@ def test_class4_nan_and_inf_options_are_refused(tmp_path):
             "threads": lambda x: geotex.smooth(V, F, threads=x),
         }
         for name, call in calls.items():
-            for x in (math.nan, math.inf, -math.inf, 1e308):
+            # 1e308 (finite, but overflows when turned into radians) where the issue saw it crash.
+            huge = (1e308,) if name.startswith(("texture", "smooth")) else ()
+            for x in (math.nan, math.inf, -math.inf) + huge:
                 try:
                     out = call(x)
                     arrays = [np.asarray(v) for v in (out if isinstance(out, tuple) else
