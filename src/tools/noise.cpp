@@ -41,7 +41,7 @@ MatrixX3d add_noise(const Mesh& mesh, const NoiseOptions& opt) {
     X.row(i) += amount * dir.transpose();
   }
   // Coordinates near the double range (1e200) overflow here: say so rather than return inf (issue 14).
-  if (!X.allFinite()) throw InvalidInput("noise: the noisy positions overflow (coordinates too large); scale the mesh down");
+  if (!X.allFinite()) throw InvalidInput("noise: non-finite positions: the coordinates are too large and overflow; scale the mesh down");
   return X;
 }
 
