@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <string>
+
+#include <sys/resource.h>
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -35,7 +38,31 @@ std::string one_line(const char* what) {
 }
 }  // namespace
 
+namespace {
+int run(int argc, char** argv);
+
+// True when the address space is capped (ulimit -v, prlimit).
+bool address_space_limited() {
+  struct rlimit r {};
+  return ::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
+  const int code = run(argc, argv);
+  // Under an address-space cap, OpenBLAS's worker threads, started before main, may fail to map their
+  // 128 MiB buffers and retry forever; its exit handler joins them, so geotex hung at exit after
+  // finishing (issue 14, class 8: "spins forever inside BLAS"). Everything is written and closed by
+  // now: leave without exit handlers.
+  if (address_space_limited()) {
+    std::fflush(nullptr);
+    std::_Exit(code);
+  }
+  return code;
+}
+
+namespace {
+int run(int argc, char** argv) {
   using namespace geotex::cli;
   CLI::App app{"geotex: 3D shape modeling with high-level descriptors (after V. Andersen, DTU 2011)"};
   app.require_subcommand(1);
@@ -101,3 +128,4 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+}  // namespace

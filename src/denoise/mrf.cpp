@@ -162,6 +162,8 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
   }
   if (o.final_phi0_deg > 0) relabel(P, field, o.final_phi0_deg, L);
   r.positions = unflat(P.positions(), T.nV, h);
+  // Coordinates near the double range (1e200) overflow the unit length: refuse, never return NaN (issue 14).
+  if (!r.positions.allFinite()) throw InvalidInput("denoise: non-finite result (coordinates too large?)");
   r.edge_labels = Eigen::Map<const Eigen::VectorXd>(L.eps.data(), T.nE);
   return r;
 }
@@ -215,6 +217,8 @@ MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
     P.fit_positions(o.vertex_iterations);
   }
   r.positions = unflat(P.positions(), T.nV, h);
+  // Coordinates near the double range (1e200) overflow the unit length: refuse, never return NaN (issue 14).
+  if (!r.positions.allFinite()) throw InvalidInput("denoise: non-finite result (coordinates too large?)");
   r.edge_labels = Eigen::Map<const Eigen::VectorXd>(L.eps.data(), T.nE);
   return r;
 }

@@ -315,6 +315,8 @@ Eigen::VectorXd features_from_height(const Mesh& mesh, const FeatureMapOptions& 
 }
 
 Eigen::VectorXd features_from_adf(const Mesh& mesh, double t, int eigenpairs, double threshold, int dilate) {
+  // A NaN threshold made resize(feature_threshold=nan) run without end from Python (issue 14, class 4).
+  if (!std::isfinite(threshold)) throw InvalidInput("feature threshold must be a finite number");
   const Eigen::VectorXd adf = auto_diffusion_function(mesh, {t, eigenpairs});
   const double lo = adf.minCoeff(), hi = adf.maxCoeff();
   const Eigen::VectorXd a = hi > lo ? Eigen::VectorXd((adf.array() - lo) / (hi - lo)) : Eigen::VectorXd::Zero(adf.size());

@@ -409,6 +409,7 @@ Texture TextureCodec::from_directions(const MatrixX3d& D, const Eigen::VectorXd&
 
 Texture set_tilt(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
   const Vec3 dir = unit_or_throw(direction, "set tilt");
+  if (!std::isfinite(angle_deg)) throw InvalidInput("set tilt: the angle must be finite");
   const MatrixX3d& N = codec.normals();
   MatrixX3d D(N.rows(), 3);
   for (Eigen::Index i = 0; i < N.rows(); ++i) {
@@ -455,6 +456,7 @@ void wiggle_directions(MatrixX3d& D, const MatrixX3d& N, const MatrixX3d& X, con
 
 Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction, double angle_deg) {
   const Vec3 dir = unit_or_throw(direction, "wrap");
+  if (!std::isfinite(angle_deg)) throw InvalidInput("wrap: the angle must be finite");
   MatrixX3d D = codec.directions(texture);
   wrap_directions(D, codec.normals(), texture.height, dir, angle_deg);
   return codec.from_directions(D, texture.height);
@@ -463,7 +465,8 @@ Texture wrap(TextureCodec& codec, const Texture& texture, const Vec3& direction,
 Texture wiggle(TextureCodec& codec, const Texture& texture, const Vec3& direction, double amplitude_deg,
                double wavelength, double phase) {
   const Vec3 dir = unit_or_throw(direction, "wiggle");
-  if (!(wavelength > 0)) throw InvalidInput("wiggle: wavelength must be positive");
+  if (!(wavelength > 0) || !std::isfinite(wavelength)) throw InvalidInput("wiggle: wavelength must be positive");
+  if (!std::isfinite(amplitude_deg) || !std::isfinite(phase)) throw InvalidInput("wiggle: amplitude and phase must be finite");
   MatrixX3d D = codec.directions(texture);
   wiggle_directions(D, codec.normals(), positions(codec.base()), texture.height, dir, amplitude_deg, wavelength, phase);
   return codec.from_directions(D, texture.height);

@@ -248,7 +248,8 @@ SourceDisk::SourceDisk(const Mesh& base, const Texture& texture, int center, dou
   patch = extract_disk_patch(base, center, radius, HeatGeodesics(base, geodesic).distance(center));
   DiskMap map = disk_map(patch, anchor);
   if (rotation_deg != 0) {
-    const Eigen::Rotation2Dd R(rotation_deg * M_PI / 180.0);
+    // Reduced first: 1e308 degrees times pi overflows to inf, and a NaN disk map crashed the sampler.
+    const Eigen::Rotation2Dd R(std::fmod(rotation_deg, 360.0) * M_PI / 180.0);
     for (Eigen::Index i = 0; i < map.uv.rows(); ++i) map.uv.row(i) = (R * Eigen::Vector2d(map.uv.row(i).transpose())).transpose();
     map.e1 = face_u_directions(patch.mesh, map.uv);
   }

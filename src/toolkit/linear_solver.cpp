@@ -1,5 +1,7 @@
 #include "geotex/toolkit/linear_solver.h"
 
+#include <new>
+
 #include <fmt/format.h>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -34,6 +36,15 @@ namespace {
 
 constexpr int kNestedDissectionVertices = 300000;
 
+#ifdef GEOTEX_HAVE_CHOLMOD
+// CHOLMOD reports running out of memory in its status, not by throwing: without this check the
+// failure surfaced as a bogus "non-finite result" solver error, or as a null factor dereferenced by
+// Eigen (issue 14, class 8). Out of memory is std::bad_alloc everywhere in geotex.
+void check_cholmod(const cholmod_common& c) {
+  if (c.status == CHOLMOD_OUT_OF_MEMORY) throw std::bad_alloc();
+}
+#endif
+
 // Fill-reducing ordering of a coordinate-stacked system by its vertex graph: vertex i's unknowns
 // d·n + i (d < k) get the consecutive new indices k·pos(i) + d, pos from AMD (METIS for large graphs) on
 // the n-vertex graph.
@@ -63,6 +74,7 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(c
       (ordering == BlockOrdering::Auto && n >= kNestedDissectionVertices)) {
     cholmod_common cc;
     cholmod_start(&cc);
+    cc.print = 0;  // a failed METIS ordering falls back to AMD below, silently
     SparseMatrix lower = G.triangularView<Eigen::Lower>();
     cholmod_sparse view = Eigen::viewAsCholmod(lower);
     view.stype = -1;
@@ -78,7 +90,11 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(c
 
 }  // namespace
 
-SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {}
+SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {
+#ifdef GEOTEX_HAVE_CHOLMOD
+  impl_->chol.cholmod().print = 0;  // errors reach the caller as exceptions, not as lines on stderr
+#endif
+}
 SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
@@ -100,6 +116,7 @@ void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ord
     c.method[0].ordering = CHOLMOD_GIVEN;
     impl_->chol.analyzePattern(A);
   }
+  check_cholmod(c);
 #else
   impl_->chol.analyzePattern(A);
 #endif
@@ -114,6 +131,9 @@ void SpdSolver::factorize(const SparseMatrix& A) {
     impl_->chol.factorize(impl_->permute(A));
   else
     impl_->chol.factorize(A);
+#ifdef GEOTEX_HAVE_CHOLMOD
+  check_cholmod(impl_->chol.cholmod());
+#endif
   bool ok = impl_->chol.info() == Eigen::Success;
 #ifndef GEOTEX_HAVE_CHOLMOD
   // LDLᵀ succeeds on indefinite and singular matrices; a non-positive pivot is where Cholesky (CHOLMOD) fails.
@@ -133,6 +153,9 @@ Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
     X = impl_->perm.transpose() * Eigen::MatrixXd(impl_->chol.solve(impl_->perm * B));
   else
     X = impl_->chol.solve(B);
+#ifdef GEOTEX_HAVE_CHOLMOD
+  check_cholmod(impl_->chol.cholmod());
+#endif
   if (impl_->chol.info() != Eigen::Success || !X.allFinite())
     throw SolverError("sparse solve failed (non-finite result)");
   return X;

@@ -40,6 +40,8 @@ MatrixX3d add_noise(const Mesh& mesh, const NoiseOptions& opt) {
     else if (dir.norm() > 0) dir.normalize();
     X.row(i) += amount * dir.transpose();
   }
+  // Coordinates near the double range (1e200) overflow here: say so rather than return inf (issue 14).
+  if (!X.allFinite()) throw InvalidInput("noise: non-finite positions: the coordinates are too large and overflow; scale the mesh down");
   return X;
 }
 

@@ -72,9 +72,9 @@ Registrar reg{90, "compare", "Compare a result with the ground truth: mean norma
   app.add_flag("--json", a->json, "print JSON");
   app.add_option("--labels", a->labels, "edge labels (PLY edge element with 'label') to score against TRUTH's sharp edges");
   app.add_option("--truth-angle", a->truth_angle, "dihedral angle (degrees) above which a TRUTH edge is sharp")
-      ->capture_default_str();
+      ->check(FiniteNumber)->capture_default_str();
   app.add_option("--label-threshold", a->label_threshold, "label above which an edge counts as labelled")
-      ->capture_default_str();
+      ->check(FiniteNumber)->capture_default_str();
   app.callback([a] { run(*a); });
 }};
 

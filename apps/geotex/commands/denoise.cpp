@@ -42,7 +42,7 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
   app.add_option("--edges", a->edges_ply, "write edge labels as PLY (edge element: vertex1 vertex2 label)");
   app.add_option("--edges-obj", a->edges_obj, "write labelled sharp edges as OBJ line segments");
   app.add_option("--label-threshold", a->label_threshold, "label above which an edge counts as sharp (OBJ output)")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(FiniteNumber)->check(CLI::Range(0.0, 1.0))->capture_default_str();
   app.add_option("--report", a->report, "write a JSON report (energies per iteration, parameters, time)");
   for (const auto& m : denoise_methods()) m.add_flags(*flags);
   app.callback([io, a, flags] {

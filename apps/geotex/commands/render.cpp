@@ -65,8 +65,8 @@ Registrar reg{910, "render", "Render a mesh to a PNG picture (fixed camera, shad
   app.add_option("--size", a->size, "picture size WIDTHxHEIGHT in pixels (the same as --width and --height)")
       ->excludes("--width")->excludes("--height");
   app.add_option("--range-lo", a->lo, "colour-map minimum (with --range-hi; default: the field's own range)")
-      ->capture_default_str();
-  app.add_option("--range-hi", a->hi, "colour-map maximum")->capture_default_str();
+      ->check(FiniteNumber)->capture_default_str();
+  app.add_option("--range-hi", a->hi, "colour-map maximum")->check(FiniteNumber)->capture_default_str();
   add_layer_options(app, a->layers, false);
   app.callback([a, flags] { run(*a, flags->resolve<RenderOptions>("render")); });
 }};

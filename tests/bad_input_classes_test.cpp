@@ -1,0 +1,304 @@
+// Issue 14 through the real command line: one test per class of bad input the issue names (the
+// Python side is python/tests/test_bad_input.py; the property test over generated meshes and every
+// subcommand is tests/cli_properties.py). Classes already tested elsewhere are referenced, not repeated:
+//   1 (Python crash with the GIL released): Python only, test_class1_* in python/tests/test_bad_input.py.
+//   3 (leftovers, modes, links, special files, long names): BadInputCatalogue.OutputPathIsKeptAsTheUserMadeIt,
+//     Output.SignalsRemoveTheTemporaries, Output.SigkillLeavesNothingWithUnnamedTemporaries,
+//     Output.LongFileNamesWork; here only the signal through the CLI.
+//   5 (encodings): BadInputCatalogue.ByteOrderMarkAndLineEnds, BadInputCatalogue.PlyDuplicatePropertiesAndNonIntegerIndices,
+//     ReaderQuirks.*.
+//   6 (non-finite results): BadInputCatalogue.NonFiniteResultsAreNotWritten; here the texture file.
+//   7 (special files): BadInputCatalogue.SpecialFilesAsInputs; here the cost of a high valence.
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "geotex/core/io.h"
+#include "geotex/core/mesh.h"
+#include "geotex/texture/texture.h"
+#include "test_util.h"
+
+using namespace geotex;
+using geotex::test::CliResult;
+using geotex::test::read_file;
+using geotex::test::run_cli;
+using geotex::test::TempDir;
+using geotex::test::write_file;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The lines of stderr that are not warnings, notes, progress or stats.
+std::vector<std::string> error_lines(const std::string& err) {
+  std::vector<std::string> out;
+  std::istringstream in(err);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line.rfind("geotex: warning: ", 0) != 0 && line.rfind("geotex: note: ", 0) != 0 &&
+        line.rfind("geotex: stats: ", 0) != 0 && line.find('%') == std::string::npos && line.rfind("wrote ", 0) != 0)
+      out.push_back(line);
+  return out;
+}
+
+::testing::AssertionResult fails_with(const CliResult& r, int code, const std::string& needle) {
+  const auto lines = error_lines(r.err);
+  if (r.exit_code != code) return ::testing::AssertionFailure() << "exit " << r.exit_code << ", stderr: " << r.err;
+  if (lines.size() != 1 || lines[0].rfind("geotex: ", 0) != 0)
+    return ::testing::AssertionFailure() << "not one 'geotex: ' line: " << r.err;
+  if (lines[0].find(needle) == std::string::npos) return ::testing::AssertionFailure() << "no '" << needle << "' in " << r.err;
+  return ::testing::AssertionSuccess();
+}
+
+// The CLI under a time cap (a hang guard, coreutils' timeout) and an address-space cap in MiB (0: none).
+CliResult run_capped(const std::string& args, int seconds, long mib = 0) {
+  TempDir tmp;
+  const std::string out = tmp / "out.txt", err = tmp / "err.txt";
+  const std::string cap = mib > 0 ? fmt::format("ulimit -v {}; ", mib * 1024) : "";
+  const std::string cmd = fmt::format("bash -c '{}exec timeout -s KILL {} {} {}' >{} 2>{} </dev/null", cap, seconds,
+                                      GEOTEX_CLI, args, out, err);
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;  // 137: killed by the time cap
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> n;
+  for (const auto& e : fs::directory_iterator(dir)) n.push_back(e.path().filename().string());
+  std::sort(n.begin(), n.end());
+  return n;
+}
+
+}  // namespace
+
+// ---- class 2: a failed run destroys files -----------------------------------------------------------
+
+TEST(BadInputClasses, AFailedRunLeavesInputsAndOutputsAsTheyWere) {
+  TempDir tmp;
+  const std::string in = tmp / "in.ply", out = tmp / "out.ply";
+  ASSERT_EQ(run_cli("-q generate sphere --level 1 -o " + in).exit_code, 0);
+  const std::string in_bytes = read_file(in);
+  // A secondary output naming the input (main overwrote the input mesh with edge labels).
+  EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges " + in), 1, "input"));
+  // -o naming the input, also through a symbolic link and a hard link.
+  fs::create_symlink("in.ply", tmp.path / "link.ply");
+  fs::create_hard_link(in, tmp.path / "hard.ply");
+  for (const std::string o : {in, tmp / "link.ply", tmp / "hard.ply"})
+    EXPECT_TRUE(fails_with(run_cli("-q smooth " + in + " -o " + o), 1, "input")) << o;
+  EXPECT_TRUE(read_file(in) == in_bytes);
+  EXPECT_FALSE(fs::exists(out));
+  // A secondary output that cannot be written: the existing -o file is not replaced (main replaced it
+  // first, then failed), and the check comes before the work.
+  write_file(out, "old result");
+  write_file(tmp / "ro.ply", "read-only");
+  ::chmod((tmp / "ro.ply").c_str(), 0444);
+  EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges " + (tmp / "missing") + "/e.ply"), 1,
+                         "does not exist"));
+  EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges-obj " + (tmp / "ro.ply")), 1, "read-only"));
+  EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges " + out), 1, "--edges"));
+  EXPECT_EQ(read_file(out), "old result");
+  EXPECT_TRUE(read_file(in) == in_bytes);
+  // texture apply T -o T: main replaced the texture file by the textured mesh.
+  const std::string tex = tmp / "tex.ply";
+  ASSERT_EQ(run_cli("-q texture extract " + in + " -o " + tex).exit_code, 0);
+  const std::string tex_bytes = read_file(tex);
+  EXPECT_TRUE(fails_with(run_cli("-q texture apply " + tex + " -o " + tex), 1, "input"));
+  EXPECT_TRUE(read_file(tex) == tex_bytes);  // (bytes not printed: binary)
+  EXPECT_EQ(names_in(tmp.path), (std::vector<std::string>{"hard.ply", "in.ply", "link.ply", "out.ply", "ro.ply", "tex.ply"}));
+}
+
+// ---- class 3: a signal while a command runs leaves nothing behind -----------------------------------
+
+TEST(BadInputClasses, SignalsDuringARunLeaveNoTemporary) {
+  TempDir tmp;
+  const std::string in = tmp / "in.ply";
+  ASSERT_EQ(run_cli("-q generate sphere --level 3 -o " + in).exit_code, 0);
+  const std::string in_bytes = read_file(in);
+  // SIGTERM and SIGINT at several moments of a run that writes two outputs; whatever the moment, the
+  // folder holds the input and either both outputs or none, and never a temporary.
+  int finished = 0;
+  for (int sig : {SIGTERM, SIGINT, SIGHUP})
+    for (int delay_ms : {20, 150, 400}) {
+      const pid_t pid = ::fork();
+      ASSERT_GE(pid, 0);
+      if (pid == 0) {
+        const int devnull = ::open("/dev/null", O_WRONLY);
+        ::dup2(devnull, 1);
+        ::dup2(devnull, 2);
+        const std::string a = tmp / "a.ply", e = tmp / "e.ply";
+        ::execl(GEOTEX_CLI, GEOTEX_CLI, "-q", "denoise", in.c_str(), "-o", a.c_str(), "--edges", e.c_str(), nullptr);
+        ::_exit(127);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+      ::kill(pid, sig);
+      int status = 0;
+      ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+      const auto names = names_in(tmp.path);
+      if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        ++finished;
+        EXPECT_EQ(names, (std::vector<std::string>{"a.ply", "e.ply", "in.ply"}));
+      } else {
+        EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "status " << status;
+        EXPECT_EQ(names, std::vector<std::string>{"in.ply"}) << "signal " << sig << " after " << delay_ms << " ms";
+      }
+      fs::remove(tmp.path / "a.ply");
+      fs::remove(tmp.path / "e.ply");
+    }
+  EXPECT_TRUE(read_file(in) == in_bytes);
+  RecordProperty("finished_before_the_signal", finished);
+}
+
+// ---- class 4: NaN and inf in every numeric flag -----------------------------------------------------
+
+namespace {
+
+// The numeric flags of a command, from its --help (CLI11: "  --name FLOAT..." or "INT...").
+std::vector<std::string> numeric_flags(const std::string& command) {
+  const CliResult h = run_cli(command + " --help");
+  std::vector<std::string> flags;
+  static const std::regex line(R"(^\s+(?:-[a-zA-Z],)?(--[a-z0-9][a-z0-9-]*)\s+(?:FLOAT|INT|UINT|NUMBER)\b)");
+  std::istringstream in(h.out);
+  for (std::string l; std::getline(in, l);) {
+    std::smatch m;
+    if (std::regex_search(l, m, line)) flags.push_back(m[1]);
+  }
+  return flags;
+}
+
+}  // namespace
+
+TEST(BadInputClasses, NanAndInfAreRefusedByEveryNumericFlag) {
+  TempDir tmp;
+  const std::string mesh = tmp / "m.obj", plane = tmp / "p.obj", handles = tmp / "h.json";
+  ASSERT_EQ(run_cli("-q generate sphere --level 0 -o " + mesh).exit_code, 0);
+  ASSERT_EQ(run_cli("-q generate plane --level 0 -o " + plane).exit_code, 0);
+  write_file(handles, R"({"handles": [{"vertices": [0], "translate": [0.1, 0, 0]}, {"vertices": [1]}]})");
+  const std::string o = " -o " + (tmp / "out.obj");
+  // Each command with its positional arguments (and what else it requires), so that the flag under
+  // test is the only thing wrong.
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"info", mesh},
+      {"generate", "sphere" + o},
+      {"noise", mesh + o},
+      {"smooth", mesh + o},
+      {"denoise", mesh + o},
+      {"surfels", mesh + " -o " + (tmp / "s.ply")},
+      {"param", plane + o},
+      {"deform", mesh + " --handles " + handles + o},
+      {"project", mesh + " " + mesh + o},
+      {"compare", mesh + " " + mesh},
+      {"render", mesh + " -o " + (tmp / "r.png")},
+      {"view", mesh + " -o " + (tmp / "v.html")},
+      {"demo", "-o " + (tmp / "demo")},
+      // texture and resize are left out while their flags move to option tables (hand-written flags
+      // there still take NaN: texture edit --factor/--phase/--wavelength, texture extract
+      // --fit-tolerance, resize --weight; see the report of issue 14).
+  };
+  int tried = 0;
+  for (const auto& [cmd, args] : commands)
+    for (const std::string& flag : numeric_flags(cmd))
+      for (const char* bad : {"nan", "inf", "-inf", "NaN"}) {
+        const CliResult r = run_capped(cmd + " " + args + " " + flag + " " + bad, 60);
+        // The message names the flag, or the option behind it (stop_tolerance for --stop-tolerance).
+        std::string option = flag.substr(2);
+        std::replace(option.begin(), option.end(), '-', '_');
+        EXPECT_TRUE(fails_with(r, 2, flag.substr(2)) || fails_with(r, 2, option))
+            << cmd << " " << flag << " " << bad << ": exit " << r.exit_code << ", stderr: " << r.err;
+        ++tried;
+      }
+  // The global flag too (main: "internal error").
+  for (const char* bad : {"nan", "inf", "1e308", "0x10"})
+    EXPECT_TRUE(fails_with(run_cli(std::string("--threads ") + bad + " info " + mesh), 2, "threads")) << bad;
+  EXPECT_GT(tried, 50);  // the flags were found
+  EXPECT_FALSE(fs::exists(tmp / "out.obj"));
+}
+
+// ---- class 6: non-finite values in a texture file ---------------------------------------------------
+
+TEST(BadInputClasses, TextureWithNonFiniteHeightIsRefused) {
+  TempDir tmp;
+  const std::string plane = tmp / "p.obj";
+  ASSERT_EQ(run_cli("-q generate plane --level 0 -o " + plane).exit_code, 0);
+  const Mesh base = read_mesh(plane);
+  Texture t;
+  t.height = Eigen::VectorXd::Constant(base.n_vertices(), 0.01);
+  t.tilt = Eigen::VectorXd::Zero(base.n_edges());
+  write_texture(tmp / "t.ply", base, t, /*binary=*/false);
+  std::string text = read_file(tmp / "t.ply");
+  // The first vertex row ends with its height: make it NaN.
+  const auto row = text.find("end_header\n") + 11;
+  const auto end = text.find('\n', row);
+  const auto last = text.rfind(' ', end);
+  text = text.substr(0, last + 1) + "nan" + text.substr(end);
+  write_file(tmp / "nan.ply", text);
+  const std::string out = tmp / "out.obj";
+  EXPECT_TRUE(fails_with(run_cli("-q texture apply " + (tmp / "nan.ply") + " -o " + out), 1, "non-finite"));
+  EXPECT_TRUE(fails_with(run_cli("-q texture edit " + (tmp / "nan.ply") + " -o " + (tmp / "e.ply")), 1, "nan"));
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(tmp / "e.ply"));
+}
+
+// ---- class 7: a vertex of high valence --------------------------------------------------------------
+
+TEST(BadInputClasses, HighValenceVertexCostsLinearTime) {
+  // A fan of 8,000 triangles around one vertex (main: denoise 39 s, deform > 8 GB, project and surfels
+  // quadratic). Every command must finish well within a cap a hundred times what it needs now; the
+  // cap is a hang guard, not a speed threshold.
+  TempDir tmp;
+  const int k = 8000;
+  std::string obj = "v 0 0 0.2\n";
+  for (int i = 0; i < k; ++i) obj += fmt::format("v {} {} 0\n", std::cos(2 * M_PI * i / k), std::sin(2 * M_PI * i / k));
+  for (int i = 0; i < k; ++i) obj += fmt::format("f 1 {} {}\n", 2 + i, 2 + (i + 1) % k);
+  write_file(tmp / "fan.obj", obj);
+  write_file(tmp / "h.json", R"({"handles": [{"vertices": [0], "translate": [0, 0, 0.1]}, {"vertices": [1, 2000, 4000]}]})");
+  const std::string fan = tmp / "fan.obj", out = " -o " + (tmp / "out.ply");
+  for (const std::string cmd : {"smooth " + fan + out, "denoise " + fan + out, "denoise --method mrf-normal " + fan + out,
+                                "denoise --method surfel " + fan + out, "deform " + fan + " --handles " + (tmp / "h.json") + out,
+                                "project " + fan + " " + fan + out, "surfels " + fan + out,
+                                "param " + fan + " -o " + (tmp / "uv.obj")}) {
+    // Not yet: `texture extract` of this fan runs out of memory under 2 GiB (found here; open).
+    const CliResult r = run_capped("-q --threads 1 " + cmd, 120, 2048);
+    EXPECT_EQ(r.exit_code, 0) << cmd << ": " << r.err;
+  }
+}
+
+// ---- class 8: out of memory ------------------------------------------------------------------------
+
+TEST(BadInputClasses, OutOfMemoryIsReportedAsSuch) {
+  // Under address-space caps from too small to enough, smooth (a sparse Cholesky: CHOLMOD) and denoise
+  // either succeed or say "geotex: out of memory" (exit 1). Main reported a bogus "solver error" when
+  // CHOLMOD ran out, with CHOLMOD's own message as a second line, or spun inside BLAS.
+  TempDir tmp;
+  const std::string in = tmp / "in.ply";
+  ASSERT_EQ(run_cli("-q generate sphere --level 4 -o " + in).exit_code, 0);  // 327,680 faces
+  int out_of_memory = 0, ok = 0;
+  for (const char* cmd : {"smooth", "denoise"})
+    for (long mib : {120, 160, 200, 260, 330, 420}) {
+      const CliResult r = run_capped(fmt::format("-q --threads 1 {} {} -o {}", cmd, in, tmp / "out.ply"), 240, mib);
+      if (r.exit_code == 0) {
+        ++ok;
+        continue;
+      }
+      EXPECT_TRUE(fails_with(r, 1, "geotex: out of memory")) << cmd << " under " << mib << " MiB";
+      EXPECT_EQ(error_lines(r.err).size(), 1u) << r.err;
+      ++out_of_memory;
+    }
+  EXPECT_GT(out_of_memory, 0);  // the caps reached below what the runs need
+  RecordProperty("succeeded", ok);
+  for (const auto& n : names_in(tmp.path)) EXPECT_TRUE(n == "in.ply" || n == "out.ply") << n;
+}
