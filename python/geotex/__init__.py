@@ -37,7 +37,7 @@ __all__ = [
     "smooth", "deform", "parametrize", "phong_project", "one_form_fit", "one_form_to_vertices",
     "auto_diffusion_function",
     "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
-    "texture_extract", "texture_apply", "texture_edit", "texture_transfer",
+    "texture_extract", "texture_apply", "texture_edit", "texture_transfer", "texture_synthesize",
     "resize", "render", "view",
 ]
 
@@ -374,6 +374,19 @@ def texture_transfer(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any,
     `geotex texture transfer`). Returns a Result: height, tilt, V (the textured target), target_vertices."""
     return Result(**_geotex.texture_transfer(V_base, F, height, tilt, V_target, F_target, source_center, source_radius,
                                               target_center, target_radius, rotation))
+
+
+@with_options("SynthesisOptions")
+def texture_synthesize(V_base: Any, F: Any, height: Any, tilt: Any, V_target: Any, F_target: Any, lean: Any = None,
+                       weight: Any = None, direction_guide: Any = None, **options: Any) -> Result:
+    """Grow a texture like the exemplar (a texture over V_base, F: height #V, tilt #E, lean #V or None)
+    over the whole target (`geotex texture synthesize`): patch-based, oriented by a smooth direction
+    field (docs/synthesis.md). weight: #V_target values in [0, 1], where texture grows; direction_guide:
+    #V_target×3 guide directions (else the `direction` option). Returns a Result: V (the textured target),
+    F and V_base (the target used, refined where it was coarser), height, tilt, lean, field, owner,
+    centers, scale, patch_radius, added_vertices, warnings."""
+    return Result(**_geotex.texture_synthesize(V_base, F, height, tilt, lean, V_target, F_target, weight,
+                                               direction_guide, options))
 
 
 def resize(mesh: MeshLike, F: Any = None, scale: Optional[Sequence[float]] = None, deformed: Any = None,

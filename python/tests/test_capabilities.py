@@ -154,3 +154,19 @@ def test_texture_round_trip_and_edits():
     assert np.abs(moved - rebuilt @ R.T).max() < 1e-3 * h
     h2, t2 = geotex.texture_edit(Vb, F, tex["height"], tex["tilt"], op="scale-height", factor=2.0)
     assert np.allclose(h2, 2 * tex["height"]) and np.allclose(t2, tex["tilt"])
+
+
+def test_texture_synthesize_is_seeded_and_respects_the_weight():
+    (Vt, F), (Vb, _) = geotex.generate("bumpy-plate", level=0, with_base=True)
+    tex = geotex.texture_extract(Vt, F, V_base=Vb)
+    Vs, Fs = geotex.generate("sphere", level=0)
+    weight = (Vs[:, 2] > 0).astype(float)
+    a = geotex.texture_synthesize(Vb, F, tex["height"], tex["tilt"], Vs, Fs, weight=weight, scale=0.3,
+                                  refine_ratio=0, seed=4)
+    b = geotex.texture_synthesize(Vb, F, tex["height"], tex["tilt"], Vs, Fs, weight=weight, scale=0.3,
+                                  refine_ratio=0, seed=4)
+    assert a.V.shape == Vs.shape and np.array_equal(a.V, b.V)
+    assert np.abs(a.V[Vs[:, 2] <= 0] - Vs[Vs[:, 2] <= 0]).max() < 1e-9  # nothing grows where the weight is 0
+    assert (a.owner[Vs[:, 2] > 0] >= 0).all()
+    with pytest.raises(ValueError):
+        geotex.texture_synthesize(Vb, F, tex["height"], tex["tilt"], Vs, Fs, patch_radius=2.0)

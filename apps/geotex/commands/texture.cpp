@@ -14,6 +14,9 @@
 #include "geotex/texture/texture.h"
 
 namespace geotex::cli {
+
+void add_texture_synthesize(CLI::App& texture);  // texture_synthesize.cpp
+
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -348,6 +351,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     s->add_option("--texture-out", a->texture_out, "also write the target's texture file");
     s->callback([a] { run_transfer(*a); });
   }
+  add_texture_synthesize(app);  // texture_synthesize.cpp
 }};
 
 }  // namespace
