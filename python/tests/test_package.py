@@ -152,6 +152,7 @@ CLI_TO_PYTHON = {
     ("surfels", "surfels"): "point_surfels",
     ("render", "render"): "render",
     ("view", "view"): "view",
+    ("synthesize", "synthesize"): "texture_synthesize",
 }
 
 
