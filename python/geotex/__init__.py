@@ -38,7 +38,7 @@ __all__ = [
     "auto_diffusion_function",
     "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
     "texture_extract", "texture_apply", "texture_edit", "texture_animate", "texture_transfer", "texture_atlas",
-    "read_texture", "write_texture",
+    "texture_synthesize", "read_texture", "write_texture",
     "resize", "feature_map", "render", "view",
 ]
 
@@ -462,6 +462,20 @@ def texture_atlas(texture: TextureLike, target: MeshLike, F_target: Any = None,
     r = _geotex.texture_atlas(*_texture(texture), Vt, Ft, source_near, options)
     r["texture"] = _texture_result(r["texture"])
     return Result(**r)
+
+
+@with_options("SynthesisOptions")
+def texture_synthesize(texture: TextureLike, target: MeshLike, F_target: Any = None, weight: Any = None,
+                       direction_guide: Any = None, **options: Any) -> Result:
+    """Grow a texture like the exemplar texture over the whole target (`geotex texture synthesize`):
+    patch-based, oriented by a smooth direction field (docs/synthesis.md). weight: #V_target values in
+    [0, 1], where texture grows; direction_guide: #V_target×3 guide directions (else the `direction`
+    option). Returns a Result: V (the textured target), F and V_base (the target used, refined where it
+    was coarser), height, tilt, lean, field, owner, centers, scale, patch_radius, added_vertices,
+    warnings."""
+    Vb, F, h, t, lean = _texture(texture)
+    Vt, Ft = _arrays(target, F_target)
+    return Result(**_geotex.texture_synthesize(Vb, F, h, t, lean, Vt, Ft, weight, direction_guide, options))
 
 
 def read_texture(path: Union[str, os.PathLike]) -> Result:

@@ -161,6 +161,7 @@ void bind_core(py::module_& m);     // files, shapes, noise, geometry, metrics, 
 void bind_toolkit(py::module_& m);  // ch. 5: Laplacians, smoothing, editing, Phong projection, 1-forms, parametrization, ADF
 void bind_denoise(py::module_& m);  // ch. 6-7
 void bind_texture(py::module_& m);  // ch. 8
+void bind_synthesis(py::module_& m);  // texture synthesis (issue 20)
 void bind_resize(py::module_& m);   // ch. 9
 void bind_tools(py::module_& m);    // render, view
 

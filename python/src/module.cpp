@@ -30,6 +30,7 @@ PYBIND11_MODULE(_geotex, m) {
   geotex::python::bind_toolkit(m);
   geotex::python::bind_denoise(m);
   geotex::python::bind_texture(m);
+  geotex::python::bind_synthesis(m);
   geotex::python::bind_resize(m);
   geotex::python::bind_tools(m);
 }

@@ -146,3 +146,17 @@ def test_one_form_round_trip_of_a_constant_field_on_a_plane():
     T = np.tile([0.3, -0.7, 0.0], (len(V), 1))
     c = geotex.one_form_fit(V, F, T)
     assert np.abs(geotex.one_form_to_vertices(V, F, c) - T).max() < 1e-8
+
+
+def test_texture_synthesize_is_seeded_and_respects_the_weight():
+    (Vt, F), (Vb, _) = geotex.generate("bumpy-plate", level=0, with_base=True)
+    tex = geotex.texture_extract(Vt, F, Vb)
+    Vs, Fs = geotex.generate("sphere", level=0)
+    weight = (Vs[:, 2] > 0).astype(float)
+    a = geotex.texture_synthesize(tex, Vs, Fs, weight=weight, scale=0.3, refine_ratio=0, seed=4)
+    b = geotex.texture_synthesize(tex, (Vs, Fs), weight=weight, scale=0.3, refine_ratio=0, seed=4)
+    assert a.V.shape == Vs.shape and np.array_equal(a.V, b.V)
+    assert np.abs(a.V[Vs[:, 2] <= 0] - Vs[Vs[:, 2] <= 0]).max() < 1e-9  # nothing grows where the weight is 0
+    assert (a.owner[Vs[:, 2] > 0] >= 0).all()
+    with pytest.raises(ValueError):
+        geotex.texture_synthesize(tex, Vs, Fs, patch_radius=2.0)

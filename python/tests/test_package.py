@@ -160,6 +160,7 @@ CLI_TO_PYTHON = {
     ("texture transfer", "transfer"): "texture_transfer",
     ("texture atlas", "atlas"): "texture_atlas",
     ("resize", "resize"): "resize",
+    ("texture synthesize", "synthesize"): "texture_synthesize",
 }
 
 

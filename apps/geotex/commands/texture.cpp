@@ -21,6 +21,9 @@
 #include "option_flags.h"
 
 namespace geotex::cli {
+
+void add_texture_synthesize(CLI::App& texture);  // texture_synthesize.cpp
+
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -343,6 +346,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     add_near(*s, a->source_near, "source", "source base");
     s->callback([a, flags] { run_atlas(*a, *flags); });
   }
+  add_texture_synthesize(app);  // texture_synthesize.cpp
 }};
 
 }  // namespace

@@ -1,0 +1,164 @@
+#pragma once
+//! \file synthesis.h Height-and-tilt texture synthesis (the step the thesis' ch. 10 closes on): grow a
+//! texture over a whole target surface from an exemplar, with the exemplar's statistics of height and
+//! lean, its features' sizes and spacing, and its lean turned to follow a direction field on the target;
+//! then apply it.
+//!
+//! Method: patch-based synthesis by best-matching overlaps — image quilting (Efros and Freeman, "Image
+//! quilting for texture synthesis and transfer", SIGGRAPH 2001) carried onto a surface as in lapped
+//! textures (Praun, Finkelstein and Hoppe, SIGGRAPH 2000), with the local displacement (x, y tangent, z
+//! along the normal: height and lean, Eq. 8.5–8.8) as the signal:
+//!  1. Exemplar: a geodesic disk of the exemplar base mapped conformally onto the unit disk with its
+//!     anchor direction along +u (disk_map(), transfer.h); its texture is read as displacements in the
+//!     frames (+u, +v, n) (TextureSampler) and rastered once. A unit-disk point z stands for the
+//!     exemplar-plane point z R, R² the map's area scale over |z| < 0.8.
+//!  2. Target: refined where it is coarser than the exemplar scaled to it (refine_region()); a smooth
+//!     tangent direction field (direction_field.h) orients every patch and every local frame.
+//!  3. Patches: disks of radius patch_radius × R × scale around centres chosen in a growing front (the
+//!     uncovered vertex nearest to the patches so far, with seeded jitter: each new patch overlaps the
+//!     ones before it), parametrized by the discrete exponential map (Schmidt, Grimm and Wyvill,
+//!     "Interactive decal compositing with discrete exponential maps", SIGGRAPH 2006; single-parent
+//!     Dijkstra variant), the centre's frame along the field, carried by parallel transport.
+//!  4. Matching: among `candidates` random placements (translations in the exemplar disk; the rotation
+//!     is the field's) the patch takes one whose displacements agree best with what is already
+//!     synthesized on the overlap (weighted sum of squared differences), at random among those within
+//!     match_tolerance of the best (Efros and Freeman): the seed decides, nothing repeats verbatim.
+//!  5. Blending: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a patch's
+//!     centre, 0 at its rim, p = blend_power): since the overlaps were matched, the blend is narrow and
+//!     between similar displacements. (Graph-cut seams, Kwatra et al. 2003, are not implemented.)
+//!  6. The displacements (faded by the growth weight) are encoded as a height-and-tilt texture on the
+//!     target (texture_from_local()) and applied.
+//!
+//! Units: lengths on the target are `scale` × lengths in the exemplar; displacements too (features keep
+//! their proportions and their lean), times height_scale.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geotex/core/progress.h"
+#include "geotex/texture/texture.h"
+#include "geotex/toolkit/direction_field.h"
+
+namespace geotex {
+
+struct SynthesisOptions {
+  // Exemplar
+  //! Exemplar base vertex at the centre of the exemplar disk (−1: automatic — on an open base the vertex
+  //! farthest from the boundary, on a closed one the vertex nearest the area centroid).
+  int exemplar_center = -1;
+  //! Geodesic radius of the exemplar disk in exemplar units (0: automatic — 0.95 × the centre's distance
+  //! to the boundary on an open base, 0.2 × √area on a closed one; shrunk until the region is a disk).
+  double exemplar_radius = 0;
+  //! The exemplar's anchor: its tangent part at the exemplar centre is turned onto the target's field.
+  Vec3 exemplar_direction = Vec3::UnitX();
+
+  // Scale
+  //! Target length per exemplar length (displacements too). 0: automatic, so that the exemplar disk's
+  //! area is exemplar_share of the target's (textured) area.
+  double scale = 0;
+  double exemplar_share = 0.05;  //!< automatic scale: the exemplar disk's share of the target's area
+  double height_scale = 1.0;     //!< multiply the displacements by this, on top of the scale
+
+  // Patches
+  //! Patch radius as a share of the exemplar disk's radius R (the placements are the translations that
+  //! keep the patch inside the exemplar disk, so it must be below 1).
+  double patch_radius = 0.35;
+  //! A patch is centred at every vertex farther than this share of the patch radius from all centres.
+  double patch_spacing = 0.6;
+  int candidates = 64;            //!< random placements compared per patch
+  double match_tolerance = 0.1;   //!< choose among placements with cost ≤ (1 + tolerance) × the best
+  int match_samples = 128;        //!< overlap vertices compared per placement (at most)
+  double blend_power = 8.0;       //!< overlap weights b^p: larger, narrower blends
+
+  // Orientation
+  //! The direction field's guide (when no per-vertex guide is given): its tangent part on the target.
+  Vec3 direction = Vec3::UnitX();
+  DirectionFieldOptions field;
+
+  // Control
+  uint64_t seed = 1;  //!< same seed, same result
+  //! Refine the target where its mean edge exceeds this × the exemplar's mean edge scaled to it (0: never).
+  double refine_ratio = 1.0;
+  HeatGeodesicOptions geodesic;  //!< the exemplar disk's geodesic distance
+  TextureOptions texture;        //!< decoding the exemplar, encoding the result
+  ProgressFn progress;           //!< called as patches are placed (not in the table)
+
+  //! Table.
+  static const OptionTable<SynthesisOptions>& table();
+};
+
+//! Per-vertex guides on the target (each optional: leave empty).
+struct SynthesisGuides {
+  //! #V of the target in [0, 1]: where texture grows (0: none; displacements are faded by it as a
+  //! transfer's rim is). Patch centres are only placed where the weight is ≥ 0.5.
+  Eigen::VectorXd weight;
+  //! #V by 3 of the target: the direction field's guide per vertex (instead of options.direction).
+  MatrixX3d direction;
+};
+
+struct SynthesisResult {
+  Mesh target;          //!< the target base used (refined where it was coarser): the input's vertices first
+  Texture texture;      //!< on \ref target
+  MatrixX3d textured;   //!< #V by 3: the textured target (the texture applied)
+  MatrixX3d field;      //!< #V by 3 unit tangent directions the lean follows (the local frames' e1)
+  MatrixX3d local;      //!< #V by 3 synthesized displacements in the frames (field, n × field, n)
+  Eigen::VectorXd weight;  //!< #V: the growth weight used (the guide's, spread onto new vertices; else 1)
+  Eigen::VectorXi owner;   //!< #V: the patch with the largest blend weight at a vertex (−1: none)
+  //! #V by 3: the owner patch's exemplar displacement at the vertex, in the exemplar frame (+u, +v, n),
+  //! times height_factor (what the lean direction is compared with).
+  MatrixX3d copied;
+  std::vector<int> centers;  //!< patch centres (vertices of \ref target)
+  double scale = 1;          //!< target length per exemplar length used
+  double height_factor = 1;  //!< scale × height_scale: what exemplar displacements were multiplied by
+  double patch_radius = 0;   //!< patch radius on the target (target units)
+  size_t added_vertices = 0; //!< vertices the refinement added
+  int exemplar_center = -1;  //!< the exemplar disk used (automatic or given)
+  double exemplar_radius = 0;   //!< its geodesic radius (exemplar units)
+  double exemplar_extent = 0;   //!< R: exemplar length per unit-disk length (the map's scale over |z| < 0.8)
+  std::vector<std::string> warnings;
+};
+
+//! Synthesise a texture like \p exemplar (over \p exemplar_base) on the whole of \p target and apply it
+//! (see the file comment). \throw InvalidInput for bad options, a texture that does not match its base,
+//! no exemplar disk, or guides of the wrong size.
+SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
+                                   const SynthesisOptions& options = {}, const SynthesisGuides& guides = {});
+
+// ---------------------------------------------------------------------------------------------
+// Measures
+
+//! Features of a height field: points whose height is ≥ \p threshold and the largest within Euclidean
+//! distance \p radius (greedy, highest first). \return their indices, highest first.
+std::vector<int> height_features(const MatrixX3d& points, const Eigen::VectorXd& h, double radius, double threshold);
+
+//! How a synthesis compares with its exemplar (bench/synthesis.md says how each is measured).
+struct SynthesisQuality {
+  //! Pseudo-height (Eq. 8.5) histograms, area-weighted, the exemplar's times height_factor: total
+  //! variation distance in [0, 1] on 40 bins spanning both, and the Wasserstein-1 distance over the
+  //! exemplar's mean |h|.
+  double histogram_tv = 0, histogram_w1 = 0;
+  double exemplar_rms = 0, target_rms = 0;  //!< area-weighted rms heights (the exemplar's × height_factor)
+  //! Features (height_features(): radius = twice the exemplar's correlation length (first zero of the
+  //! autocorrelation), threshold = mean + std of
+  //! its heights) and their mean nearest-neighbour distance (target units; the exemplar's over the
+  //! features nearer to a neighbour than to the disk's rim).
+  size_t exemplar_features = 0, target_features = 0;
+  double exemplar_spacing = 0, target_spacing = 0;
+  double spacing_change = 0;  //!< target_spacing / exemplar_spacing − 1
+  //! Lean direction: over covered vertices leaning more than 5° with |h| ≥ 10 % of the largest, the
+  //! angle between the lean's direction measured from the field and the exemplar's measured from its
+  //! anchor at the point the vertex's owner patch copied; mean weighted by |d| sin(lean), degrees.
+  double lean_angle_error_deg = 0;
+  //! Height steps |h_i − h_j| over edges between patches (owners differ) and within patches, over the
+  //! largest exemplar |h| × height_factor: 99th percentile and maximum.
+  double seam_step99 = 0, seam_step_max = 0, within_step99 = 0, within_step_max = 0;
+  double coverage = 0;  //!< area share of the target (weight > 0) that received a displacement
+  size_t folded = 0;    //!< folded faces of the textured target (folded_faces()) beyond the base's own
+};
+
+//! Measure \p result against the exemplar it was synthesised from (same options).
+SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exemplar, const SynthesisResult& result,
+                                   const SynthesisOptions& options = {});
+
+}  // namespace geotex

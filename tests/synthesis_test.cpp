@@ -1,0 +1,172 @@
+// Height-and-tilt texture synthesis (texture/synthesis.h).
+
+#include <cmath>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
+#include "geotex/texture/measures.h"
+#include "geotex/texture/synthesis.h"
+#include "geotex/tools/shapes.h"
+
+using namespace geotex;
+
+namespace {
+
+struct Exemplar {
+  Mesh base;
+  Texture texture;
+};
+
+// A plate whose displacement is d(x, y) (3D, world frame) everywhere.
+template <class D>
+Exemplar plate(int n, double size, D d) {
+  Exemplar e;
+  e.base = plane(n, size);
+  MatrixX3d X = positions(e.base);
+  for (Eigen::Index i = 0; i < X.rows(); ++i) X.row(i) += d(X(i, 0), X(i, 1)).transpose();
+  e.texture = extract_texture(e.base, X);
+  return e;
+}
+
+void print(const SynthesisQuality& q, const std::string& what) {
+  std::cout << fmt::format("[ {} ] histogram TV {:.3f} W1 {:.3f}; rms {:.4g} vs {:.4g}; features {} vs {}, spacing "
+                           "{:.4g} vs {:.4g} ({:+.1f}%); lean error {:.1f} deg; seam step 99% {:.3f} max {:.3f} "
+                           "(within {:.3f} / {:.3f}); coverage {:.4f}; folded {}\n",
+                           what, q.histogram_tv, q.histogram_w1, q.target_rms, q.exemplar_rms, q.target_features,
+                           q.exemplar_features, q.target_spacing, q.exemplar_spacing, 100 * q.spacing_change,
+                           q.lean_angle_error_deg, q.seam_step99, q.seam_step_max, q.within_step99,
+                           q.within_step_max, q.coverage, q.folded);
+}
+
+}  // namespace
+
+TEST(Synthesis, AConstantExemplarGivesAConstantTexture) {
+  const Exemplar e = plate(24, 2.0, [](double, double) { return Vec3(0.02, 0, 0.05); });
+  const Mesh target = icosphere(3);
+  SynthesisOptions o;
+  o.scale = 0.5;
+  o.refine_ratio = 0;
+  const SynthesisResult r = synthesize_texture(e.base, e.texture, target, o);
+  ASSERT_EQ(r.texture.height.size(), static_cast<Eigen::Index>(target.n_vertices()));
+  // In the exemplar frame, x along its anchor (+x). Within 2 %: the exemplar disk's conformal map turns
+  // +u by ~1° away from x over the disk (a polygonal disk of a grid), so the exemplar itself leans so.
+  const Vec3 expected = 0.5 * Vec3(0.02, 0, 0.05);
+  for (Eigen::Index i = 0; i < r.local.rows(); ++i) {
+    ASSERT_GE(r.owner[i], 0) << "vertex " << i << " not covered";
+    ASSERT_LT((r.local.row(i).transpose() - expected).norm(), 2e-2 * expected.norm()) << "vertex " << i << ": " << r.local.row(i);
+  }
+  const double h = expected.norm();
+  EXPECT_LT((r.texture.height.array() - h).abs().maxCoeff(), 1e-4 * h);
+  // The result leans along the field: the textured point minus the base's is x·f + z·n.
+  const MatrixX3d N = vertex_normals(r.target, NormalWeighting::Angle);
+  const MatrixX3d D = r.textured - positions(r.target);
+  double worst = 0;
+  for (Eigen::Index i = 0; i < D.rows(); ++i)
+    worst = std::max(worst, (D.row(i) - expected.x() * r.field.row(i) - expected.z() * N.row(i)).norm());
+  EXPECT_LT(worst, 0.03 * h);
+}
+
+TEST(Synthesis, APeriodicExemplarKeepsItsPeriod) {
+  const double P = 0.5, a = 0.04;
+  const Exemplar e = plate(64, 4.0, [&](double x, double y) {
+    return Vec3(0, 0, a * std::max(0.0, std::cos(2 * M_PI * x / P) * std::cos(2 * M_PI * y / P)));
+  });
+  // Onto a flat plate (a larger one), at scale 1: the bumps keep their period P (nearest neighbours at
+  // P / √2: cos·cos has maxima at (0, 0) and (P/2, P/2)).
+  const Mesh target = plane(90, 6.0);
+  SynthesisOptions o;
+  o.scale = 1;
+  o.refine_ratio = 0;
+  o.patch_radius = 0.3;
+  o.blend_power = 8;
+  o.candidates = 96;
+  const SynthesisResult r = synthesize_texture(e.base, e.texture, target, o);
+  const SynthesisQuality q = synthesis_quality(e.base, e.texture, r, o);
+  print(q, "periodic");
+  EXPECT_NEAR(q.exemplar_spacing, P / std::sqrt(2.0), 0.05 * P);
+  EXPECT_LT(std::abs(q.target_spacing / (P / std::sqrt(2.0)) - 1), 0.10);
+  EXPECT_LT(std::abs(q.spacing_change), 0.10);
+  EXPECT_GT(q.coverage, 0.999);
+  EXPECT_LT(q.histogram_tv, 0.15);
+}
+
+TEST(Synthesis, TheSameSeedGivesTheSameResult) {
+  const Exemplar e = plate(40, 2.0, [](double x, double y) {
+    return Vec3(0, 0, 0.05 * std::sin(7 * x) * std::sin(5 * y + x * x));
+  });
+  const Mesh target = icosphere(3);
+  SynthesisOptions o;
+  o.scale = 0.4;
+  o.refine_ratio = 0;
+  const SynthesisResult a = synthesize_texture(e.base, e.texture, target, o);
+  const SynthesisResult b = synthesize_texture(e.base, e.texture, target, o);
+  EXPECT_EQ(a.centers, b.centers);
+  EXPECT_EQ((a.textured - b.textured).cwiseAbs().maxCoeff(), 0.0);
+  o.seed = 2;
+  const SynthesisResult c = synthesize_texture(e.base, e.texture, target, o);
+  EXPECT_GT((a.textured - c.textured).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+TEST(Synthesis, TheMaskIsRespectedAndTheRestCovered) {
+  const Exemplar e = plate(40, 2.0, [](double x, double y) {
+    return Vec3(0, 0, 0.05 * std::sin(7 * x) * std::sin(5 * y + x * x));
+  });
+  const Mesh target = icosphere(3);
+  const MatrixX3d X = positions(target);
+  SynthesisGuides g;
+  g.weight = (X.col(2).array() > 0).cast<double>();  // the northern half only
+  SynthesisOptions o;
+  o.scale = 0.4;
+  o.refine_ratio = 0;
+  o.progress = [last = -1.0](double f, std::string_view) mutable {
+    EXPECT_GE(f, last);
+    last = f;
+  };
+  const SynthesisResult r = synthesize_texture(e.base, e.texture, target, o, g);
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    if (X(i, 2) <= 0) {
+      EXPECT_EQ(r.local.row(i).norm(), 0.0) << "vertex " << i;
+      EXPECT_LT(std::abs(r.texture.height[i]), 1e-9) << "vertex " << i;
+    } else {
+      EXPECT_GE(r.owner[i], 0) << "vertex " << i << " not covered";
+    }
+  }
+  for (int c : r.centers) EXPECT_GT(X(c, 2), 0);
+  const SynthesisQuality q = synthesis_quality(e.base, e.texture, r, o);
+  print(q, "masked");
+  EXPECT_GT(q.coverage, 0.999);
+}
+
+TEST(Synthesis, TentaclesFollowTheField) {
+  const TexturedShape p = tentacle_plane(0);
+  const Texture t = extract_texture(p.base, positions(p.textured));
+  const Mesh target = icosphere(5, 1.0);  // as fine as the exemplar at this scale: no refinement
+  SynthesisOptions o;
+  o.scale = 0.6;
+  o.direction = Vec3(0, 0, 1);
+  const SynthesisResult r = synthesize_texture(p.base, t, target, o);
+  const SynthesisQuality q = synthesis_quality(p.base, t, r, o);
+  print(q, "tentacles on a sphere");
+  for (const auto& w : r.warnings) std::cout << "warning: " << w << "\n";
+  EXPECT_GT(q.coverage, 0.999);
+  EXPECT_LT(q.lean_angle_error_deg, 10.0);
+  EXPECT_LT(q.histogram_tv, 0.3);
+}
+
+TEST(Synthesis, RejectsBadInput) {
+  const Exemplar e = plate(10, 1.0, [](double, double) { return Vec3(0, 0, 0.01); });
+  const Mesh target = icosphere(1);
+  SynthesisOptions o;
+  o.patch_radius = 1.5;
+  EXPECT_THROW(synthesize_texture(e.base, e.texture, target, o), InvalidInput);
+  SynthesisGuides g;
+  g.weight = Eigen::VectorXd::Ones(3);
+  EXPECT_THROW(synthesize_texture(e.base, e.texture, target, {}, g), InvalidInput);
+  Texture bad = e.texture;
+  bad.height.resize(2);
+  EXPECT_THROW(synthesize_texture(e.base, bad, target), InvalidInput);
+}
