@@ -1,6 +1,8 @@
 #include "cli.h"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -114,5 +116,14 @@ const CLI::Validator ExistingMeshFile(
       return {};
     },
     "MESH", "ExistingMeshFile");
+
+const CLI::Validator FiniteNumber(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(v)) return fmt::format("'{}' is not a finite number", text);
+      return {};
+    },
+    "", "FiniteNumber");
 
 }  // namespace geotex::cli

@@ -106,5 +106,6 @@ void info(const std::string& line);  // stderr unless quiet
 
 // Validators for CLI11.
 extern const CLI::Validator ExistingMeshFile;
+extern const CLI::Validator FiniteNumber;  // refuses nan and inf (hand-written numeric flags)
 
 }  // namespace geotex::cli

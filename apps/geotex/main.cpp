@@ -70,8 +70,15 @@ int run(int argc, char** argv) {
   app.add_flag("-q,--quiet", globals().quiet, "no progress or warnings on stderr");
   int threads = 0;
   app.add_option("--threads", threads, "number of threads (default: all cores)")
-      ->check(CLI::PositiveNumber)
-      ->each([](const std::string& s) { omp_set_num_threads(std::stoi(s)); });
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {  // a whole positive number (CLI11's checks let nan through)
+            char* end = nullptr;
+            const long v = std::strtol(s.c_str(), &end, 10);
+            if (end == s.c_str() || *end != '\0' || v < 1 || v > 4096) return "'" + s + "' is not a number of threads (1 to 4096)";
+            return {};
+          },
+          "N", "ThreadCount"))
+      ->each([](const std::string& s) { omp_set_num_threads(static_cast<int>(std::strtol(s.c_str(), nullptr, 10))); });
   bool stats = false;
   app.add_flag("--stats", stats, "print wall time, CPU time and peak memory (resident set) on stderr at the end");
   // Printed on every exit path after parsing, errors included (e.g. to see how close a run came to

@@ -45,10 +45,10 @@ from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tupl
 
 MESH_EXTENSIONS = (".obj", ".ply", ".off", ".stl")
 
-#: The first parameter names that make a geotex function an operation on one input mesh: its mesh
-#: (mesh, result), a base with the input's connectivity (V_base), the input's vertices as points (P), or
-#: a list of meshes (meshes).
-_INPUT_PARAMETERS = ("mesh", "result", "V_base", "P", "meshes")
+#: The first parameter names that make a geotex function an operation on one input file: its mesh
+#: (mesh, result), a base with the input's connectivity (V_base), the input's vertices as points (P),
+#: a list of meshes (meshes), or a texture file (texture: read with read_texture()).
+_INPUT_PARAMETERS = ("mesh", "result", "V_base", "P", "meshes", "texture")
 
 #: Command-line names of operations whose function has another name.
 ALIASES = {"noise": "add_noise", "param": "parametrize", "project": "phong_project"}
@@ -282,9 +282,16 @@ def _process(op: Operation, path: Path, out_dir: Optional[Path], options: Dict[s
 
     import geotex
 
-    V, F = mesh if mesh is not None else geotex.read_mesh(str(path))
     args: Dict[str, Any] = dict(options)
-    if op.input == "meshes":
+    if op.input == "texture":
+        texture = geotex.read_texture(str(path))
+        V, F = texture.V_base, texture.F
+        args["texture"] = texture
+    else:
+        V, F = mesh if mesh is not None else geotex.read_mesh(str(path))
+    if op.input == "texture":
+        pass  # passed above
+    elif op.input == "meshes":
         args["meshes"] = [{"name": path.name, "V": V, "F": F}]
     elif op.input == "P":
         args["P"] = V
@@ -307,6 +314,10 @@ def _process(op: Operation, path: Path, out_dir: Optional[Path], options: Dict[s
     parts = _fields(value, "value")
     # A mesh result: positions of the input's vertices (the same faces), or a Result with V and F.
     result_mesh: Optional[Tuple[Any, Any]] = None
+    # A texture result (texture_extract, texture_edit; transfer, atlas and synthesize nest one): a texture file.
+    texture_out = value if all(k in parts for k in ("V_base", "F", "height", "tilt")) else parts.pop("texture", None)
+    if texture_out is value:
+        parts = {k: v for k, v in parts.items() if k not in ("V_base", "F", "height", "tilt", "lean", "edges")}
     if isinstance(value, np.ndarray) and value.ndim == 2 and value.shape == V.shape and value.dtype.kind == "f":
         result_mesh, parts = (value, F), {}
     elif "V" in parts and "F" in parts:
@@ -319,6 +330,10 @@ def _process(op: Operation, path: Path, out_dir: Optional[Path], options: Dict[s
     if not row["result"]:
         del row["result"]
     if out_dir is not None:
+        if texture_out is not None:
+            out = _output(out_dir, path, ".texture.ply")
+            _atomic_write(out, lambda tmp: geotex.write_texture(tmp, texture_out))
+            row["texture"] = str(out)
         if result_mesh is not None:
             out = _output(out_dir, path, path.suffix)
             Vo, Fo = result_mesh

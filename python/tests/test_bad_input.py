@@ -44,6 +44,7 @@ Vp, Fp = geotex.generate("plane", level=1)    # an open disk (param, texture)
 Fpd = np.vstack([Fp, Fp[:1]])
 tex = geotex.texture_extract(Vp, Fp)
 h, t = np.asarray(tex.height), np.asarray(tex.tilt)
+texd = dict(V_base=Vp, F=Fpd, height=h, tilt=t, lean=tex.lean)  # the texture over faces with a duplicate
 out = sys.argv[1] if len(sys.argv) > 1 else "/tmp"
 calls = {
     "info": lambda: geotex.info(V, Fd),
@@ -69,9 +70,9 @@ calls = {
     "denoise_mrf_normal": lambda: geotex.denoise_mrf_normal(V, Fd),
     "denoise_surfel": lambda: geotex.denoise_surfel(V, Fd),
     "texture_extract": lambda: geotex.texture_extract(Vp, Fpd),
-    "texture_apply": lambda: geotex.texture_apply(Vp, Fpd, h, t),
-    "texture_edit": lambda: geotex.texture_edit(Vp, Fpd, h, t, "scale-height", factor=2.0),
-    "texture_transfer": lambda: geotex.texture_transfer(Vp, Fpd, h, t, Vp, Fpd, 0, 0.3, 0, 0.3),
+    "texture_apply": lambda: geotex.texture_apply(texd),
+    "texture_edit": lambda: geotex.texture_edit(texd, op="scale-height", factor=2.0),
+    "texture_transfer": lambda: geotex.texture_transfer(texd, (Vp, Fpd), source_radius=0.3, target_radius=0.3),
     "resize": lambda: geotex.resize(V, Fd, scale=(2, 1, 1)),
     "render": lambda: geotex.render(V, Fd, path=out + "/r.png", width=64, height=64),
     "view": lambda: geotex.view([(V, Fd)], out + "/v.html"),
@@ -223,13 +224,15 @@ def test_class4_nan_and_inf_options_are_refused(tmp_path):
             "denoise_mrf phi0": lambda x: geotex.denoise_mrf(V, F, phi0=x),
             "render zoom": lambda x: geotex.render(V, F, width=32, height=32, zoom=x),
             "adf t": lambda x: geotex.auto_diffusion_function(V, F, t=x, eigenpairs=10),
-            "texture_edit angle": lambda x: geotex.texture_edit(Vp, Fp, h, t, "set-tilt", angle=x),
-            "texture_edit factor": lambda x: geotex.texture_edit(Vp, Fp, h, t, "scale-height", factor=x),
-            "texture_edit direction": lambda x: geotex.texture_edit(Vp, Fp, h, t, "wrap", direction=(x, 0, 0)),
-            "texture_transfer rotation": lambda x: geotex.texture_transfer(Vp, Fp, h, t, Vp, Fp, 0, 0.3, 0, 0.3, rotation=x),
-            "texture_transfer radius": lambda x: geotex.texture_transfer(Vp, Fp, h, t, Vp, Fp, 0, x, 0, 0.3),
+            "texture_edit angle": lambda x: geotex.texture_edit(tex, op="set-tilt", angle=x),
+            "texture_edit factor": lambda x: geotex.texture_edit(tex, op="scale-height", factor=x),
+            "texture_edit direction": lambda x: geotex.texture_edit(tex, op="wrap", direction=(x, 0, 0)),
+            "texture_transfer rotation": lambda x: geotex.texture_transfer(tex, (Vp, Fp), source_radius=0.3,
+                                                                           target_radius=0.3, rotation=x),
+            "texture_transfer radius": lambda x: geotex.texture_transfer(tex, (Vp, Fp), source_radius=x,
+                                                                         target_radius=0.3),
             "resize scale": lambda x: geotex.resize(V, F, scale=(x, 1, 1)),
-            "resize threshold": lambda x: geotex.resize(V, F, feature_threshold=x),
+            "resize significance": lambda x: geotex.resize(V, F, scale=(2, 1, 1), significance=x),
             "threads": lambda x: geotex.smooth(V, F, threads=x),
         }
         for name, call in calls.items():
@@ -299,7 +302,7 @@ def test_class6_results_are_finite_or_refused(tmp_path):
     h = np.array(tex.height)
     h[0] = np.nan
     with pytest.raises(geotex.InvalidInput):
-        geotex.texture_apply(Vp, Fp, h, tex.tilt)
+        geotex.texture_apply(dict(V_base=Vp, F=Fp, height=h, tilt=tex.tilt, lean=tex.lean))
     with pytest.raises(geotex.InvalidInput):
         geotex.write_mesh(tmp_path / "x.ply", np.full((3, 3), np.inf), np.array([[0, 1, 2]]))
     assert not (tmp_path / "x.ply").exists()

@@ -50,7 +50,7 @@ def test_every_function_taking_a_mesh_is_an_operation():
         if not callable(fn) or inspect.isclass(fn):
             continue
         params = list(inspect.signature(fn).parameters)
-        takes_mesh = bool(params) and params[0] in ("mesh", "result", "V_base", "P", "meshes")
+        takes_mesh = bool(params) and params[0] in ("mesh", "result", "V_base", "P", "meshes", "texture")
         assert (name in ops) == takes_mesh, name
     for wanted in ("smooth", "denoise", "add_noise", "deform", "parametrize", "phong_project", "texture_extract",
                    "texture_apply", "texture_edit", "texture_transfer", "resize", "render", "view", "info"):
@@ -69,10 +69,10 @@ def _extra_arguments(name, V, F):
         "one_form_fit": dict(T=np.cross(geotex.vertex_normals(V, F), [0.0, 0.0, 1.0])),
         "one_form_to_vertices": dict(c=np.zeros(nE)),
         "compare": dict(V_truth=(V, F)),
-        "texture_apply": dict(height=np.zeros(len(V)), tilt=np.zeros(nE)),
-        "texture_edit": dict(height=np.zeros(len(V)), tilt=np.zeros(nE), op="scale-height"),
-        "texture_transfer": dict(height=np.full(len(V), 0.01), tilt=np.zeros(nE), V_target=V, F_target=F,
-                                 source_center=0, source_radius=0.8, target_center=1, target_radius=0.8),
+        "texture_edit": dict(op="scale-height", factor=2.0),
+        "texture_transfer": dict(target=(V, F), source_radius=0.3, target_radius=0.8),
+        "texture_atlas": dict(target=(V, F), source_radius=0.3, target_radius=0.8),
+        "texture_synthesize": dict(target=(V, F), refine_ratio=0),
         "resize": dict(scale=[1.5, 1, 1]),
         "parametrize": {},
     }.get(name, {})
@@ -85,6 +85,8 @@ def small(tmp_path_factory):
     geotex.write_mesh(str(d / "sphere.ply"), V, F)
     Vp, Fp = geotex.generate("plane", level=0)
     geotex.write_mesh(str(d / "plane.ply"), Vp, Fp)
+    (Vt, Ft), (Vb, _) = geotex.generate("bumpy-plate", level=0, with_base=True)
+    geotex.write_texture(str(d / "bumps.ply"), geotex.texture_extract(Vt, Ft, Vb))
     return d
 
 
@@ -94,6 +96,8 @@ def test_every_operation_runs(small, tmp_path):
     for name, op in sorted(batch.operations().items()):
         disk = name in ("parametrize", "one_form_fit")  # a disk, not a sphere
         src = small / ("plane.ply" if disk else "sphere.ply")
+        if op.input == "texture":
+            src = small / "bumps.ply"  # a texture file
         args = _extra_arguments(name, *((Vp, Fp) if disk else (V, F)))
         missing = [a for a in op.required if a not in args]
         assert not missing, f"{name} needs {missing}: add them to _extra_arguments"

@@ -307,6 +307,19 @@ std::string refine_for(Mesh& target, const std::vector<char>& region, double req
   const double mean = count ? sum / count : 0;
   if (!(mean > ratio * required_edge)) return {};
   RefineOptions ro;
+  // Refuse a refinement that could not finish (a source radius far larger than the target's scales the
+  // source's edges down to nothing): about area / (edge² √3/4) vertices are needed.
+  double area = 0;
+  for (auto f : target.faces()) {
+    bool inside = true;
+    for (auto v : target.fv_range(f)) inside = inside && region[v.idx()];
+    if (inside) area += target.calc_face_area(f);
+  }
+  const double needed = area / (0.8 * required_edge * 0.8 * required_edge * std::sqrt(3.0) / 4);
+  if (!(needed < static_cast<double>(ro.max_vertices)))
+    throw InvalidInput(fmt::format(
+        "the target patch would need about {:.3g} vertices to hold the source's detail at this scale (target "
+        "edges of {:.3g}): choose radii closer together, or refine_ratio 0 for no refinement", needed, required_edge));
   // Longest-edge bisection leaves edges between half the bound and the bound (mean about 3/4 of it):
   // with the bound at 0.8 × the source's edge the target is sampled ~1.6 times as densely, so that
   // resampling (linear interpolation between points other than the source's vertices) keeps the
