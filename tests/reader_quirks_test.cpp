@@ -72,7 +72,7 @@ int in_child(const std::function<bool()>& f, unsigned seconds = 10) {
   if (pid == 0) {
     ::alarm(seconds);
     rlimit lim{size_t(2) << 30, size_t(2) << 30};
-    ::setrlimit(RLIMIT_AS, &lim);
+    if (!test::kAddressSanitizer) ::setrlimit(RLIMIT_AS, &lim);
     bool ok = false;
     try {
       ok = f();

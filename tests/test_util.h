@@ -8,6 +8,14 @@
 
 namespace geotex::test {
 
+// True in the AddressSanitizer build (scripts/sanitize.sh). Its shadow memory reserves terabytes of
+// address space, so tests that cap the address space (RLIMIT_AS, ulimit -v) drop the cap there.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kAddressSanitizer = true;
+#else
+inline constexpr bool kAddressSanitizer = false;
+#endif
+
 //! A fresh temporary folder, removed at destruction.
 struct TempDir {
   std::filesystem::path path;
