@@ -123,6 +123,37 @@ TEST(FeatureMap, SignificantBasinsStopAtTheValleyAroundAPeak) {
   EXPECT_THROW(significant_basins(m, Eigen::VectorXd::Zero(3), 3.0), InvalidInput);
 }
 
+TEST(FeatureMap, BasinsJoinedByAHighPassAreOneFeature) {
+  // A two-tipped bump (a hair bun): tip A stands 4.5 robust deviations above the median, tip B beside
+  // it only 2.2, and the pass between them 2.0; a lone bump C of 2.0 elsewhere, on a ramp whose maxima
+  // lie on the boundary. Without merging, B's basin is no feature; with passes above 1.5 (the
+  // default), A and B are one feature, and C (whose pass to the rest lies on the ramp) is still none.
+  const Mesh m = plane(80, 2.0);
+  const MatrixX3d X = positions(m);
+  Eigen::VectorXd g(X.rows());
+  auto bump = [](double x, double y, double cx, double cy, double s) {
+    return std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / s);
+  };
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double x = X(i, 0), y = X(i, 1);
+    g[i] = 0.5 * y + 2 * bump(x, y, -0.4, 0, 0.03) + bump(x, y, -0.05, 0, 0.03) + 0.8 * bump(x, y, 0.6, 0.3, 0.01);
+  }
+  auto at = [&](const Eigen::VectorXd& f, double x, double y) {
+    Eigen::Index best = 0;
+    (X.leftCols<2>().rowwise() - Eigen::RowVector2d(x, y)).rowwise().squaredNorm().minCoeff(&best);
+    return f[best];
+  };
+  const Eigen::VectorXd apart = significant_basins(m, g, 3.0);
+  EXPECT_EQ(at(apart, -0.4, 0), 1.0);
+  EXPECT_EQ(at(apart, -0.05, 0), 0.0) << "tip B must be a basin of its own, below the significance";
+  EXPECT_EQ(at(apart, 0.6, 0.3), 0.0);
+  const Eigen::VectorXd joined = significant_basins(m, g, 3.0, FeatureMapOptions{}.merge_pass);
+  EXPECT_EQ(at(joined, -0.4, 0), 1.0);
+  EXPECT_EQ(at(joined, -0.05, 0), 1.0) << "tip B joins tip A over their high pass";
+  EXPECT_EQ(at(joined, 0.6, 0.3), 0.0) << "bump C's pass lies on the ramp, at its foot";
+  EXPECT_EQ(at(joined, 0.9, -0.9), 0.0);
+}
+
 // On the tentacle stick scaled ×2 along its axis and bent into an arc, every tentacle keeps its length
 // and its angle to the local base (measured on its foot ring), with the automatic features.
 TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {

@@ -36,6 +36,9 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
       .add("significance", &O::significance,
            "a maximum is a feature when it exceeds the median by this many robust standard deviations (1.4826 MAD)",
            non_negative())
+      .add("merge_pass", &O::merge_pass,
+           "neighbouring basins whose pass stands this many robust standard deviations above the median are one "
+           "feature (two-tipped protrusions)", non_negative())
       .add("adf_levels", &O::adf_levels, "adf: diffusion times tried, each half the last, inside regions too large",
            at_least(1))
       .add("max_extent", &O::max_extent,
@@ -101,7 +104,8 @@ Eigen::VectorXd height_over_base(const Mesh& mesh, double scale) {
   return d.cwiseProduct(N).rowwise().sum() / R;
 }
 
-Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& g, double significance) {
+Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& g, double significance,
+                                   double merge_pass) {
   const int n = static_cast<int>(mesh.n_vertices());
   if (g.size() != n) throw InvalidInput(fmt::format("{} field values for {} vertices", g.size(), n));
   if (!g.allFinite()) throw InvalidInput("feature field must be finite");
@@ -128,11 +132,29 @@ Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& g, d
     peak[r] = p;
     for (int v : path) peak[v] = p;
   }
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
-  for (int i = 0; i < n; ++i) {
-    const auto p = mesh.vertex_handle(peak[i]);
-    if (!mesh.is_isolated(mesh.vertex_handle(i)) && !mesh.is_boundary(p) && z[p.idx()] > significance) f[i] = 1;
+  // A peak counts if it is significant and not on the boundary.
+  auto counts = [&](int p) { return !mesh.is_boundary(mesh.vertex_handle(p)) && z[p] > significance; };
+  // Basins joined by a high pass are one feature: union the peaks of the two ends of every edge that
+  // crosses between basins with both ends above the pass level (then the pass, the highest such edge's
+  // lower end, is above it too).
+  std::vector<int> root(n);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int a) {
+    while (root[a] != a) a = root[a] = root[root[a]];
+    return a;
+  };
+  if (std::isfinite(merge_pass)) {
+    for (auto e : mesh.edges()) {
+      const int a = e.v0().idx(), b = e.v1().idx();
+      if (peak[a] != peak[b] && z[a] > merge_pass && z[b] > merge_pass) root[find(peak[a])] = find(peak[b]);
+    }
   }
+  std::vector<char> marked(n, 0);  // per union root: holds a peak that counts
+  for (int i = 0; i < n; ++i)
+    if (peak[i] == i && counts(i)) marked[find(i)] = 1;
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i)
+    if (!mesh.is_isolated(mesh.vertex_handle(i)) && marked[find(peak[i])]) f[i] = 1;
   return f;
 }
 
@@ -192,7 +214,7 @@ Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen
   for (int level = 0; level < std::max(1, o.adf_levels); ++level, t *= 0.5) {
     const Eigen::VectorXd g = auto_diffusion_function(spectrum, t);
     if (level == 0 && field) *field = g;
-    const Eigen::VectorXd basins = significant_basins(mesh, g, o.significance).cwiseProduct(search);
+    const Eigen::VectorXd basins = significant_basins(mesh, g, o.significance, o.merge_pass).cwiseProduct(search);
     search.setZero();
     for (const auto& region : components(mesh, basins)) {
       const bool part = too_large(X, region, extent, o.max_extent);
@@ -275,7 +297,7 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
   if (o.method == FeatureMapMethod::Height || out.method == FeatureMapMethod::Height) {
     report(o.progress, o.method == FeatureMapMethod::Height ? 0.0 : 0.8, "height");
     out.field = height_over_base(mesh, o.smoothing_scale);
-    out.weights = significant_basins(mesh, out.field, o.significance);
+    out.weights = significant_basins(mesh, out.field, o.significance, o.merge_pass);
     out.method = FeatureMapMethod::Height;
   }
   if (o.dilate > 0) out.weights = dilate_features(mesh, out.weights, o.dilate);

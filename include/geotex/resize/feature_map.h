@@ -16,7 +16,11 @@
 //! (1.4826 × the median absolute deviation, both area-weighted), and the feature is the peak's
 //! watershed basin: every vertex whose steepest ascent on g ends at that peak. The basin stops where g
 //! turns up again, which is the protrusion's base (the valley of g around its foot), not a level set.
+//! A protrusion with two tips (a hair bun, a forked horn) has two maxima, often only one of them
+//! significant: basins joined by a pass (the highest edge between them) higher than \p merge_pass
+//! robust deviations are one feature, the way persistence merges maxima separated by a shallow saddle.
 
+#include <limits>
 #include <string>
 
 #include "geotex/core/mesh.h"
@@ -46,6 +50,10 @@ struct FeatureMapOptions {
   //! A maximum is a feature's peak when its value exceeds the area-weighted median by this many robust
   //! standard deviations (1.4826 × median absolute deviation) of the field over the surface.
   double significance = 3.0;
+  //! Neighbouring basins whose pass (the highest min(g_a, g_b) over edges between them) stands this many
+  //! robust standard deviations above the median belong to one feature; a pass that high lies inside a
+  //! protrusion, while the pass between a feature and the surface around it lies at its foot.
+  double merge_pass = 1.5;
   //! A connected region spanning more than this share of the model's extent along some axis (of those
   //! along which the model extends at least a quarter of its largest extent) is a part
   //! of the model (a head, a body), not a detail on it: height regions that large are dropped; inside
@@ -87,9 +95,12 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& options = {});
 Eigen::VectorXd height_over_base(const Mesh& mesh, double smoothing_scale = 0.1);
 
 //! Watershed basins of the significant maxima of \p field (see the file comment): 1 for vertices whose
-//! steepest ascent ends at a maximum exceeding median + significance · 1.4826 MAD, else 0. Maxima on
-//! the mesh boundary are ignored (a border's artefact, not a feature). Isolated vertices get 0.
-Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& field, double significance);
+//! steepest ascent ends at a maximum exceeding median + significance · 1.4826 MAD, or at a maximum
+//! whose basin is joined to such a basin through passes above median + merge_pass · 1.4826 MAD; else 0.
+//! Maxima on the mesh boundary are ignored (a border's artefact, not a feature). Isolated vertices get 0.
+//! merge_pass = +inf keeps every basin apart.
+Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& field, double significance,
+                                   double merge_pass = std::numeric_limits<double>::infinity());
 
 //! The ADF map (see FeatureMapOptions::max_extent): significant basins of the ADF at adf_t, and inside
 //! regions too large to be features, of the ADF at adf_t/2, adf_t/4, … \param field if given, receives
