@@ -11,6 +11,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/toolkit/diffusion.h"
 #include "geotex/toolkit/laplace.h"
+#include "geotex/toolkit/simplify.h"
 #include "geotex/toolkit/smoothing.h"
 
 namespace geotex {
@@ -39,6 +40,9 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
       .add("merge_pass", &O::merge_pass,
            "neighbouring basins whose pass stands this many robust standard deviations above the median are one "
            "feature (two-tipped protrusions)", non_negative())
+      .add("adf_vertices", &O::adf_vertices,
+           "adf: on meshes with more vertices, the spectrum comes from a simplification to this many (0: never)",
+           non_negative())
       .add("adf_levels", &O::adf_levels, "adf: diffusion times tried, each half the last, inside regions too large",
            at_least(1))
       .add("max_extent", &O::max_extent,
@@ -204,17 +208,36 @@ bool too_large(const MatrixX3d& X, const std::vector<int>& region, const Vec3& m
 Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* field) {
   int n_faced = 0;
   for (auto v : mesh.vertices()) n_faced += !mesh.is_isolated(v);
-  const LaplaceSpectrum spectrum = laplace_spectrum(mesh, std::min(o.eigenpairs, n_faced - 1));
+  const int levels = std::max(1, o.adf_levels);
+  // The ADF at each diffusion time tried, #V by levels. On a large mesh the spectrum comes from a
+  // simplification (its low end does not change with resolution) and the ADF is extended back
+  // harmonically, which adds no maxima of its own.
+  Eigen::MatrixXd G;
+  const bool coarse = o.adf_vertices > 0 && n_faced > o.adf_vertices;
+  if (coarse) report(o.progress, 0.02, fmt::format("adf: simplification to {} vertices", o.adf_vertices));
+  const SimplifiedMesh simple = coarse ? simplify(mesh, o.adf_vertices) : SimplifiedMesh{};
+  const Mesh& spectral = coarse ? simple.mesh : mesh;
+  if (coarse) {
+    n_faced = 0;
+    for (auto v : spectral.vertices()) n_faced += !spectral.is_isolated(v);
+  }
+  report(o.progress, 0.1, "adf: Laplace spectrum");
+  const LaplaceSpectrum spectrum = laplace_spectrum(spectral, std::min(o.eigenpairs, n_faced - 1));
+  G.resize(spectral.n_vertices(), levels);
+  double t = o.adf_t;
+  for (int level = 0; level < levels; ++level, t *= 0.5) G.col(level) = auto_diffusion_function(spectrum, t);
+  if (coarse) {
+    report(o.progress, 0.7, "adf: extension to every vertex");
+    G = extend_harmonic(mesh, simple.original, G);
+  }
   const MatrixX3d X = positions(mesh);
   const Vec3 extent = X.colwise().maxCoeff() - X.colwise().minCoeff();
   const Eigen::Index n = X.rows();
   Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd search = Eigen::VectorXd::Ones(n);  // where finer times may still find features
-  double t = o.adf_t;
-  for (int level = 0; level < std::max(1, o.adf_levels); ++level, t *= 0.5) {
-    const Eigen::VectorXd g = auto_diffusion_function(spectrum, t);
-    if (level == 0 && field) *field = g;
-    const Eigen::VectorXd basins = significant_basins(mesh, g, o.significance, o.merge_pass).cwiseProduct(search);
+  if (field) *field = G.col(0);
+  for (int level = 0; level < levels; ++level) {
+    const Eigen::VectorXd basins = significant_basins(mesh, G.col(level), o.significance, o.merge_pass).cwiseProduct(search);
     search.setZero();
     for (const auto& region : components(mesh, basins)) {
       const bool part = too_large(X, region, extent, o.max_extent);
