@@ -262,7 +262,6 @@ PhongProjector::PhongProjector(const Mesh& mesh, const MatrixX3d& normals, const
 }
 
 namespace {
-constexpr double kNoPruning = 4;         // a cone angle ≥ π/2 contains ±every direction
 constexpr double kAngleSlack = 1e-6;     // radians, for rounding in the roots and the cones
 constexpr double kMinTolerance = 1e-6;   // the cones allow at least this barycentric tolerance
 }  // namespace
