@@ -258,7 +258,7 @@ TEST(BadInputClasses, TextureWithNonFiniteHeightIsRefused) {
 
 TEST(BadInputClasses, HighValenceVertexCostsLinearTime) {
   // A fan of 8,000 triangles around one vertex (main: denoise 39 s, deform > 8 GB, project and surfels
-  // quadratic, texture extract > 2 GiB). Every command must finish well within a cap a hundred times what it needs now; the
+  // quadratic, texture extract > 2 GiB, also with --preset thesis). Every command must finish well within a cap a hundred times what it needs now; the
   // cap is a hang guard, not a speed threshold.
   TempDir tmp;
   const int k = 8000;
@@ -273,7 +273,8 @@ TEST(BadInputClasses, HighValenceVertexCostsLinearTime) {
                                 "denoise --method surfel " + fan + out, "deform " + fan + " --handles " + (tmp / "h.json") + out,
                                 "project " + fan + " " + fan + out, "surfels " + fan + out,
                                 "param " + fan + " -o " + (tmp / "uv.obj"), "texture extract " + fan + " -o " + (tmp / "t.ply"),
-                                "texture apply " + (tmp / "t.ply") + out}) {
+                                "texture apply " + (tmp / "t.ply") + out,
+                                "texture extract --preset thesis " + fan + " -o " + (tmp / "t2.ply")}) {
     const CliResult r = run_capped("-q --threads 1 " + cmd, 120, 2048);
     EXPECT_EQ(r.exit_code, 0) << cmd << ": " << r.err;
   }
