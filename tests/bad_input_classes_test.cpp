@@ -155,7 +155,11 @@ TEST(BadInputClasses, SignalsDuringARunLeaveNoTemporary) {
         EXPECT_EQ(names, (std::vector<std::string>{"a.ply", "e.ply", "in.ply"}));
       } else {
         EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "status " << status;
-        EXPECT_EQ(names, std::vector<std::string>{"in.ply"}) << "signal " << sig << " after " << delay_ms << " ms";
+        // A signal between the commit (both outputs renamed into place) and the exit still ends the
+        // process by the signal: both outputs or none.
+        const bool none = names == std::vector<std::string>{"in.ply"};
+        const bool both = names == std::vector<std::string>{"a.ply", "e.ply", "in.ply"};
+        EXPECT_TRUE(none || both) << "signal " << sig << " after " << delay_ms << " ms: " << ::testing::PrintToString(names);
       }
       fs::remove(tmp.path / "a.ply");
       fs::remove(tmp.path / "e.ply");
