@@ -92,6 +92,23 @@ void BM_MeshProjection(benchmark::State& state) {
 }
 BENCHMARK(BM_MeshProjection);
 
+// Points 1e7 away from a unit sphere (the sphere's own vertices scaled by 1e7): every face's box is
+// about equally near, so the nearest-first search alone would solve every face for every point; the
+// cones of vertex normals leave only the faces facing the point.
+void BM_MeshProjectionFar(benchmark::State& state) {
+  const Mesh s = icosphere(4, 1.0);
+  const PhongProjector proj(s);
+  const MatrixX3d P = 1e7 * positions(s);
+  size_t k = 0, found = 0, n = 0;
+  for (auto _ : state) {
+    const PhongHit h = proj.project(Vec3(P.row(k++ % P.rows()).transpose()));
+    found += h.found;
+    ++n;
+  }
+  state.counters["found_rate"] = double(found) / n;
+}
+BENCHMARK(BM_MeshProjectionFar);
+
 }  // namespace
 
 BENCHMARK_MAIN();

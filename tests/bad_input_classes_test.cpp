@@ -155,7 +155,11 @@ TEST(BadInputClasses, SignalsDuringARunLeaveNoTemporary) {
         EXPECT_EQ(names, (std::vector<std::string>{"a.ply", "e.ply", "in.ply"}));
       } else {
         EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "status " << status;
-        EXPECT_EQ(names, std::vector<std::string>{"in.ply"}) << "signal " << sig << " after " << delay_ms << " ms";
+        // A signal between the commit (both outputs renamed into place) and the exit still ends the
+        // process by the signal: both outputs or none.
+        const bool none = names == std::vector<std::string>{"in.ply"};
+        const bool both = names == std::vector<std::string>{"a.ply", "e.ply", "in.ply"};
+        EXPECT_TRUE(none || both) << "signal " << sig << " after " << delay_ms << " ms: " << ::testing::PrintToString(names);
       }
       fs::remove(tmp.path / "a.ply");
       fs::remove(tmp.path / "e.ply");
@@ -258,7 +262,7 @@ TEST(BadInputClasses, TextureWithNonFiniteHeightIsRefused) {
 
 TEST(BadInputClasses, HighValenceVertexCostsLinearTime) {
   // A fan of 8,000 triangles around one vertex (main: denoise 39 s, deform > 8 GB, project and surfels
-  // quadratic). Every command must finish well within a cap a hundred times what it needs now; the
+  // quadratic, texture extract > 2 GiB, also with --preset thesis). Every command must finish well within a cap a hundred times what it needs now; the
   // cap is a hang guard, not a speed threshold.
   TempDir tmp;
   const int k = 8000;
@@ -272,8 +276,9 @@ TEST(BadInputClasses, HighValenceVertexCostsLinearTime) {
                                  "denoise --method mrf-normal " + fan + out,
                                 "denoise --method surfel " + fan + out, "deform " + fan + " --handles " + (tmp / "h.json") + out,
                                 "project " + fan + " " + fan + out, "surfels " + fan + out,
-                                "param " + fan + " -o " + (tmp / "uv.obj")}) {
-    // Not yet: `texture extract` of this fan runs out of memory under 2 GiB (found here; open).
+                                "param " + fan + " -o " + (tmp / "uv.obj"), "texture extract " + fan + " -o " + (tmp / "t.ply"),
+                                "texture apply " + (tmp / "t.ply") + out,
+                                "texture extract --preset thesis " + fan + " -o " + (tmp / "t2.ply")}) {
     const CliResult r = run_capped("-q --threads 1 " + cmd, 120, 2048);
     EXPECT_EQ(r.exit_code, 0) << cmd << ": " << r.err;
   }

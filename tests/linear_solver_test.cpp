@@ -108,3 +108,39 @@ TEST(LeastSquaresSolver, LongRowsByWoodburyMatchTheDenseNormalEquations) {
     EXPECT_LT((X - reference).norm(), 1e-7 * reference.norm()) << dense_row_nnz;
   }
 }
+
+TEST(LeastSquaresSolver, FanBiLaplacianWithTinyWeightsAfterRefactorMatchesDenseSolve) {
+  // The base-shape fit's system (texture/base_shape.cpp) on a fan of 600 triangles: G = D^{-1/2} K, the
+  // hub's row long (left to the update), weights down to 1e-8 (protrusions); refactor() with new
+  // weights reuses the analysis and must give the new system's solution.
+  const int k = 600, n = k + 1;
+  std::vector<Triplet> t;
+  auto edge = [&](int i, int j) {
+    t.emplace_back(i, j, -1.0);
+    t.emplace_back(j, i, -1.0);
+    t.emplace_back(i, i, 1.0);
+    t.emplace_back(j, j, 1.0);
+  };
+  for (int i = 0; i < k; ++i) {
+    edge(0, 1 + i);
+    edge(1 + i, 1 + (i + 1) % k);
+  }
+  SparseMatrix K(n, n);
+  K.setFromTriplets(t.begin(), t.end());  // D − A
+  const Eigen::VectorXd deg = K.diagonal();
+  const SparseMatrix G = (50.0 / deg.array().sqrt()).matrix().asDiagonal() * K;
+  Rng rng(3);
+  Eigen::VectorXd w1 = Eigen::VectorXd::Ones(n), w2(n);
+  for (int i = 0; i < n; ++i) w2[i] = i % 7 == 0 ? 1e-8 : rng.uniform();
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 3);
+  LeastSquaresSolver s;
+  s.compute(G, w1);
+  EXPECT_EQ(s.dense_rows(), 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    const Eigen::VectorXd& w = pass == 0 ? w1 : w2;
+    if (pass == 1) s.refactor(w);
+    const Eigen::MatrixXd A = Eigen::MatrixXd(G).transpose() * Eigen::MatrixXd(G) + Eigen::MatrixXd(w.asDiagonal());
+    const Eigen::MatrixXd X = s.solve(B);
+    EXPECT_LT((A * X - B).norm(), 1e-7 * B.norm());
+  }
+}

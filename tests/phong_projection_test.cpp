@@ -1,6 +1,7 @@
 // Phong-normal projection (thesis Sec. 5.2): analytic cubic vs Newton, derivatives, mesh projection.
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -170,6 +171,76 @@ TEST(PhongProjection, MeshProjectionBatchMatchesSingle) {
     if (hits[i].found) EXPECT_LT((P.row(i).transpose() - hits[i].point).cross(hits[i].normal).norm(), 1e-8);
   }
   EXPECT_GT(found, P.rows() * 9 / 10);
+}
+
+// PhongProjector::project by its definition, over every face: the faces whose box lies within the
+// search radius, the inside solution of smallest |d|; the radius doubled up to 4 times; else the
+// closest point.
+PhongHit project_by_brute_force(const MatrixX3d& V, const MatrixX3i& F, double h, const PhongProjector& proj,
+                                const Vec3& p, const PhongProjectionOptions& o = {}) {
+  // The closest point by brute force too.
+  TriangleTree::Hit closest;
+  closest.sq_distance = std::numeric_limits<double>::infinity();
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Vec3 q = closest_point_on_triangle(p, V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
+    if ((q - p).squaredNorm() < closest.sq_distance) closest = {static_cast<int>(f), q, Vec3::Zero(), (q - p).squaredNorm()};
+  }
+  double radius = o.search_factor * std::sqrt(closest.sq_distance) + o.search_margin * h;
+  PhongHit best;
+  for (int attempt = 0; attempt < 5 && !best.found; ++attempt, radius *= 2)
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      Eigen::AlignedBox3d box;
+      for (int k = 0; k < 3; ++k) box.extend(Vec3(V.row(F(f, k)).transpose()));
+      if (box.exteriorDistance(p) > radius) continue;
+      for (const PhongCandidate& c : phong_project_analytic(p, proj.triangle(static_cast<int>(f)), o.inside_tol)) {
+        // A projection: p − q parallel to n_q (a root where the shifted triangle degenerates is none).
+        const bool parallel = (p - c.point).cross(c.normal.normalized()).norm() <= 1e-6 * ((p - c.point).norm() + h);
+        if (c.inside && parallel && (!best.found || std::abs(c.d) < std::abs(best.d))) {
+          best.found = true;
+          best.face = static_cast<int>(f);
+          best.point = c.point;
+          best.d = c.d;
+        }
+      }
+    }
+  if (!best.found) best.point = closest.point;
+  return best;
+}
+
+void expect_matches_brute_force(const Mesh& m, const MatrixX3d& P) {
+  const PhongProjector proj(m);
+  const std::vector<PhongHit> hits = proj.project(P);
+  const MatrixX3d V = positions(m);
+  const MatrixX3i F = faces(m);
+  const double h = mean_edge_length(m);
+  int found = 0;
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    const Vec3 p = P.row(i).transpose();
+    const PhongHit ref = project_by_brute_force(V, F, h, proj, p);
+    const double scale = std::max(1.0, p.norm());
+    ASSERT_EQ(hits[i].found, ref.found) << "point " << i << " at " << p.transpose();
+    EXPECT_LT((hits[i].point - ref.point).norm(), 1e-9 * scale) << "point " << i << " at " << p.transpose();
+    if (ref.found) EXPECT_NEAR(hits[i].d, ref.d, 1e-9 * scale) << "point " << i;
+    found += ref.found;
+  }
+  EXPECT_GT(found, 0);
+}
+
+TEST(PhongProjection, FarAndMixedPointsMatchBruteForce) {
+  // The normal-cone pruning (points 1e7 away cost log #F, not #F) leaves the result unchanged: points
+  // at every distance from 1e-3 to 1e7 mean edges, in every direction, on a closed and an open surface
+  // (where far points off its side find no inside solution and take the closest point).
+  Rng rng(29);
+  for (const Mesh& m : {icosphere(2, 1.0), make_shape("spiky-sphere", 0).textured, plane(6, 1.0)}) {
+    const MatrixX3d V = positions(m);
+    MatrixX3d P(200, 3);
+    for (Eigen::Index i = 0; i < P.rows(); ++i) {
+      const Vec3 anchor = V.row(static_cast<Eigen::Index>(rng.uniform() * V.rows()) % V.rows()).transpose();
+      const double distance = std::pow(10.0, -3 + 10 * rng.uniform());
+      P.row(i) = (i % 4 == 0 ? Vec3(1e7 * random_unit(rng)) : Vec3(anchor + distance * random_unit(rng))).transpose();
+    }
+    expect_matches_brute_force(m, P);
+  }
 }
 
 TEST(PhongProjectionCli, ProjectsOntoABaseAndRejectsBadInput) {

@@ -325,8 +325,8 @@ def fan(k):
 
 
 def test_class7_a_high_valence_vertex_and_a_fifo_do_not_hang(tmp_path):
-    # A cap (not a speed threshold): on main a valence of 8k took 39 s in denoise and deform needed
-    # 8 GB; each call here is a fraction of a second now, the cap is a hundred times more.
+    # A cap (not a speed threshold): on main a valence of 8k took 39 s in denoise, deform needed
+    # 8 GB and texture_extract more than 2 GiB; each call here is a fraction of a second now, the cap is a hundred times more.
     p = run_child("""
         import numpy as np, geotex
         k = 4000
@@ -337,6 +337,7 @@ def test_class7_a_high_valence_vertex_and_a_fifo_do_not_hang(tmp_path):
         geotex.denoise_mrf(V, F)
         geotex.deform(V, F, handles=[0, 1], targets=V[:2] + 0.1)
         geotex.phong_project(V, F, P=V[::40] + 0.01)
+        geotex.texture_extract(V, F)
         print("done")
     """, timeout=120, memory_bytes=2 << 30)
     assert_clean_exit(p)

@@ -137,7 +137,12 @@ void TriangleTree::faces_near(const Vec3& p, double radius, std::vector<int>& ou
 }
 
 void TriangleTree::visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit) const {
-  if (nodes_.empty()) return;
+  visit_nearest(p, radius, visit, [](int) { return true; });
+}
+
+void TriangleTree::visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit,
+                                 const std::function<bool(int)>& enter) const {
+  if (nodes_.empty() || !enter(0)) return;
   // A min-heap of nodes and faces by squared box distance; faces are entered as ~face.
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
@@ -161,7 +166,7 @@ void TriangleTree::visit_nearest(const Vec3& p, double radius, const std::functi
     } else {
       for (int c : {n.left, n.right}) {
         const double cd = nodes_[c].box.squaredExteriorDistance(p);
-        if (cd <= r2) heap.emplace(cd, c);
+        if (cd <= r2 && enter(c)) heap.emplace(cd, c);
       }
     }
   }

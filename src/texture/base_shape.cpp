@@ -50,6 +50,7 @@ const OptionTable<BaseShapeOptions>& BaseShapeOptions::table() {
 namespace {
 
 constexpr size_t kProjectionRings = 2;
+constexpr size_t kHubValence = 64;  // see the projection in base_shape()
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -67,20 +68,22 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
   // ‖L B‖²_D with the umbrella L = D⁻¹A − I = −D⁻¹K: Bᵀ K D⁻¹ K B, K = D − A (symmetric). An
   // isolated vertex has a zero row in K and keeps its position (data term alone).
   const SparseMatrix K = SparseMatrix(d.asDiagonal()) - A;
-  const SparseMatrix Q = K * d.unaryExpr([](double x) { return x > 0 ? 1 / x : 0.0; }).asDiagonal() * K;
   // On a triangle lattice of spacing h, L ≈ (h²/4)Δ and D ≈ 6: the penalty is 6 μ (h²k²/4)² ‖b̂‖² at
   // wavenumber k. It equals the data term at the wavelength 2π/k = scale·h when μ = (scale/π)⁴/6.
   const double mu = std::pow(o.scale / M_PI, 4) / 6.0;
+  // The system μ Kᵀ D⁻¹ K + W = GᵀG + W with G = √μ D^{-1/2} K, one row per vertex. The row of a vertex
+  // of valence k couples its k neighbours in GᵀG (k² entries: 1 GB for a fan of 8,000); the solver
+  // keeps such rows out of the factor (Woodbury), so memory stays linear in the valence.
+  const SparseMatrix G =
+      d.unaryExpr([mu](double x) { return x > 0 ? std::sqrt(mu / x) : 0.0; }).asDiagonal() * K;
   w = Eigen::VectorXd::Ones(n);
-  SpdSolver solver;
+  LeastSquaresSolver solver;
   MatrixX3d B;
   double bound = 0;
   const int total = 1 + o.robust_passes;
   for (int pass = 0; pass < total; ++pass) {
-    SparseMatrix S = mu * Q;
-    S += SparseMatrix(w.asDiagonal());
-    if (!solver.analyzed()) solver.analyze(S);
-    solver.factorize(S);
+    if (pass == 0) solver.compute(G, w);
+    else solver.refactor(w);
     B = solver.solve(w.asDiagonal() * X);
     // Undo the shrinking: B = (1 − (1 − S)³) X = 3 S X − 3 S² X + S³ X, with S the same filter: what
     // S keeps to first order (1 − s small) comes back to third order.
@@ -182,6 +185,11 @@ BaseShape base_shape(const Mesh& textured, const BaseShapeOptions& o) {
                                N.row(F(f, 2)));
       MatrixX3d Q = B;
       Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
+      // A vertex of high valence lends its faces only to its own projection: through the rings it would
+      // hand all of them to each of its neighbours (cost valence² on a fan of 8,000).
+      std::vector<char> hub(n, 0);
+      for (Eigen::Index i = 0; i < n; ++i)
+        hub[i] = textured.valence(textured.vertex_handle(static_cast<int>(i))) > kHubValence;
 #pragma omp parallel
       {
         std::vector<int> ring, next;
@@ -199,7 +207,8 @@ BaseShape base_shape(const Mesh& textured, const BaseShapeOptions& o) {
           seen[i] = 1;
           std::vector<int> visited = ring;
           for (size_t r = 0; r < kProjectionRings && best == std::numeric_limits<double>::infinity(); ++r) {
-            for (int v : ring)
+            for (int v : ring) {
+              if (r > 0 && hub[v]) continue;
               for (auto f : textured.vf_range(textured.vertex_handle(v))) {
                 if (face_seen[f.idx()]) continue;
                 face_seen[f.idx()] = 1;
@@ -210,14 +219,18 @@ BaseShape base_shape(const Mesh& textured, const BaseShapeOptions& o) {
                     Q.row(i) = c.point.transpose();
                   }
               }
+            }
+            if (r + 1 == kProjectionRings) break;
             next.clear();
-            for (int v : ring)
+            for (int v : ring) {
+              if (r > 0 && hub[v]) continue;
               for (auto w : textured.vv_range(textured.vertex_handle(v)))
                 if (!seen[w.idx()]) {
                   seen[w.idx()] = 1;
                   next.push_back(w.idx());
                   visited.push_back(w.idx());
                 }
+            }
             ring.swap(next);
           }
           for (int v : visited) seen[v] = 0;

@@ -308,14 +308,21 @@ std::string refine_for(Mesh& target, const std::vector<char>& region, double req
   if (!(mean > ratio * required_edge)) return {};
   RefineOptions ro;
   // Refuse a refinement that could not finish (a source radius far larger than the target's scales the
-  // source's edges down to nothing): about area / (edge² √3/4) vertices are needed.
-  double area = 0;
+  // source's edges down to nothing): about area / (edge² √3/4) vertices are needed, and at least
+  // length / edge − 1 on every edge (slivers: a fan of 8,000 has little area but 8,000 long spokes).
+  const double edge = 0.8 * required_edge;
+  double area = 0, on_edges = 0;
   for (auto f : target.faces()) {
     bool inside = true;
     for (auto v : target.fv_range(f)) inside = inside && region[v.idx()];
     if (inside) area += target.calc_face_area(f);
   }
-  const double needed = area / (0.8 * required_edge * 0.8 * required_edge * std::sqrt(3.0) / 4);
+  for (auto e : target.edges()) {
+    const auto h = target.halfedge_handle(e, 0);
+    if (region[target.from_vertex_handle(h).idx()] && region[target.to_vertex_handle(h).idx()])
+      on_edges += std::max(0.0, std::ceil(target.calc_edge_length(e) / edge) - 1);
+  }
+  const double needed = std::max(area / (edge * edge * std::sqrt(3.0) / 4), on_edges);
   if (!(needed < static_cast<double>(ro.max_vertices)))
     throw InvalidInput(fmt::format(
         "the target patch would need about {:.3g} vertices to hold the source's detail at this scale (target "
@@ -324,7 +331,7 @@ std::string refine_for(Mesh& target, const std::vector<char>& region, double req
   // with the bound at 0.8 × the source's edge the target is sampled ~1.6 times as densely, so that
   // resampling (linear interpolation between points other than the source's vertices) keeps the
   // finest detail's amplitude (within 3 % on igea; at 1× it loses 4–5 %).
-  ro.max_edge = 0.8 * required_edge;
+  ro.max_edge = edge;
   RefineResult r = refine_region(target, region, ro);
   *added = r.added;
   target = std::move(r.mesh);

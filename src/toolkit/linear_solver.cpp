@@ -192,15 +192,27 @@ void LeastSquaresSolver::compute(const SparseMatrix& G, const Eigen::VectorXd& d
   Gs.setFromTriplets(ts.begin(), ts.end());
   U_.resize(G.cols(), m);
   U_.setFromTriplets(tu.begin(), tu.end());
-  SparseMatrix D(G.cols(), G.cols());
-  std::vector<Triplet> td;
-  for (Eigen::Index i = 0; i < d.size(); ++i) td.emplace_back(i, i, d[i]);
-  D.setFromTriplets(td.begin(), td.end());
-  SparseMatrix S = SparseMatrix(Gs.transpose() * Gs) + D;
+  GtG_ = Gs.transpose() * Gs;
   G_ = G;
   d_ = d;
+  base_.analyze(GtG_ + SparseMatrix(d.asDiagonal()), block_size);
+  factor();
+}
+
+void LeastSquaresSolver::refactor(const Eigen::VectorXd& d) {
+  if (d.size() != G_.cols()) throw SolverError("LeastSquaresSolver: the diagonal must have one entry per unknown");
+  d_ = d;
+  factor();
+}
+
+void LeastSquaresSolver::factor() {
+  const Eigen::Index m = U_.cols();
+  SparseMatrix D(G_.cols(), G_.cols());
+  std::vector<Triplet> td;
+  for (Eigen::Index i = 0; i < d_.size(); ++i) td.emplace_back(i, i, d_[i]);
+  D.setFromTriplets(td.begin(), td.end());
+  SparseMatrix S = GtG_ + D;
   regularized_ = false;
-  base_.analyze(S, block_size);
   try {
     base_.factorize(S);
   } catch (const SolverError&) {
@@ -231,9 +243,11 @@ Eigen::MatrixXd LeastSquaresSolver::solve(const Eigen::MatrixXd& B) const {
     return Y;
   };
   Eigen::MatrixXd X = apply_inverse(B);
-  if (regularized_) {
-    // The factor is of the shifted matrix: conjugate gradients on the true GᵀG + diag(d), preconditioned
-    // by it (the preconditioned spectrum is λ/(λ + shift), so a few iterations do).
+  if (regularized_ || U_.cols() > 0) {
+    // The factor is of the shifted matrix, or the Woodbury update lost digits to an ill-conditioned S
+    // (tiny d where only long rows constrain): conjugate gradients on the true GᵀG + diag(d),
+    // preconditioned by the approximate inverse (the preconditioned spectrum is near 1: a few
+    // iterations, none when the first solve is already accurate).
     const auto A = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
       return G_.transpose() * (G_ * x) + d_.cwiseProduct(x);
     };

@@ -206,14 +206,16 @@ struct OneFormFitter::Impl {
   OneFormFitOptions opt;
   SparseMatrix P;       // 3n × m
   SparseMatrix A;       // the tangent-projected P (tangential mode; built with the normal matrix)
-  SparseMatrix normal;  // AᵀA + ε I
   SparseMatrix proj;    // 3n × 3n tangent projector (tangential mode; built with the normal matrix)
   MatrixX3d normals;    // the projector's unit normals, one row per vertex (tangential mode)
-  double eps = 0;
+  double eps = 0;        // ε of the unweighted fit
+  double trace = 0;      // trace of AᵀA
   Eigen::VectorXd edge_len;
-  SpdSolver solver;
-  bool holds_normal = false;  // the solver's factor is of `normal` (not of a weighted/pinned matrix)
-  bool has_normal = false;    // `normal`, `eps` and the symbolic analysis exist (built on first direct fit)
+  // The unweighted direct fit AᵀA + ε I, as the least-squares system of A: a vertex of valence k puts a
+  // k × k block into AᵀA (a fan of 8,000: 0.5 GB), which LeastSquaresSolver keeps out of its factor.
+  LeastSquaresSolver unweighted;
+  bool unweighted_factored = false;
+  bool has_normal = false;    // A (tangential), `eps` and `trace` exist (built on first direct fit)
   RowSparse A_rows;     // P row-major, for the iterative fit's vertex-parallel products
 
   // Tangential direct fit in vertex form (see fit_tangential()): B = [Uᵀ P; Vᵀ P] (2n × m), the
@@ -260,8 +262,8 @@ struct OneFormFitter::Impl {
 
   const SparseMatrix& matrix() const { return opt.tangential ? A : P; }  // the direct fit's design matrix
 
-  // The direct route's normal matrix AᵀA + εI and its symbolic analysis, built on first use so that
-  // an iterative-only caller never pays for them.
+  // The direct route's design matrix and regularization, built on first use so that an iterative-only
+  // caller never pays for them.
   void ensure_normal() {
     if (has_normal) return;
     if (opt.tangential) {
@@ -276,15 +278,8 @@ struct OneFormFitter::Impl {
       proj.setFromTriplets(trip.begin(), trip.end());
       A = proj * P;
     }
-    const SparseMatrix& A = matrix();
-    const Eigen::Index m = A.cols();
-    normal = SparseMatrix(A.transpose()) * A;
-    eps = opt.regularization * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
-    SparseMatrix I(m, m);
-    I.setIdentity();
-    normal += eps * I;
-    normal.makeCompressed();
-    solver.analyze(normal);  // factorized lazily: a weighted fit needs its own numbers anyway
+    trace = matrix().squaredNorm();
+    eps = opt.regularization * trace / std::max<Eigen::Index>(matrix().cols(), 1);
     has_normal = true;
   }
 };
@@ -355,37 +350,39 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
   Eigen::VectorXd t(3 * n);
   for (int d = 0; d < 3; ++d) t.segment(d * n, n) = T.col(d);
   if (s.opt.tangential) t = s.proj * t;
-  // Normal equations of ‖W (A c − t)‖² + ε ‖c − c_avg‖² (Eq. 5.81 and the estimate 5.80).
+  // Normal equations of ‖W (A c − t)‖² + ε ‖c − c_avg‖² (Eq. 5.81 and the estimate 5.80), solved as the
+  // least-squares system of G = W^½ A (see Impl::unweighted).
   const Eigen::VectorXd c_avg = one_form_average(*s.mesh, T);
-  SparseMatrix normal;
+  LeastSquaresSolver local;
+  const LeastSquaresSolver* solver = &s.unweighted;
+  SparseMatrix G;  // weighted: W^½ A
   Eigen::VectorXd rhs;
+  double eps = s.eps, trace = s.trace;
   if (weighted) {
     Eigen::VectorXd w3(3 * n);
     for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = weights;
-    const SparseMatrix WA = w3.asDiagonal() * s.matrix();  // rows scaled by w_i (squared in the normal matrix)
-    normal = SparseMatrix(s.matrix().transpose()) * WA;
-    const double eps = s.opt.regularization * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
-    SparseMatrix I(m, m);
-    I.setIdentity();
-    normal += eps * I;
-    normal.makeCompressed();
+    G = s.matrix();  // rows scaled in place: Eigen's diagonal × sparse product copied per row here
+    const Eigen::VectorXd sw = w3.cwiseSqrt();
+    for (int col = 0; col < G.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(G, col); it; ++it) it.valueRef() *= sw[it.row()];
+    trace = G.squaredNorm();
+    eps = s.opt.regularization * trace / std::max<Eigen::Index>(m, 1);
+    local.compute(G, Eigen::VectorXd::Constant(m, eps));
+    solver = &local;
     rhs = s.matrix().transpose() * w3.cwiseProduct(t) + eps * c_avg;
-    s.solver.factorize(normal);
-    s.holds_normal = false;
   } else {
-    normal = s.normal;
+    if (!s.unweighted_factored) s.unweighted.compute(s.matrix(), Eigen::VectorXd::Constant(m, s.eps));
+    s.unweighted_factored = true;
     rhs = s.matrix().transpose() * t + s.eps * c_avg;
-    if (!s.holds_normal) s.solver.factorize(s.normal);
-    s.holds_normal = true;
   }
-  Eigen::VectorXd c = s.solver.solve(rhs);
+  Eigen::VectorXd c = solver->solve(rhs);
   if (!s.opt.bound_by_edge_length) return c;
 
   // |c_ij| ≤ ‖e_ij‖ (Sec. 8.5): pin violators to ±‖e_ij‖ with a stiff penalty on the diagonal (same
   // sparsity, so the symbolic analysis is reused), re-solve, repeat while new violators appear.
   std::vector<double> target(m, 0.0);
   std::vector<char> pinned(m, 0);
-  const double stiff = s.opt.bound_stiffness * normal.diagonal().sum() / std::max<Eigen::Index>(m, 1);
+  const double stiff = s.opt.bound_stiffness * (trace + eps * m) / std::max<Eigen::Index>(m, 1);
 
   for (int round = 0; round < s.opt.bound_rounds; ++round) {
     int added = 0;
@@ -396,16 +393,18 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
         ++added;
       }
     if (added == 0) break;
-    SparseMatrix M = normal;
+    Eigen::VectorXd diag = Eigen::VectorXd::Constant(m, eps);
     Eigen::VectorXd r = rhs;
     for (Eigen::Index e = 0; e < m; ++e)
       if (pinned[e]) {
-        M.coeffRef(e, e) += stiff;
+        diag[e] += stiff;
         r[e] += stiff * target[e];
       }
-    s.solver.factorize(M);
-    s.holds_normal = false;
-    c = s.solver.solve(r);
+    if (weighted) local.refactor(diag);
+    else if (solver == &s.unweighted) local.compute(s.matrix(), diag);  // keep the unweighted factor
+    else local.refactor(diag);
+    solver = &local;
+    c = local.solve(r);
   }
   for (Eigen::Index e = 0; e < m; ++e) c[e] = std::clamp(c[e], -s.edge_len[e], s.edge_len[e]);
   return c;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
@@ -257,6 +258,105 @@ PhongProjector::PhongProjector(const Mesh& mesh, const MatrixX3d& normals, const
     tris_[f] = PhongTriangle(V.row(i).transpose(), V.row(j).transpose(), V.row(k).transpose(),
                              N_.row(i).transpose(), N_.row(j).transpose(), N_.row(k).transpose());
   }
+  build_cones();
+}
+
+namespace {
+constexpr double kAngleSlack = 1e-6;     // radians, for rounding in the roots and the cones
+constexpr double kMinTolerance = 1e-6;   // the cones allow at least this barycentric tolerance
+}  // namespace
+
+// The smallest cone containing both (Shirman–Abi-Ezzi's merge of normal cones) and a sphere around both.
+PhongProjector::NormalCone PhongProjector::merge(const NormalCone& x, const NormalCone& y) {
+  NormalCone m;
+  m.center = 0.5 * (x.center + y.center);
+  m.radius = std::max((x.center - m.center).norm() + x.radius, (y.center - m.center).norm() + y.radius);
+  if (x.angle >= M_PI / 2 || y.angle >= M_PI / 2) return m;
+  const double phi = std::acos(std::clamp(x.axis.dot(y.axis), -1.0, 1.0));
+  if (phi + y.angle <= x.angle) {
+    m.axis = x.axis;
+    m.angle = x.angle;
+  } else if (phi + x.angle <= y.angle) {
+    m.axis = y.axis;
+    m.angle = y.angle;
+  } else {
+    const double angle = 0.5 * (phi + x.angle + y.angle);
+    if (angle >= M_PI / 2 || !(std::sin(phi) > 1e-12)) return m;
+    const double t = angle - x.angle;  // turn x's axis this far towards y's
+    m.axis = ((std::sin(phi - t) * x.axis + std::sin(t) * y.axis) / std::sin(phi)).normalized();
+    m.angle = angle + 1e-12;
+  }
+  return m;
+}
+
+// Can p = q + d n_q hold with q and n_q in the cone? The directions from the sphere to p lie within
+// asin(radius / |p − centre|) of p − centre; one of ±them must lie within the cone's angle.
+bool PhongProjector::may_project_from(const NormalCone& c, const Vec3& p) {
+  if (c.angle >= M_PI / 2) return true;
+  const Vec3 v = p - c.center;
+  const double len = v.norm();
+  if (!(len > c.radius)) return true;
+  const double spread = std::asin(c.radius / len);
+  const double off_axis = std::acos(std::min(1.0, std::abs(v.dot(c.axis)) / len));
+  return off_axis <= c.angle + spread + kAngleSlack;
+}
+
+void PhongProjector::build_cones() {
+  const MatrixX3d& V = tree_.vertices();
+  const MatrixX3i& F = tree_.triangles();
+  // A candidate counts as inside with barycentric coordinates w ≥ −t (Σw = 1): its normal
+  // n_q = Σ w_i n_i then leaves the vertex normals' cone (half-angle β about the axis) by at most
+  // tan θ = (sin β + ε) / (cos β − ε), ε = 2t max|n_i| / min|n_i| (the negative weights sum to at most
+  // 2t, the positive ones to at least 1), and q lies within (1 + 4t) max|v_i − c| of the centroid c.
+  const double t = std::max(options_.inside_tol, kMinTolerance);
+  face_cone_.assign(F.rows(), NormalCone());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    NormalCone& c = face_cone_[f];
+    Vec3 v[3], n[3];
+    double lmin = std::numeric_limits<double>::infinity(), lmax = 0;
+    for (int k = 0; k < 3; ++k) {
+      v[k] = V.row(F(f, k)).transpose();
+      n[k] = N_.row(F(f, k)).transpose();
+      lmin = std::min(lmin, n[k].norm());
+      lmax = std::max(lmax, n[k].norm());
+    }
+    c.center = (v[0] + v[1] + v[2]) / 3.0;
+    for (int k = 0; k < 3; ++k) c.radius = std::max(c.radius, (v[k] - c.center).norm());
+    c.radius *= 1 + 4 * t;
+    if (!(lmin > 0) || !std::isfinite(lmax)) continue;
+    const Vec3 sum = n[0] / n[0].norm() + n[1] / n[1].norm() + n[2] / n[2].norm();
+    if (!(sum.norm() > 1e-9)) continue;
+    const Vec3 axis = sum.normalized();
+    double beta = 0;
+    for (int k = 0; k < 3; ++k) beta = std::max(beta, std::acos(std::clamp(axis.dot(n[k]) / n[k].norm(), -1.0, 1.0)));
+    const double eps = 2 * t * lmax / lmin;
+    if (!(std::cos(beta) - eps > 0)) continue;
+    c.axis = axis;
+    c.angle = std::atan2(std::sin(beta) + eps, std::cos(beta) - eps);
+  }
+  // Children have larger indices than their parents: one backward sweep fills every node.
+  node_cone_.assign(tree_.node_count(), NormalCone());
+  for (int node = tree_.node_count() - 1; node >= 0; --node) {
+    const auto [left, right] = tree_.node_children(node);
+    if (left >= 0) {
+      node_cone_[node] = merge(node_cone_[left], node_cone_[right]);
+      continue;
+    }
+    const std::span<const int> fs = tree_.node_faces(node);
+    NormalCone c = face_cone_[fs[0]];
+    for (size_t i = 1; i < fs.size(); ++i) c = merge(c, face_cone_[fs[i]]);
+    node_cone_[node] = c;
+  }
+}
+
+// A root of the cubic is a projection when p − q ∥ n_q. Where the shifted triangle degenerates (radial
+// normals all meet at d = −radius on a sphere) the coplanarity of Eq. (5.48) holds for any p: such a
+// root is no projection (it gave d ≈ −1 for points 10^5 away from a unit sphere).
+bool PhongProjector::solves(const Vec3& p, const PhongCandidate& c) const {
+  const double nn = c.normal.norm();
+  if (!(nn > 0)) return false;
+  const Vec3 r = p - c.point;
+  return r.cross(c.normal).norm() <= 1e-6 * (r.norm() + mean_edge_) * nn;
 }
 
 PhongHit PhongProjector::project(const Vec3& p) const {
@@ -269,8 +369,9 @@ PhongHit PhongProjector::project(const Vec3& p) const {
   for (int attempt = 0; attempt < 5 && !best.found; ++attempt, radius *= 2) {
     double best_abs = std::numeric_limits<double>::infinity();
     tree_.visit_nearest(p, radius, [&](int f, double) {
+      if (!may_project_from(face_cone_[f], p)) return std::min(radius, best_abs);
       for (const PhongCandidate& c : phong_project_analytic(p, tris_[f], options_.inside_tol)) {
-        if (!c.inside || std::abs(c.d) >= best_abs) continue;
+        if (!c.inside || std::abs(c.d) >= best_abs || !solves(p, c)) continue;
         best_abs = std::abs(c.d);
         best.found = true;
         best.face = f;
@@ -282,7 +383,7 @@ PhongHit PhongProjector::project(const Vec3& p) const {
         best.distance = std::copysign((p - c.point).norm(), c.d);
       }
       return std::min(radius, best_abs);
-    });
+    }, [&](int node) { return may_project_from(node_cone_[node], p); });
   }
   if (!best.found) {
     best.face = -1;

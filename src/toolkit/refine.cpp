@@ -65,20 +65,22 @@ RefineResult refine_region(const Mesh& input, const std::vector<char>& region, c
   }
   if (o.fair && r.added > 0) {
     // Bi-Laplacian fairing of the new vertices (indices ≥ n0) with the old ones fixed: minimise
-    // Xᵀ K D⁻¹ K X, K = D − A, over the new rows: Q_nn X_n = −Q_no X_o. It also relaxes their spacing
+    // ‖G X‖² = Xᵀ K D⁻¹ K X, G = D^{-1/2} K, K = D − A, over the new rows: the least-squares problem
+    // G_n X_n ≈ −G_o X_o (G's columns of the new and old vertices). It also relaxes their spacing
     // along the surface, which is what makes the normals smooth (fairing along the normals alone left
-    // 60 folds in a tentacle patch transferred onto a refined icosphere(2), this none).
+    // 60 folds in a tentacle patch transferred onto a refined icosphere(2), this none). The solver keeps
+    // the row of a high-valence vertex out of the factor (its k neighbours would make a k × k block).
     const Eigen::Index n0 = input.n_vertices(), n = m.n_vertices(), nn = n - n0;
     const SparseMatrix A = adjacency_matrix(m);
     const Eigen::VectorXd d = A * Eigen::VectorXd::Ones(n);
     const SparseMatrix K = SparseMatrix(d.asDiagonal()) - A;
-    const SparseMatrix Q = K * d.unaryExpr([](double x) { return x > 0 ? 1 / x : 0.0; }).asDiagonal() * K;
-    const SparseMatrix Qnn = Q.bottomRightCorner(nn, nn), Qno = Q.bottomLeftCorner(nn, n0);
+    const SparseMatrix G = d.unaryExpr([](double x) { return x > 0 ? 1 / std::sqrt(x) : 0.0; }).asDiagonal() * K;
+    const SparseMatrix Gn = G.rightCols(nn), Go = G.leftCols(n0);
     const MatrixX3d X = positions(m);
-    SpdSolver solver;
-    solver.compute(Qnn);
+    LeastSquaresSolver solver;
+    solver.compute(Gn, Eigen::VectorXd::Zero(nn));
     MatrixX3d Y = X;
-    Y.bottomRows(nn) = solver.solve(-(Qno * X.topRows(n0)));
+    Y.bottomRows(nn) = solver.solve(-(Gn.transpose() * (Go * X.topRows(n0))));
     if (Y.allFinite()) set_positions(m, Y);
   }
   return r;

@@ -3,6 +3,8 @@
 //! (metrics, projections) and for finding the triangles near a point (candidate search).
 
 #include <functional>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -39,6 +41,23 @@ class TriangleTree {
   //! distance that could still improve a result): faces beyond it are not visited and the search
   //! ends. Cost grows with the faces visited, not with those in the first radius.
   void visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit) const;
+  //! The same, entering only the nodes for which \p enter(node) is true (a pruning test on data the
+  //! caller keeps per node, e.g. a cone of normals; see node_count()).
+  void visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit,
+                     const std::function<bool(int)>& enter) const;
+
+  //! The tree's nodes, for data kept per node: node 0 is the root and every child has a larger index
+  //! than its parent (so a loop from the last node to the first meets children before parents).
+  int node_count() const { return static_cast<int>(nodes_.size()); }
+  //! Box of a node (it contains the boxes of its faces).
+  const Eigen::AlignedBox3d& node_box(int node) const { return nodes_[node].box; }
+  //! Children of a node, or {−1, −1} for a leaf.
+  std::pair<int, int> node_children(int node) const { return {nodes_[node].left, nodes_[node].right}; }
+  //! Faces of a leaf (empty for an internal node).
+  std::span<const int> node_faces(int node) const {
+    const Node& n = nodes_[node];
+    return n.left < 0 ? std::span<const int>(order_.data() + n.begin, n.end - n.begin) : std::span<const int>();
+  }
 
   const MatrixX3d& vertices() const { return V_; }
   const MatrixX3i& triangles() const { return F_; }

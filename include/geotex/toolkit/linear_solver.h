@@ -61,6 +61,8 @@ class LeastSquaresSolver {
   //! \param G #rows by #unknowns; \param d #unknowns non-negative diagonal; \param block_size as SpdSolver::analyze.
   //! \throw SolverError if GᵀG + diag(d) is singular.
   void compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512);
+  //! Factor GᵀG + diag(\p d) for the G of the last compute() and a new diagonal, reusing its analysis.
+  void refactor(const Eigen::VectorXd& d);
   //! \return (GᵀG + diag(d))⁻¹ B.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
   //! Long rows handled by the low-rank update in the last compute().
@@ -68,7 +70,9 @@ class LeastSquaresSolver {
 
  private:
   SpdSolver base_;
+  void factor();  // S = GsᵀGs + diag(d), then the capacitance matrix
   SparseMatrix G_;            // kept for the refinement step (products only)
+  SparseMatrix GtG_;          // G_sᵀG_s: the short rows' normal matrix
   Eigen::VectorXd d_;
   SparseMatrix U_;            // #unknowns by #long rows
   Eigen::MatrixXd Z_;         // S⁻¹ U

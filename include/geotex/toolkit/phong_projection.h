@@ -105,6 +105,9 @@ struct PhongHit {
 
 //! Point-to-mesh projection under the Phong normal field, with the per-triangle terms precomputed
 //! once. Among the inside candidates of the triangles near p it picks the smallest |d| (Sec. 5.2.4).
+//! The search visits the faces nearest first and skips every subtree whose cone of vertex normals
+//! cannot point at p (a projection satisfies p − q = d n_q): for a far point, whose nearest faces are
+//! all about equally near, only the faces facing it are solved (cost log #F, not #F per point).
 class PhongProjector {
  public:
   //! \param mesh base surface; \param normals #V by 3 vertex normals (default: angle-weighted, unit).
@@ -121,8 +124,22 @@ class PhongProjector {
   const MatrixX3d& normals() const { return N_; }
 
  private:
+  //! Where a face's (or a subtree's) projections can come from: p − q = d n_q with q within
+  //! \p radius of \p center and n_q within \p angle of ±\p axis (angle ≥ π/2: anywhere).
+  struct NormalCone {
+    Vec3 axis = Vec3::Zero();
+    double angle = 4;  // radians; ≥ π/2 prunes nothing
+    Vec3 center = Vec3::Zero();
+    double radius = 0;
+  };
+  static NormalCone merge(const NormalCone& x, const NormalCone& y);
+  static bool may_project_from(const NormalCone& c, const Vec3& p);
+  void build_cones();
+  bool solves(const Vec3& p, const PhongCandidate& c) const;
+
   TriangleTree tree_;
   MatrixX3d N_;
+  std::vector<NormalCone> face_cone_, node_cone_;  // per face, per tree node
   std::vector<PhongTriangle> tris_;
   PhongProjectionOptions options_;
   double mean_edge_ = 1;
