@@ -43,14 +43,15 @@ DemoRegistrar step{82, "texture synthesis", [](const DemoContext& ctx) {
                             {"within_step99", q.within_step99}, {"folded", q.folded}};
     const std::string line = fmt::format(
         "{} ({} vertices, {} patches): feature spacing {:+.0f} % of the exemplar's, height histogram TV {:.2f}, lean "
-        "{:.1f}&deg; off the field, seam step {:.3f} vs {:.3f} within patches (99th percentiles), {} folded faces",
+        "{:.1f} deg off the field, seam step {:.3f} vs {:.3f} within patches (99th percentiles), {} folded faces",
         what, out.n_vertices(), s.centers.size(), 100 * q.spacing_change, q.histogram_tv, q.lean_angle_error_deg,
         q.seam_step99, q.within_step99, q.folded);
     summary("synthesis: " + line);
     add_figure(ctx, {.mesh = file,
                      .caption = fmt::format("Synthesis (patches pasted along minimum-cut seams, lean along a "
                                             "direction field towards +{}): the tentacle texture grown over {}.",
-                                            o.direction.z() > 0 ? "z" : "y", line)});
+                                            o.direction.z() > 0 ? "z" : "y",
+                                            std::string(line).replace(line.find(" deg off"), 4, "&deg;"))});
   };
 
   SynthesisOptions o;

@@ -10,7 +10,7 @@
 //! along the normal: height and lean, Eq. 8.5–8.8) as the signal:
 //!  1. Exemplar: a geodesic disk of the exemplar base mapped conformally onto the unit disk with its
 //!     anchor direction along +u (disk_map(), transfer.h); its texture is read as displacements in the
-//!     frames (+u, +v, n) (TextureSampler) and rastered once. A unit-disk point z stands for the
+//!     frames (+u, +v, n) (TextureSampler) and rastered once (two samples per exemplar edge at least). A unit-disk point z stands for the
 //!     exemplar-plane point z R, R² the map's area scale over |z| < 0.8.
 //!  2. Target: refined where it is coarser than the exemplar scaled to it (refine_region()); a smooth
 //!     tangent direction field (direction_field.h) orients every patch and every local frame.
@@ -21,7 +21,8 @@
 //!     Dijkstra variant), the centre's frame along the field, carried by parallel transport.
 //!  4. Matching: among `candidates` random placements (translations in the exemplar disk; the rotation
 //!     is the field's) the patch takes one whose displacements agree best with what is already
-//!     synthesized on the overlap (weighted sum of squared differences), at random among those within
+//!     synthesized on the overlap (Σ b |new − old|² / Σ b (|new|² + |old|²): normalised, so that where
+//!     nothing matches the quietest parts of the exemplar are not preferred), at random among those within
 //!     match_tolerance of the best (Efros and Freeman): the seed decides, nothing repeats verbatim.
 //!  5. Seams (seams = cut, the default): the patch is pasted along a minimum cut of its overlap —
 //!     graph-cut textures (Kwatra, Schödl, Essa, Turk and Bobick, "Graphcut textures: image and video
