@@ -3,6 +3,7 @@
 #include "geotex/texture/synthesis.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -17,6 +18,11 @@
 #include "transfer_internal.h"
 
 namespace geotex {
+
+const EnumNames<SeamMethod>& seam_method_names() {
+  static const EnumNames<SeamMethod> n = {{"cut", SeamMethod::Cut}, {"blend", SeamMethod::Blend}};
+  return n;
+}
 
 const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
   using O = SynthesisOptions;
@@ -45,8 +51,17 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("match_tolerance", &O::match_tolerance,
            "choose at random among placements whose overlap cost is within (1 + this) of the best", non_negative())
       .add("match_samples", &O::match_samples, "overlap vertices compared per placement (at most)", at_least(1))
-      .add("blend_power", &O::blend_power, "overlapping patches are averaged with weights (1 - |u|^2/r^2)^(2p)",
+      .choice("seams", &O::seams, seam_method_names(),
+              "cut: each vertex keeps one patch's displacement, the border a minimum cut of the overlap; blend: "
+              "overlaps averaged", "Kwatra et al. 2003")
+      .add("blend_power", &O::blend_power, "seams=blend: overlapping patches are averaged with weights (1 - |u|^2/r^2)^(2p)",
            at_least(1))
+      .add("feather", &O::feather, "seams=cut: rings on either side of a cut over which old and new are mixed",
+           at_least(0))
+      .add("fold_tries", &O::fold_tries,
+           "seams=cut: placements tried in turn until one folds no more faces around the patch (1: no check)",
+           at_least(1))
+      .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.7 a round) until none folds")
       .add("direction", &O::direction, "the direction field's guide: its tangent part on the target")
       .nest(&O::field, DirectionFieldOptions::table())
       .add("seed", &O::seed, "random seed: same seed, same result")
@@ -59,7 +74,6 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
 
 namespace {
 
-constexpr int kRaster = 128;  // exemplar raster: kRaster × kRaster samples over [−1, 1]²
 
 // The exemplar disk, rastered: local displacements (+u, +v, n) on a grid over the unit disk.
 struct Exemplar {
@@ -68,17 +82,20 @@ struct Exemplar {
   double radius = 0;   // geodesic radius
   double extent = 0;   // R = √(area / π): what |z| = 1 stands for
   double mean_edge = 0;
+  //! The raster: size × size samples over [−1, 1]², at least two per exemplar edge (bilinear reads of a
+  //! coarser raster average neighbouring samples: uncorrelated fine relief lost half its rms at 128).
+  int size = 128;
   std::vector<Vec3> grid;
 
   Vec3 at(double u, double v) const {  // bilinear, u, v in [−1, 1] (clamped)
-    const double gx = std::clamp((u + 1) * 0.5 * (kRaster - 1), 0.0, kRaster - 1.0);
-    const double gy = std::clamp((v + 1) * 0.5 * (kRaster - 1), 0.0, kRaster - 1.0);
-    const int i = std::min(static_cast<int>(gx), kRaster - 2), j = std::min(static_cast<int>(gy), kRaster - 2);
+    const double gx = std::clamp((u + 1) * 0.5 * (size - 1), 0.0, size - 1.0);
+    const double gy = std::clamp((v + 1) * 0.5 * (size - 1), 0.0, size - 1.0);
+    const int i = std::min(static_cast<int>(gx), size - 2), j = std::min(static_cast<int>(gy), size - 2);
     const double a = gx - i, b = gy - j;
-    auto g = [&](int x, int y) -> const Vec3& { return grid[static_cast<size_t>(y) * kRaster + x]; };
+    auto g = [&](int x, int y) -> const Vec3& { return grid[static_cast<size_t>(y) * size + x]; };
     return (1 - a) * (1 - b) * g(i, j) + a * (1 - b) * g(i + 1, j) + (1 - a) * b * g(i, j + 1) + a * b * g(i + 1, j + 1);
   }
-  static double coord(int i) { return -1 + 2.0 * i / (kRaster - 1); }
+  double coord(int i) const { return -1 + 2.0 * i / (size - 1); }
 };
 
 Exemplar make_exemplar(const Mesh& base, const Texture& texture, const SynthesisOptions& o) {
@@ -138,10 +155,11 @@ Exemplar make_exemplar(const Mesh& base, const Texture& texture, const Synthesis
     ex.extent = a2 > 0 ? std::sqrt(a3 / a2) : std::sqrt(fa.sum() / M_PI);
   }
   ex.mean_edge = ex.disk->mean_edge;
-  ex.grid.resize(static_cast<size_t>(kRaster) * kRaster);
-  for (int j = 0; j < kRaster; ++j)
-    for (int i = 0; i < kRaster; ++i)
-      ex.grid[static_cast<size_t>(j) * kRaster + i] = ex.disk->sample(Eigen::Vector2d(Exemplar::coord(i), Exemplar::coord(j)));
+  ex.size = std::clamp(static_cast<int>(std::ceil(4 * ex.extent / ex.mean_edge)) + 1, 128, 512);
+  ex.grid.resize(static_cast<size_t>(ex.size) * ex.size);
+  for (int j = 0; j < ex.size; ++j)
+    for (int i = 0; i < ex.size; ++i)
+      ex.grid[static_cast<size_t>(j) * ex.size + i] = ex.disk->sample(Eigen::Vector2d(ex.coord(i), ex.coord(j)));
   return ex;
 }
 
@@ -227,12 +245,330 @@ class ExpMapper {
   std::vector<int> slot_, parent_;
 };
 
+// Maximum flow (Dinic: BFS levels, blocking flows by DFS) on a small graph; what graph-cut seams need.
+class MaxFlow {
+ public:
+  explicit MaxFlow(int nodes) : head_(nodes, -1), level_(nodes), it_(nodes) {}
+  //! An edge a → b of capacity \p ab and its reverse of capacity \p ba.
+  void add(int a, int b, double ab, double ba) {
+    link(a, b, ab);
+    link(b, a, ba);
+  }
+  double run(int s, int t) {
+    double total = 0;
+    while (levels(s, t)) {
+      it_ = head_;
+      while (const double f = push(s, t, std::numeric_limits<double>::infinity())) total += f;
+    }
+    return total;
+  }
+  //! After run(): the nodes reachable from \p s in the residual graph (the source side of a minimum cut).
+  std::vector<char> source_side(int s) const {
+    std::vector<char> seen(head_.size(), 0);
+    std::vector<int> stack{s};
+    seen[s] = 1;
+    while (!stack.empty()) {
+      const int a = stack.back();
+      stack.pop_back();
+      for (int e = head_[a]; e >= 0; e = next_[e])
+        if (cap_[e] > kEps && !seen[to_[e]]) seen[to_[e]] = 1, stack.push_back(to_[e]);
+    }
+    return seen;
+  }
+
+ private:
+  static constexpr double kEps = 1e-15;
+  void link(int a, int b, double c) {
+    to_.push_back(b);
+    cap_.push_back(c);
+    next_.push_back(head_[a]);
+    head_[a] = static_cast<int>(to_.size()) - 1;
+  }
+  bool levels(int s, int t) {
+    std::fill(level_.begin(), level_.end(), -1);
+    std::vector<int> queue{s};
+    level_[s] = 0;
+    for (size_t i = 0; i < queue.size(); ++i)
+      for (int e = head_[queue[i]]; e >= 0; e = next_[e])
+        if (cap_[e] > kEps && level_[to_[e]] < 0) level_[to_[e]] = level_[queue[i]] + 1, queue.push_back(to_[e]);
+    return level_[t] >= 0;
+  }
+  double push(int a, int t, double f) {
+    if (a == t) return f;
+    for (int& e = it_[a]; e >= 0; e = next_[e]) {
+      const int b = to_[e];
+      if (cap_[e] <= kEps || level_[b] != level_[a] + 1) continue;
+      if (const double g = push(b, t, std::min(f, cap_[e])); g > 0) {
+        cap_[e] -= g;
+        cap_[e ^ 1] += g;
+        return g;
+      }
+    }
+    return 0;
+  }
+  std::vector<int> head_, level_, it_, to_, next_;
+  std::vector<double> cap_;
+};
+
 Eigen::VectorXd vertex_areas(const Mesh& mesh) {
   const Eigen::VectorXd fa = face_areas(mesh);
   Eigen::VectorXd va = Eigen::VectorXd::Zero(mesh.n_vertices());
   for (auto f : mesh.faces())
     for (auto v : mesh.fv_range(f)) va[v.idx()] += fa[f.idx()] / 3;
   return va;
+}
+
+// The state of a cut synthesis: per vertex the displacement so far (in the field's frame), whether a
+// patch wrote it, the patch it came from and the exemplar displacement copied there.
+struct Canvas {
+  MatrixX3d cur;
+  std::vector<char> has;
+  Eigen::VectorXi* owner;
+  MatrixX3d* copied;
+  std::vector<int> slot;  // the current patch's index of a vertex (−1: not in it)
+};
+
+// A placement pasted by a minimum cut, not yet committed: per patch vertex its new displacement, the
+// exemplar's, and whether it takes it (1), keeps the old one (0), or a mix (feathered, 0 < share < 1).
+struct Paste {
+  std::vector<Vec3> value, raw;
+  std::vector<double> share;  // of the patch's displacement
+};
+
+// Paste a patch by a minimum cut (Kwatra, Schödl, Essa, Turk and Bobick, "Graphcut textures", SIGGRAPH
+// 2003): on the overlap (patch vertices already written), the vertices next to written ones outside the
+// patch keep theirs, those next to unwritten ones inside take the patch's, and the border between the
+// two runs along the edges (a, b) of least |old − new|(a) + |old − new|(b), where old and new agree (the
+// paper's matching cost). A patch that overlaps everywhere takes at least its centre. The cut is then
+// feathered over \p feather rings on either side (the mix goes from ½ at the cut to all at `feather`
+// rings), within the overlap, where both are known. Vertices outside the overlap take the patch's.
+template <class Read>
+Paste cut_paste(const Mesh& T, const ExpMap& m, const std::vector<double>& b, Read read, Canvas& cv, int feather) {
+  const size_t k = m.vertices.size();
+  Paste p;
+  p.value.resize(k);
+  p.raw.resize(k);
+  p.share.assign(k, 0.0);
+  std::vector<int> node(k, -1);  // overlap vertices: their node (0: the source, keep; 1: the sink, new)
+  int nodes = 2;
+  for (size_t s = 0; s < k; ++s) {
+    if (!(b[s] > 0)) continue;
+    p.value[s] = read(s, &p.raw[s]);
+    if (cv.has[m.vertices[s]]) node[s] = nodes++;
+  }
+  std::vector<char> side(nodes, 0);  // 1: keeps the old displacement
+  if (nodes > 2) {
+    struct Link {
+      int a, b;
+      double c;
+    };
+    std::vector<Link> links;
+    std::vector<char> keep(nodes, 0), renew(nodes, 0);
+    double total = 0;
+    bool any_new = false;
+    for (size_t s = 0; s < k; ++s) {
+      if (node[s] < 0) continue;
+      const int v = m.vertices[s];
+      const double ds = (p.value[s] - cv.cur.row(v).transpose()).norm();
+      for (auto wh : T.vv_range(T.vertex_handle(v))) {
+        const int w = wh.idx(), j = cv.slot[w];
+        if (j < 0 || !(b[j] > 0)) {
+          if (cv.has[w]) keep[node[s]] = 1;
+          continue;
+        }
+        if (node[j] < 0) {
+          renew[node[s]] = 1, any_new = true;
+          continue;
+        }
+        if (w < v) continue;  // each edge once
+        const double c = ds + (p.value[j] - cv.cur.row(w).transpose()).norm();
+        links.push_back({node[s], node[j], c});
+        total += c;
+      }
+    }
+    if (!any_new && node[0] >= 0) renew[node[0]] = 1;  // m.vertices[0] is the centre
+    const double inf = 2 * total + 1;
+    MaxFlow g(nodes);
+    for (const Link& l : links) g.add(l.a, l.b, l.c, l.c);
+    for (int i = 2; i < nodes; ++i) {
+      if (keep[i]) g.add(0, i, inf, 0);
+      if (renew[i]) g.add(i, 1, inf, 0);
+    }
+    g.run(0, 1);
+    side = g.source_side(0);
+  }
+  for (size_t s = 0; s < k; ++s)
+    if (b[s] > 0 && !(node[s] >= 0 && side[node[s]])) p.share[s] = 1;
+  if (feather > 0 && nodes > 2) {  // rings from the cut, within the overlap
+    std::vector<int> ring(k, -1), queue;
+    for (size_t s = 0; s < k; ++s) {
+      if (node[s] < 0) continue;
+      for (auto wh : T.vv_range(T.vertex_handle(m.vertices[s]))) {
+        const int j = cv.slot[wh.idx()];
+        if (j >= 0 && node[j] >= 0 && p.share[j] != p.share[s]) {
+          ring[s] = 0, queue.push_back(static_cast<int>(s));
+          break;
+        }
+      }
+    }
+    for (size_t i = 0; i < queue.size(); ++i) {
+      const int s = queue[i];
+      if (ring[s] + 1 >= feather) continue;
+      for (auto wh : T.vv_range(T.vertex_handle(m.vertices[s]))) {
+        const int j = cv.slot[wh.idx()];
+        if (j >= 0 && node[j] >= 0 && ring[j] < 0 && p.share[j] == p.share[s]) ring[j] = ring[s] + 1, queue.push_back(j);
+      }
+    }
+    for (size_t s = 0; s < k; ++s) {
+      if (ring[s] < 0) continue;
+      const double own = 0.5 + 0.5 * (ring[s] + 0.5) / (feather + 0.5);  // ½ at the cut, → 1 at `feather` rings
+      p.share[s] = p.share[s] > 0 ? own : 1 - own;
+    }
+  }
+  return p;
+}
+
+// The displacement a vertex would hold with \p p (−: unwritten).
+template <class F>
+void for_pasted(const ExpMap& m, const std::vector<double>& b, const Paste& p, const Canvas& cv, F f) {
+  for (size_t s = 0; s < m.vertices.size(); ++s) {
+    if (!(b[s] > 0) || !(p.share[s] > 0)) continue;
+    const int v = m.vertices[s];
+    const Vec3 old = cv.has[v] ? Vec3(cv.cur.row(v).transpose()) : Vec3::Zero();
+    f(s, v, (1 - p.share[s]) * old + p.share[s] * p.value[s]);
+  }
+}
+
+// Faces around a paste: folded (folded_faces()'s test over written faces) after it minus before it.
+class FoldCheck {
+ public:
+  FoldCheck(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F)
+      : T_(T), X_(X), N_(N), F_(F), Fi_(faces(T)), mark_(Fi_.rows(), 0), temp_(X.rows(), -1) {}
+
+  long added(const ExpMap& m, const std::vector<double>& b, const Paste& p, const Canvas& cv) {
+    std::vector<int> fs;
+    std::vector<Vec3> after;  // per pasted vertex (temp_ indexes it)
+    std::vector<int> touched;
+    for_pasted(m, b, p, cv, [&](size_t, int v, const Vec3& d) {
+      temp_[v] = static_cast<int>(after.size());
+      after.push_back(d);
+      touched.push_back(v);
+      for (auto f : T_.vf_range(T_.vertex_handle(v)))
+        if (!mark_[f.idx()]) mark_[f.idx()] = 1, fs.push_back(f.idx());
+    });
+    long before_count = 0, after_count = 0;
+    for (int f : fs) {
+      before_count += folded(f, cv, nullptr);
+      after_count += folded(f, cv, &after);
+    }
+    for (int f : fs) mark_[f] = 0;
+    for (int v : touched) temp_[v] = -1;
+    return after_count - before_count;
+  }
+
+ private:
+  // The displaced position of v (nullopt-like: false when unwritten).
+  bool position(int v, const Canvas& cv, const std::vector<Vec3>* after, Vec3& out) const {
+    Vec3 d;
+    if (after && temp_[v] >= 0) d = (*after)[temp_[v]];
+    else if (cv.has[v]) d = cv.cur.row(v).transpose();
+    else return false;
+    const Vec3 n = N_.row(v).transpose(), f = F_.row(v).transpose();
+    out = X_.row(v).transpose() + d.x() * f + d.y() * n.cross(f) + d.z() * n;
+    return true;
+  }
+  bool normal(int f, const Canvas& cv, const std::vector<Vec3>* after, Vec3& out) const {
+    Vec3 a, b, c;
+    if (!position(Fi_(f, 0), cv, after, a) || !position(Fi_(f, 1), cv, after, b) || !position(Fi_(f, 2), cv, after, c))
+      return false;
+    out = (b - a).cross(c - a).normalized();
+    return true;
+  }
+  int folded(int f, const Canvas& cv, const std::vector<Vec3>* after) const {
+    Vec3 nf, ng, s = Vec3::Zero();
+    if (!normal(f, cv, after, nf)) return 0;
+    for (auto g : T_.ff_range(T_.face_handle(f)))
+      if (normal(g.idx(), cv, after, ng)) s += ng;
+    return s.dot(nf) < 0;
+  }
+  const Mesh& T_;
+  const MatrixX3d &X_, &N_, &F_;
+  MatrixX3i Fi_;
+  std::vector<char> mark_;
+  std::vector<int> temp_;
+};
+
+void commit(const ExpMap& m, const std::vector<double>& b, const Paste& p, int patch, Canvas& cv) {
+  for_pasted(m, b, p, cv, [&](size_t s, int v, const Vec3& d) {
+    cv.cur.row(v) = d.transpose();
+    cv.has[v] = 1;
+    if (p.share[s] >= 0.5) (*cv.owner)[v] = patch, cv.copied->row(v) = p.raw[s].transpose();
+  });
+}
+
+// Shrink the displacements \p local (#V by 3 in the frames (F, n × F, n)) around the faces that X + D
+// folds (folded_faces()'s test) and the base X does not, smoothly: each round multiplies them by
+// 1 − 0.25 exp(−d² / ρ²), d the distance from the folded face's centroid (within 2ρ), until none folds (at
+// most 40 rounds; a step cut would fold the surface at its rim). \return the vertices shrunk by over 1 %.
+size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double rho, MatrixX3d& local) {
+  const MatrixX3i Fi = faces(T);
+  const Eigen::Index nf = Fi.rows();
+  std::vector<std::array<int, 3>> next(nf, {-1, -1, -1});
+  for (auto f : T.faces()) {
+    int c = 0;
+    for (auto g : T.ff_range(f)) next[f.idx()][c++] = g.idx();
+  }
+  auto folded = [&](const MatrixX3d& P) {
+    MatrixX3d FN(nf, 3);
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const Vec3 a = P.row(Fi(f, 0)).transpose(), b = P.row(Fi(f, 1)).transpose(), c = P.row(Fi(f, 2)).transpose();
+      FN.row(f) = (b - a).cross(c - a).normalized().transpose();
+    }
+    std::vector<char> out(nf, 0);
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      Vec3 s = Vec3::Zero();
+      for (int g : next[f])
+        if (g >= 0) s += FN.row(g).transpose();
+      out[f] = s.dot(FN.row(f).transpose()) < 0;
+    }
+    return out;
+  };
+  const std::vector<char> base = folded(X);
+  Eigen::VectorXd alpha = Eigen::VectorXd::Ones(X.rows());
+  std::vector<int> seen(X.rows(), -1), queue;
+  int visit = 0;
+  for (int round = 0; round < 40; ++round) {
+    MatrixX3d P = X;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+      const Vec3 n = N.row(i).transpose(), f = F.row(i).transpose();
+      P.row(i) += alpha[i] * (local(i, 0) * f + local(i, 1) * n.cross(f) + local(i, 2) * n).transpose();
+    }
+    const std::vector<char> now = folded(P);
+    bool any = false;
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      if (!now[f] || base[f]) continue;
+      any = true;
+      const Vec3 c = (X.row(Fi(f, 0)) + X.row(Fi(f, 1)) + X.row(Fi(f, 2))).transpose() / 3;
+      queue.assign({Fi(f, 0), Fi(f, 1), Fi(f, 2)});
+      for (int v : queue) seen[v] = visit;
+      for (size_t i = 0; i < queue.size(); ++i) {
+        const int v = queue[i];
+        const double d2 = (X.row(v).transpose() - c).squaredNorm();
+        alpha[v] *= 1 - 0.25 * std::exp(-d2 / (rho * rho));
+        for (auto w : T.vv_range(T.vertex_handle(v)))
+          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * rho)
+            seen[w.idx()] = visit, queue.push_back(w.idx());
+      }
+      ++visit;
+    }
+    if (!any) break;
+  }
+  size_t shrunk = 0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    local.row(i) *= alpha[i];
+    shrunk += alpha[i] < 0.99;
+  }
+  return shrunk;
 }
 
 // Spread the weights of the first \p known vertices onto the rest (refinement's new vertices, each the
@@ -322,15 +658,27 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
   const double rp = res.scale * rp_ex;               // and on the target
   res.patch_radius = rp;
-  const double reach = ex.extent - rp_ex;            // placements: |t| ≤ reach keeps the patch in the disk
+  // Placements: |t| ≤ reach keeps the patch within |z| ≤ 0.95 of the disk: off the raster's points outside
+  // it, and off the jagged rim of the geodesic disk, where the map turns the frames by a few degrees (a
+  // cut copies what it reads there; a blend averaged it away).
+  const double reach = 0.95 * ex.extent - rp_ex;
   const double spacing = o.patch_spacing * rp;
   Rng rng(o.seed);
   ExpMapper expmap(T, X, N);
   std::vector<double> dmin(n, std::numeric_limits<double>::infinity());
-  Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);
-  MatrixX3d sumD = MatrixX3d::Zero(n, 3);
+  const bool cut = o.seams == SeamMethod::Cut;
+  Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);  // blend
+  MatrixX3d sumD = MatrixX3d::Zero(n, 3);                                             // blend
   res.owner = Eigen::VectorXi::Constant(n, -1);
   res.copied = MatrixX3d::Zero(n, 3);
+  Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
+            std::vector<int>(n, -1)};
+  std::unique_ptr<FoldCheck> folds;
+  if (cut && o.fold_tries > 1) folds = std::make_unique<FoldCheck>(T, X, N, F);
+  auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
+  auto old_at = [&](int v) -> Vec3 {
+    return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
+  };
   size_t to_cover = 0, covered = 0;
   std::vector<char> wanted(n, 0);
   for (Eigen::Index i = 0; i < n; ++i)
@@ -370,7 +718,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
       const int v = m.vertices[s];
       const double r2 = m.uv[s].squaredNorm() / (rp * rp);
       b[s] = r2 < 1 ? (1 - r2) * (1 - r2) : 0.0;
-      if (b[s] > 0 && sumW[v] > 0) overlap.push_back(s);
+      if (b[s] > 0 && written(v)) overlap.push_back(s);
     }
     // A placement t (exemplar units): vertex s reads the exemplar at t + uv_s / scale.
     auto read = [&](const Eigen::Vector2d& t, size_t s, Vec3* raw) {
@@ -384,6 +732,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
       return Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
     };
     Eigen::Vector2d t = random_placement();
+    std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
     if (!overlap.empty() && o.candidates > 1) {
       if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
         for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
@@ -394,17 +743,30 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
       std::vector<double> cost(o.candidates, 0.0);
       ts[0] = t;
       for (int q = 1; q < o.candidates; ++q) ts[q] = random_placement();
-      for (int q = 0; q < o.candidates; ++q)
+      // Normalised: Σ b |new − old|² / Σ b (|new|² + |old|²), 0 for a match, ~1 for unrelated relief of any
+      // size (the plain sum would prefer the exemplar's quietest parts wherever nothing matches: a
+      // non-stationary exemplar's synthesis came out at half its rms).
+      for (int q = 0; q < o.candidates; ++q) {
+        double energy = 0;
         for (size_t s : overlap) {
-          const int v = m.vertices[s];
-          const Vec3 old = sumD.row(v).transpose() / sumW[v];
-          cost[q] += b[s] * (read(ts[q], s, nullptr) - old).squaredNorm();
+          const Vec3 d = read(ts[q], s, nullptr), old = old_at(m.vertices[s]);
+          cost[q] += b[s] * (d - old).squaredNorm();
+          energy += b[s] * (d.squaredNorm() + old.squaredNorm());
         }
+        cost[q] = energy > 0 ? cost[q] / energy : 0.0;
+      }
       const double best = *std::min_element(cost.begin(), cost.end());
       std::vector<int> good;
       for (int q = 0; q < o.candidates; ++q)
         if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
-      t = ts[good[rng.below(good.size())]];
+      const int pick = good[rng.below(good.size())];
+      t = ts[pick];
+      std::vector<int> rest;  // then the others, best first
+      for (int q = 0; q < o.candidates; ++q)
+        if (q != pick) rest.push_back(q);
+      std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
+      order = {t};
+      for (int q : rest) order.push_back(ts[q]);
     }
     // Blend the chosen placement in.
     for (size_t s = 0; s < k; ++s) {
@@ -418,7 +780,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
           front.emplace(key[v], v);
         }
       }
-      if (!(b[s] > 0)) continue;
+      if (cut || !(b[s] > 0)) continue;
       Vec3 raw;
       const Vec3 d = read(t, s, &raw);
       const double w = std::pow(b[s], o.blend_power);
@@ -430,6 +792,19 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
         res.copied.row(v) = raw.transpose();
       }
     }
+    if (cut) {  // the first placement in order that folds no face more, else the one that folds fewest
+      for (size_t s = 0; s < k; ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
+      Paste best;
+      long fewest = std::numeric_limits<long>::max();
+      const size_t tries = folds ? std::min(order.size(), static_cast<size_t>(o.fold_tries)) : 1;
+      for (size_t i = 0; i < tries && fewest > 0; ++i) {
+        Paste p = cut_paste(T, m, b, [&](size_t s, Vec3* raw) { return read(order[i], s, raw); }, cv, o.feather);
+        const long added = folds ? folds->added(m, b, p, cv) : 0;
+        if (added < fewest) fewest = added, best = std::move(p);
+      }
+      commit(m, b, best, patch, cv);
+      for (int v : m.vertices) cv.slot[v] = -1;
+    }
     report(o.progress, 0.1 + 0.8 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
   }
   if (covered < to_cover)
@@ -440,7 +815,13 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   report(o.progress, 0.9, "encode");
   res.local = MatrixX3d::Zero(n, 3);
   for (Eigen::Index i = 0; i < n; ++i)
-    if (sumW[i] > 0) res.local.row(i) = detail::fade(sumD.row(i).transpose() / sumW[i], res.weight[i]).transpose();
+    if (written(static_cast<int>(i))) res.local.row(i) = detail::fade(old_at(static_cast<int>(i)), res.weight[i]).transpose();
+  if (o.unfold) {
+    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * rp, res.local);
+    if (res.unfolded_vertices)
+      res.warnings.push_back(fmt::format("displacements shrunk at {} vertices where they folded the surface",
+                                         res.unfolded_vertices));
+  }
   TextureCodec codec(T, o.texture);
   res.texture = texture_from_local(codec, res.local, F);
   res.textured = codec.apply(res.texture);
@@ -505,19 +886,19 @@ SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exe
   // The exemplar's heights on its raster (the unit disk, |z| ≤ 1; uniform area up to the conformal map).
   const double unit = r.scale * ex.extent;  // target length of a unit-disk length
   std::vector<int> in_disk;
-  for (int j = 0; j < kRaster; ++j)
-    for (int i = 0; i < kRaster; ++i)
-      if (std::hypot(Exemplar::coord(i), Exemplar::coord(j)) <= 1) in_disk.push_back(j * kRaster + i);
+  for (int j = 0; j < ex.size; ++j)
+    for (int i = 0; i < ex.size; ++i)
+      if (std::hypot(ex.coord(i), ex.coord(j)) <= 1) in_disk.push_back(j * ex.size + i);
   const Eigen::Index ne = static_cast<Eigen::Index>(in_disk.size());
   Eigen::VectorXd he(ne), ae = Eigen::VectorXd::Ones(ne);
   MatrixX3d Pe = MatrixX3d::Zero(ne, 3);
   std::vector<double> rim(ne);
   for (Eigen::Index k = 0; k < ne; ++k) {
-    const int i = in_disk[k] % kRaster, j = in_disk[k] / kRaster;
+    const int i = in_disk[k] % ex.size, j = in_disk[k] / ex.size;
     he[k] = r.height_factor * pseudo_height(ex.grid[in_disk[k]]);
-    Pe(k, 0) = unit * Exemplar::coord(i);
-    Pe(k, 1) = unit * Exemplar::coord(j);
-    rim[k] = unit * (1 - std::hypot(Exemplar::coord(i), Exemplar::coord(j)));
+    Pe(k, 0) = unit * ex.coord(i);
+    Pe(k, 1) = unit * ex.coord(j);
+    rim[k] = unit * (1 - std::hypot(ex.coord(i), ex.coord(j)));
   }
   // The target's covered vertices.
   const Eigen::VectorXd va = vertex_areas(T);
@@ -560,15 +941,15 @@ SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exe
   const double mean_e = he.mean(), std_e = std::sqrt((he.array() - mean_e).square().mean());
   double corr = 0;
   {
-    std::vector<double> g(static_cast<size_t>(kRaster) * kRaster, std::nan(""));
+    std::vector<double> g(static_cast<size_t>(ex.size) * ex.size, std::nan(""));
     for (Eigen::Index k = 0; k < ne; ++k) g[in_disk[k]] = he[k] - mean_e;
-    int lag_found = kRaster / 4;
-    for (int lag = 1; lag < kRaster / 4; ++lag) {
+    int lag_found = ex.size / 4;
+    for (int lag = 1; lag < ex.size / 4; ++lag) {
       double s = 0, s0 = 0;
-      for (int j = 0; j < kRaster; ++j)
-        for (int i = 0; i + lag < kRaster; ++i) {
-          const double a = g[j * kRaster + i], bx = g[j * kRaster + i + lag];
-          const double by = j + lag < kRaster ? g[(j + lag) * kRaster + i] : std::nan("");
+      for (int j = 0; j < ex.size; ++j)
+        for (int i = 0; i + lag < ex.size; ++i) {
+          const double a = g[j * ex.size + i], bx = g[j * ex.size + i + lag];
+          const double by = j + lag < ex.size ? g[(j + lag) * ex.size + i] : std::nan("");
           if (std::isnan(a)) continue;
           if (!std::isnan(bx)) s += a * bx, s0 += a * a;
           if (!std::isnan(by)) s += a * by, s0 += a * a;
@@ -578,7 +959,7 @@ SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exe
         break;
       }
     }
-    corr = 2 * unit * 2.0 * lag_found / (kRaster - 1);  // twice the lag: one bump, one feature
+    corr = 2 * unit * 2.0 * lag_found / (ex.size - 1);  // twice the lag: one bump, one feature
   }
   const double thr = mean_e + std_e;
   const std::vector<int> fe = height_features(Pe, he, corr, thr);

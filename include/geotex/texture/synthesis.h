@@ -10,7 +10,7 @@
 //! along the normal: height and lean, Eq. 8.5–8.8) as the signal:
 //!  1. Exemplar: a geodesic disk of the exemplar base mapped conformally onto the unit disk with its
 //!     anchor direction along +u (disk_map(), transfer.h); its texture is read as displacements in the
-//!     frames (+u, +v, n) (TextureSampler) and rastered once. A unit-disk point z stands for the
+//!     frames (+u, +v, n) (TextureSampler) and rastered once (two samples per exemplar edge at least). A unit-disk point z stands for the
 //!     exemplar-plane point z R, R² the map's area scale over |z| < 0.8.
 //!  2. Target: refined where it is coarser than the exemplar scaled to it (refine_region()); a smooth
 //!     tangent direction field (direction_field.h) orients every patch and every local frame.
@@ -21,11 +21,22 @@
 //!     Dijkstra variant), the centre's frame along the field, carried by parallel transport.
 //!  4. Matching: among `candidates` random placements (translations in the exemplar disk; the rotation
 //!     is the field's) the patch takes one whose displacements agree best with what is already
-//!     synthesized on the overlap (weighted sum of squared differences), at random among those within
+//!     synthesized on the overlap (Σ b |new − old|² / Σ b (|new|² + |old|²): normalised, so that where
+//!     nothing matches the quietest parts of the exemplar are not preferred), at random among those within
 //!     match_tolerance of the best (Efros and Freeman): the seed decides, nothing repeats verbatim.
-//!  5. Blending: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a patch's
-//!     centre, 0 at its rim, p = blend_power): since the overlaps were matched, the blend is narrow and
-//!     between similar displacements. (Graph-cut seams, Kwatra et al. 2003, are not implemented.)
+//!  5. Seams (seams = cut, the default): the patch is pasted along a minimum cut of its overlap —
+//!     graph-cut textures (Kwatra, Schödl, Essa, Turk and Bobick, "Graphcut textures: image and video
+//!     synthesis using graph cuts", SIGGRAPH 2003): overlap vertices next to already written vertices
+//!     outside the patch keep theirs, those next to unwritten patch vertices take the patch's, and the
+//!     border is the cut of least Σ over cut edges (a, b) of |old − new|(a) + |old − new|(b) (max flow,
+//!     Dinic), so features are copied whole where the two disagree. The cut is feathered over `feather`
+//!     rings (both displacements are known there). Folds: the placements are tried in turn (the chosen
+//!     one, then the others by cost) until one folds no more faces around the patch than there were
+//!     (`fold_tries`); what still folds at the end is shrunk smoothly (`unfold`: Gaussian dips of radius
+//!     ¼ patch radius around each folded face, until none folds).
+//!     seams = blend: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a
+//!     patch's centre, 0 at its rim, p = blend_power) — uncorrelated relief averages out, and features
+//!     from two patches cross where they overlap.
 //!  6. The displacements (faded by the growth weight) are encoded as a height-and-tilt texture on the
 //!     target (texture_from_local()) and applied.
 //!
@@ -41,6 +52,11 @@
 #include "geotex/toolkit/direction_field.h"
 
 namespace geotex {
+
+//! How overlapping patches meet.
+enum class SeamMethod { Cut, Blend };
+//! "cut", "blend".
+const EnumNames<SeamMethod>& seam_method_names();
 
 struct SynthesisOptions {
   // Exemplar
@@ -69,7 +85,14 @@ struct SynthesisOptions {
   int candidates = 64;            //!< random placements compared per patch
   double match_tolerance = 0.1;   //!< choose among placements with cost ≤ (1 + tolerance) × the best
   int match_samples = 128;        //!< overlap vertices compared per placement (at most)
-  double blend_power = 8.0;       //!< overlap weights b^p: larger, narrower blends
+  SeamMethod seams = SeamMethod::Cut;  //!< cut (a minimum cut of each overlap) or blend (weighted mean)
+  double blend_power = 8.0;       //!< seams = blend: overlap weights b^p, larger, narrower blends
+  int feather = 1;                //!< seams = cut: rings on either side of a cut over which the two are mixed
+  //! seams = cut: placements tried in turn (the chosen one, then the others best first) until one folds no
+  //! more faces than there were around the patch (else the one that folds fewest); 1: no check.
+  int fold_tries = 8;
+  //! Shrink the displacements around faces they fold (and not the base), by 0.7 a round, until none does.
+  bool unfold = true;
 
   // Orientation
   //! The direction field's guide (when no per-vertex guide is given): its tangent part on the target.
@@ -113,6 +136,7 @@ struct SynthesisResult {
   double height_factor = 1;  //!< scale × height_scale: what exemplar displacements were multiplied by
   double patch_radius = 0;   //!< patch radius on the target (target units)
   size_t added_vertices = 0; //!< vertices the refinement added
+  size_t unfolded_vertices = 0;  //!< vertices whose displacement \ref SynthesisOptions::unfold shrank
   int exemplar_center = -1;  //!< the exemplar disk used (automatic or given)
   double exemplar_radius = 0;   //!< its geodesic radius (exemplar units)
   double exemplar_extent = 0;   //!< R: exemplar length per unit-disk length (the map's scale over |z| < 0.8)
