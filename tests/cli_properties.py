@@ -36,6 +36,8 @@ import sys
 import tempfile
 
 TIME_CAP_S = 60           # a hang guard, far above any run here (they take well under a second)
+if os.environ.get("GEOTEX_SANITIZE"):
+    TIME_CAP_S = 300      # AddressSanitizer runs are 5-20x slower (scripts/sanitize.sh)
 MEMORY_CAP = 3 << 30      # address space of each run (OpenMP and BLAS reserve some without using it)
 
 

@@ -3,6 +3,7 @@
 #include <new>
 
 #include <fmt/format.h>
+#include <Eigen/Cholesky>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #ifdef GEOTEX_HAVE_CHOLMOD

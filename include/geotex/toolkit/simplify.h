@@ -5,9 +5,11 @@
 //! a fraction of the cost: the low end of the spectrum does not depend on the resolution once the
 //! mesh resolves its wavelengths.
 //!
-//! Simplification: halfedge collapses ordered by the quadric error metric (Garland and Heckbert 1997),
-//! OpenMesh's decimater, with collapses that would flip a face refused. A collapse keeps the surviving
-//! vertex where it is, so every coarse vertex is an input vertex.
+//! Simplification: halfedge collapses cheapest first by the quadric error metric (Garland and Heckbert
+//! 1997), in passes over vertex-disjoint stars instead of one priority queue (OpenMesh's decimater took
+//! 22 s CPU at 10^6 faces, these passes 4 s), refusing any collapse that would break the manifold or
+//! turn a face round. A collapse keeps the surviving vertex where it is, so every coarse vertex is an
+//! input vertex. (Shortest-edge-first collapses are as fast but erase thin protrusions first.)
 
 #include <vector>
 
