@@ -66,6 +66,7 @@ TEST(FeatureMap, AdfFromASimplificationFindsTheSameTentacles) {
   const Stick& s = stick();
   FeatureMapOptions o;
   o.method = FeatureMapMethod::Adf;
+  o.adf_full_vertices = 3000;
   o.adf_vertices = 3000;
   const FeatureMap coarse = feature_map(s.shape.textured, o);
   std::printf("  tentacle stick, adf from 3000 vertices: IoU %.3f with the true tentacles, %.3f with the full ADF's map\n",

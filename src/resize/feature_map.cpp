@@ -40,9 +40,9 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
       .add("merge_pass", &O::merge_pass,
            "neighbouring basins whose pass stands this many robust standard deviations above the median are one "
            "feature (two-tipped protrusions)", non_negative())
-      .add("adf_vertices", &O::adf_vertices,
-           "adf: on meshes with more vertices, the spectrum comes from a simplification to this many (0: never)",
-           non_negative())
+      .add("adf_full_vertices", &O::adf_full_vertices,
+           "adf: meshes with more vertices get the spectrum of a simplification (0: never)", non_negative())
+      .add("adf_vertices", &O::adf_vertices, "adf: vertices of that simplification", at_least(100))
       .add("adf_levels", &O::adf_levels, "adf: diffusion times tried, each half the last, inside regions too large",
            at_least(1))
       .add("max_extent", &O::max_extent,
@@ -213,7 +213,7 @@ Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen
   // simplification (its low end does not change with resolution) and the ADF is extended back
   // harmonically, which adds no maxima of its own.
   Eigen::MatrixXd G;
-  const bool coarse = o.adf_vertices > 0 && n_faced > o.adf_vertices;
+  const bool coarse = o.adf_full_vertices > 0 && n_faced > o.adf_full_vertices && n_faced > o.adf_vertices;
   if (coarse) report(o.progress, 0.02, fmt::format("adf: simplification to {} vertices", o.adf_vertices));
   const SimplifiedMesh simple = coarse ? simplify(mesh, o.adf_vertices) : SimplifiedMesh{};
   const Mesh& spectral = coarse ? simple.mesh : mesh;
