@@ -119,7 +119,7 @@ stale_object() {
   return 1
 }
 # Sources no fuzz target links are skipped (a shorter build); a link error names any that become needed.
-skip=" render resources surfel surfel_points surfel_retrieval mrf mrf_normal noise metrics "
+skip=" resources surfel surfel_points surfel_retrieval mrf mrf_normal noise metrics "
 stale=()
 libobjs=()
 for src in src/*/*.cpp; do
@@ -150,7 +150,7 @@ for target in "${targets[@]}"; do
     Handles|Numbers|PlyExtras|Texture) src=fuzz/fuzz_files.cpp; def="-DGEOTEX_FUZZ_FILE_$target=1"; seed="$seeds/$lower" ;;
     *) echo "fuzz: unknown target $target"; exit 2 ;;
   esac
-  $cxx -fsanitize=fuzzer,$san $def "$src" "$out/libgeotex_fuzz.a" -lOpenMeshCore -lfmt -o "$out/fuzz_$lower"
+  $cxx -fsanitize=fuzzer,$san $def "$src" "$out/libgeotex_fuzz.a" -lOpenMeshCore -lfmt -lpng -lz -o "$out/fuzz_$lower"
   corpus="$out/corpus_$lower"
   mkdir -p "$corpus"
   echo "fuzz: $target for ${secs}s"
