@@ -51,7 +51,7 @@ struct FeatureMapOptions {
   //! adf_vertices vertices (simplify.h), the ADF extended back harmonically. The eigenpairs'
   //! wavelengths are far longer than such a mesh's edges, but the watershed map reacts to small changes
   //! of the field (igea's moves with it, bench/resize.md), so meshes whose full spectrum costs seconds
-  //! keep it; at 10^6 faces the simplification brings `--features auto` from 83 s to about 25 s CPU.
+  //! keep it; at 10^6 faces the simplification brings `--features auto` from 83 s to about 35 s CPU.
   int adf_full_vertices = 150000;
   int adf_vertices = 50000;
   //! A maximum is a feature's peak when its value exceeds the area-weighted median by this many robust
