@@ -7,8 +7,8 @@
 //!
 //! Simplification: halfedge collapses cheapest first by the quadric error metric (Garland and Heckbert
 //! 1997), in passes over vertex-disjoint stars instead of one priority queue (OpenMesh's decimater took
-//! 22 s CPU from 1.2 M faces to 50,000 vertices, these passes 8 s), refusing any collapse that would break the manifold or
-//! turn a face round. A collapse keeps the surviving vertex where it is, so every coarse vertex is an
+//! 22 s CPU from 1.2 M faces to 50,000 vertices, these passes 8 s), refusing any collapse that would
+//! break the manifold or turn a face round. A collapse keeps the surviving vertex where it is, so every coarse vertex is an
 //! input vertex. (Shortest-edge-first collapses are as fast but erase thin protrusions first.)
 
 #include <vector>
