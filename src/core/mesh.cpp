@@ -146,4 +146,10 @@ void require_valid(const Mesh& mesh, const char* what) {
   }
 }
 
+int vertices_in_faces(const Mesh& mesh) {
+  int n = 0;
+  for (auto v : mesh.vertices()) n += !mesh.is_isolated(v);
+  return n;
+}
+
 }  // namespace geotex

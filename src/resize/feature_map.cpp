@@ -206,8 +206,7 @@ bool too_large(const MatrixX3d& X, const std::vector<int>& region, const Vec3& m
 }  // namespace
 
 Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* field) {
-  int n_faced = 0;
-  for (auto v : mesh.vertices()) n_faced += !mesh.is_isolated(v);
+  int n_faced = vertices_in_faces(mesh);
   const int levels = std::max(1, o.adf_levels);
   // The ADF at each diffusion time tried, #V by levels. On a large mesh the spectrum comes from a
   // simplification (its low end does not change with resolution) and the ADF is extended back
@@ -217,10 +216,7 @@ Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen
   if (coarse) report(o.progress, 0.02, fmt::format("adf: simplification to {} vertices", o.adf_vertices));
   const SimplifiedMesh simple = coarse ? simplify(mesh, o.adf_vertices) : SimplifiedMesh{};
   const Mesh& spectral = coarse ? simple.mesh : mesh;
-  if (coarse) {
-    n_faced = 0;
-    for (auto v : spectral.vertices()) n_faced += !spectral.is_isolated(v);
-  }
+  if (coarse) n_faced = vertices_in_faces(spectral);
   report(o.progress, 0.1, "adf: Laplace spectrum");
   const LaplaceSpectrum spectrum = laplace_spectrum(spectral, std::min(o.eigenpairs, n_faced - 1));
   G.resize(spectral.n_vertices(), levels);

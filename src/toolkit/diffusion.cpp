@@ -117,9 +117,8 @@ Eigen::VectorXd auto_diffusion_function(const LaplaceSpectrum& s, double t) {
 
 Eigen::VectorXd auto_diffusion_function(const Mesh& mesh, const DiffusionOptions& options) {
   check_options(options);
-  int n = 0;
-  for (auto v : mesh.vertices()) n += !mesh.is_isolated(v);
-  return auto_diffusion_function(laplace_spectrum(mesh, std::min(options.eigenpairs, n - 1)), options.t);
+  return auto_diffusion_function(laplace_spectrum(mesh, std::min(options.eigenpairs, vertices_in_faces(mesh) - 1)),
+                                 options.t);
 }
 
 }  // namespace geotex

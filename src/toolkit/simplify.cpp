@@ -48,8 +48,7 @@ SimplifiedMesh simplify(const Mesh& mesh, int target_vertices) {
   SimplifiedMesh out;
   out.mesh = mesh;
   Mesh& m = out.mesh;
-  int in_faces = 0;
-  for (auto v : m.vertices()) in_faces += !m.is_isolated(v);
+  int in_faces = vertices_in_faces(m);
   OpenMesh::VPropHandleT<int> original;
   m.add_property(original);
   for (auto v : m.vertices()) m.property(original, v) = v.idx();

@@ -80,4 +80,7 @@ Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report = nul
 //! Throw InvalidInput if the mesh has no faces or a non-finite coordinate. \p what names the mesh.
 void require_valid(const Mesh& mesh, const char* what = "mesh");
 
+//! Number of vertices that belong to at least one face (the others are isolated).
+int vertices_in_faces(const Mesh& mesh);
+
 }  // namespace geotex
