@@ -817,21 +817,46 @@ TEST(BadInputCatalogue, OutputPathIsKeptAsTheUserMadeIt) {
 }
 
 TEST(BadInputCatalogue, NonFiniteResultsAreNotWritten) {
-  // Coordinates of 1e200 are finite, but noise and denoise overflow on them: on main the inf/NaN
-  // result was written with exit 0 (a file geotex's own reader refuses). The writers refuse it now.
+  // Coordinates of 1e200 are finite, but noise and denoise overflowed on them: on main the inf/NaN
+  // result was written with exit 0 (a file geotex's own reader refuses). Every method now refuses
+  // coordinates beyond kMaxCoordinate up front (the writers also refuse non-finite output).
   TempDir tmp;
   write_file(tmp / "big.obj", "v 0 0 0\nv 1e200 0 0\nv 0 1e200 0\nv 0 0 1e200\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
-  // The default denoiser cannot read a noise level from four vertices: it says so (and to give sigma).
-  const std::map<std::string, std::string> expected = {
-      {"noise", "non-finite"}, {"denoise --method mrf", "non-finite"}, {"denoise", "give the noise level"}};
-  for (const auto& [cmd, error] : expected) {
+  for (const std::string cmd : {"noise", "denoise --method mrf", "denoise", "smooth"}) {
     write_file(tmp / "out.obj", "old");
     const CliResult r = run_cli("-q " + cmd + " " + (tmp / "big.obj") + " -o " + (tmp / "out.obj"));
-    if (r.exit_code == 0) {
-      EXPECT_TRUE(all_finite(read_mesh(tmp / "out.obj"))) << cmd;
-    } else {
-      EXPECT_TRUE(one_line_error(r, error)) << cmd;
-      EXPECT_EQ(read_file(tmp / "out.obj"), "old") << cmd;
+    EXPECT_TRUE(one_line_error(r, "coordinates reach 1e+200")) << cmd;
+    EXPECT_TRUE(one_line_error(r, "scale the mesh down")) << cmd;
+    EXPECT_EQ(read_file(tmp / "out.obj"), "old") << cmd;
+  }
+}
+
+TEST(BadInputCatalogue, CoordinatesOutsideTheComputableRangeAreRefused) {
+  // A unit sphere scaled by 1e150 or 1e-150 reads fine, but fourth powers of its lengths (squared
+  // areas, inverse squared lengths in the 1-form fit) leave double precision: texture animate and
+  // resize failed with "sparse Cholesky failed (not positive definite?)". Now every command that
+  // computes says which way to rescale; at the edges of the range (1e74, 1e-74) they all compute.
+  TempDir tmp;
+  const Mesh sphere = icosphere(2);
+  const std::vector<std::string> cmds = {"smooth", "denoise", "resize --scale 2,1,1", "texture extract",
+                                         "render"};
+  for (const auto& [scale, advice] : std::vector<std::pair<double, std::string>>{
+           {1e150, "scale the mesh down"}, {1e-150, "scale the mesh up"}, {1e74, ""}, {1e-74, ""}}) {
+    Mesh scaled = sphere;
+    set_positions(scaled, positions(sphere) * scale);
+    const fs::path in = tmp / "scaled.ply";
+    write_mesh(scaled, in);
+    for (const auto& cmd : cmds) {
+      const fs::path out = tmp / (cmd.rfind("render", 0) == 0 ? "out.png" : cmd.rfind("texture", 0) == 0 ? "t.ply" : "out.ply");
+      fs::remove(out);
+      const CliResult r = run_cli("-q " + cmd + " " + in.string() + " -o " + out.string());
+      if (advice.empty()) {
+        EXPECT_EQ(r.exit_code, 0) << cmd << " at " << scale << ": " << r.err;
+        if (out.extension() == ".ply") EXPECT_TRUE(all_finite(read_mesh(out))) << cmd << " at " << scale;
+      } else {
+        EXPECT_TRUE(one_line_error(r, advice)) << cmd << " at " << scale << ": " << r.err;
+        EXPECT_FALSE(fs::exists(out)) << cmd << " at " << scale;
+      }
     }
   }
 }

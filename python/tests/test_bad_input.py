@@ -314,6 +314,22 @@ def test_class6_results_are_finite_or_refused(tmp_path):
     assert not (tmp_path / "x.ply").exists()
 
 
+def test_class6_coordinates_outside_the_computable_range_are_refused():
+    # Fourth powers of lengths leave double precision beyond 1e±75: every method says how to rescale
+    # (on main texture_extract at 1e150 and resize at 1e-150 failed in the solver or on "no area").
+    V, F = geotex.generate("sphere", level=1)
+    for scale, advice in [(1e150, "scale the mesh down"), (1e-150, "scale the mesh up")]:
+        for name, call in [("smooth", lambda: geotex.smooth(V * scale, F)),
+                           ("denoise", lambda: geotex.denoise(V * scale, F)),
+                           ("texture_extract", lambda: geotex.texture_extract(V * scale, F)),
+                           ("resize", lambda: geotex.resize(V * scale, F, scale=(2, 1, 1)))]:
+            with pytest.raises(geotex.InvalidInput, match=advice):
+                call()
+    for scale in (1e74, 1e-74):  # inside the range: computed, finite
+        assert np.isfinite(geotex.smooth(V * scale, F)).all()
+        assert np.isfinite(geotex.resize(V * scale, F, scale=(2, 1, 1))).all()
+
+
 # ---- class 7: cost on small files, special files -------------------------------------------------
 
 def fan(k):

@@ -77,7 +77,16 @@ struct BuildOptions {
 Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report = nullptr,
                const BuildOptions& options = {});
 
-//! Throw InvalidInput if the mesh has no faces or a non-finite coordinate. \p what names the mesh.
+//! Largest coordinate magnitude, and smallest non-zero extent, that geotex computes with. Its methods
+//! form areas, squared areas and inverse squared lengths (cotangent and mass matrices, 1-form fits):
+//! fourth powers of lengths, which stay inside double precision (about 1e±308) for lengths within
+//! 1e±75. A mesh outside is refused with the advice to rescale it, rather than left to overflow into
+//! a solver failure or a non-finite result.
+inline constexpr double kMaxCoordinate = 1e75;
+inline constexpr double kMinExtent = 1e-75;
+
+//! Throw InvalidInput if the mesh has no faces, a non-finite coordinate, or coordinates outside the
+//! range above (|x| > kMaxCoordinate, or a bounding-box diagonal in (0, kMinExtent)). \p what names the mesh.
 void require_valid(const Mesh& mesh, const char* what = "mesh");
 
 //! Number of vertices that belong to at least one face (the others are isolated).
