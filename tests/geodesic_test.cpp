@@ -86,3 +86,46 @@ TEST(HeatGeodesics, EuclideanDistanceOnAPlaneAndSeveralSources) {
   EXPECT_THROW(geo.distance(-1), InvalidInput);
   EXPECT_THROW(HeatGeodesics(p, {.time_factor = 0}), InvalidInput);
 }
+
+TEST(HeatGeodesics, IsolatedVerticesAreUnreachedAndChangeNothing) {
+  // An isolated vertex has no mass and no cotangent row: the heat and Poisson systems were singular
+  // ("sparse Cholesky failed" in texture transfer on a soup). It is its own component now: +inf, and
+  // the surface's distances are those of the mesh without it.
+  const Mesh s = icosphere(3);
+  MatrixX3d V(s.n_vertices() + 2, 3);
+  V << positions(s), Eigen::RowVector3d(5, 0, 0), Eigen::RowVector3d(0, 5, 0);
+  const Mesh with_isolated = make_mesh(V, faces(s));
+  ASSERT_EQ(with_isolated.n_vertices(), s.n_vertices() + 2);
+  const Eigen::VectorXd d0 = heat_geodesic_distance(s, {0});
+  const Eigen::VectorXd d1 = heat_geodesic_distance(with_isolated, {0});
+  const Eigen::Index n = s.n_vertices();
+  EXPECT_LT((d1.head(n) - d0).cwiseAbs().maxCoeff(), 1e-9 * d0.maxCoeff());
+  EXPECT_TRUE(std::isinf(d1[n]) && std::isinf(d1[n + 1]));
+}
+
+TEST(HeatGeodesics, DegenerateComponentsBesideAPlainOne) {
+  // A needle triangle (|cot| at its cap) as a component of its own: the Poisson system's null space
+  // was lifted by a vanishing multiple of the mass, a pivot below round-off there ("sparse Cholesky
+  // failed" in texture transfer and atlas on a triangle soup). Now φ is pinned per component: the
+  // plain component's distances stay (up to the heat time, which the needle's edges change a little),
+  // the needle is unreached, and from the needle the distances are finite (a needle has no gradient
+  // to follow: their values mean little).
+  const Mesh s = icosphere(3);
+  const Eigen::Index n = s.n_vertices();
+  // And a zero-area triangle with two corners at one point (its third corner gets no weight at all).
+  MatrixX3d V(n + 6, 3);
+  V << positions(s), Eigen::RowVector3d(3, 0, 0), Eigen::RowVector3d(3.1, 0, 0), Eigen::RowVector3d(3.05, 1e-9, 0),
+      Eigen::RowVector3d(5, 0, 0), Eigen::RowVector3d(5, 0, 0), Eigen::RowVector3d(5, 0.1, 0);
+  MatrixX3i F(s.n_faces() + 2, 3);
+  F << faces(s), Eigen::RowVector3i(n, n + 1, n + 2), Eigen::RowVector3i(n + 3, n + 4, n + 5);
+  const Mesh both = make_mesh(V, F);
+  const Eigen::VectorXd d0 = heat_geodesic_distance(s, {0});
+  const Eigen::VectorXd d1 = heat_geodesic_distance(both, {0});
+  EXPECT_LT((d1.head(n) - d0).cwiseAbs().maxCoeff(), 1e-3 * d0.maxCoeff());
+  EXPECT_TRUE(std::isinf(d1[n]) && std::isinf(d1[n + 2]) && std::isinf(d1[n + 5]));
+  const Eigen::VectorXd d2 = heat_geodesic_distance(both, {static_cast<int>(n)});  // from the needle's corner
+  EXPECT_TRUE(d2.segment(n, 3).allFinite() && d2.segment(n, 3).minCoeff() >= 0 && std::isinf(d2[n + 3]));
+  EXPECT_TRUE(std::isinf(d2[0]));
+  const Eigen::VectorXd d3 = heat_geodesic_distance(both, {static_cast<int>(n + 3)});
+  EXPECT_TRUE(d3.tail(3).allFinite() && d3.tail(3).minCoeff() >= 0);
+}

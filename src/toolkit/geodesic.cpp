@@ -31,6 +31,8 @@ struct HeatGeodesics::Impl {
   std::vector<std::array<double, 3>> half_cot;
   SpdSolver heat, poisson;
   Eigen::VectorXi component;
+  std::vector<int> roots;  // one vertex per component, where φ is pinned to 0
+  Eigen::VectorXd mass;    // lumped masses (isolated vertices: the mean), to balance the Poisson sources
   int n = 0;
 };
 
@@ -61,13 +63,37 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicOptions& option
     }
   }
   const SparseMatrix C = cotan_matrix(mesh, co);
-  const Eigen::VectorXd M = mass_diagonal(mesh, MassType::Voronoi);
+  Eigen::VectorXd M = mass_diagonal(mesh, MassType::Voronoi);
+  // An isolated vertex has no mass and no cotangent row: give it the mean mass, so that both systems
+  // stay definite; it is its own component, never reached (+∞).
+  const double mean_mass = M.sum() / std::max<Eigen::Index>(1, (M.array() > 0).count());
+  for (Eigen::Index i = 0; i < M.size(); ++i)
+    if (!(M[i] > 0)) M[i] = mean_mass;
   const double t = options.time_factor * std::pow(mean_edge_length(mesh), 2);
   const SparseMatrix H = SparseMatrix(M.asDiagonal()) - t * C;
   m.heat.compute(H);
-  // −C is singular (constants); a vanishing multiple of M makes it definite without moving φ's gradient.
-  const double eps = 1e-10 * (-C.diagonal()).mean() / M.mean();
-  const SparseMatrix P = SparseMatrix((eps * M).asDiagonal()) - C;
+  m.mass = M;
+  // −C is singular (a constant per component): pin φ = 0 at one vertex of each component and drop its
+  // equation, which the others imply once the sources balance (distance()). A vanishing multiple of M
+  // instead left pivots below round-off on components of needle triangles (|cot| at its cap).
+  std::vector<char> is_root(m.n, 0);
+  std::vector<char> seen(m.component.size() ? m.component.maxCoeff() + 1 : 0, 0);
+  for (int i = 0; i < m.n; ++i)
+    if (!seen[m.component[i]]) {
+      seen[m.component[i]] = 1;
+      is_root[i] = 1;
+      m.roots.push_back(i);
+    }
+  // A needle triangle (collinear corners, cotangents at their cap) has a second near-null direction,
+  // a zero-area triangle a vertex without any weight: 1e-12 of each diagonal plus of the mean one keeps
+  // those pivots above round-off and moves φ by about 1e-12 × #V relatively.
+  SparseMatrix P = -C;
+  const double unit = std::max(1e-300, (-C.diagonal()).cwiseAbs().mean());
+  for (Eigen::Index k = 0; k < P.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(P, k); it; ++it)
+      if (is_root[it.row()] || is_root[it.col()]) it.valueRef() = it.row() == it.col() ? unit : 0.0;
+      else if (it.row() == it.col()) it.valueRef() += 1e-12 * (std::abs(it.value()) + unit);
+  for (int r : m.roots) P.coeffRef(r, r) = unit;  // isolated vertices have no entry yet
   m.poisson.compute(P);
 }
 
@@ -101,7 +127,17 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
       div[m.F(f, i)] += m.half_cot[f][k] * (xj - xi).dot(Xf) + m.half_cot[f][j] * (xk - xi).dot(Xf);
     }
   }
-  // C φ = div  ⇔  (εM − C) φ = −div.
+  // C φ = div needs Σ div = 0 over each component; on an open surface the boundary flux is left over.
+  // Spread it in proportion to the masses (what (εM − C) φ = −div does as ε → 0), then solve with
+  // φ = 0 at each component's root.
+  const int ncomp = static_cast<int>(m.roots.size());
+  std::vector<double> flux(ncomp, 0.0), mass(ncomp, 0.0);
+  for (int i = 0; i < m.n; ++i) {
+    flux[m.component[i]] += div[i];
+    mass[m.component[i]] += m.mass[i];
+  }
+  for (int i = 0; i < m.n; ++i) div[i] -= m.mass[i] * flux[m.component[i]] / mass[m.component[i]];
+  for (int r : m.roots) div[r] = 0;
   Eigen::VectorXd phi = m.poisson.solve(-div);
   // Shift each source's component so that its sources sit at 0; unreached components are at +∞.
   const int nc = m.component.size() ? m.component.maxCoeff() + 1 : 0;
