@@ -13,10 +13,12 @@ cap, and each run must satisfy:
   * on success every output is complete: meshes with finite coordinates and valid faces, PNG with
     its end chunk, HTML with its end tag.
 
-`texture` and `resize` get only their positional arguments and -o (their flags are being redone).
-`project` projects each mesh onto itself: projecting points far from a base (a mesh 1e7 away, or
-scaled by 1e-150 inside a unit sphere) visits every face per point, O(#points x #faces): 17 s CPU for
-2,562 points onto 5,120 faces, so that case is left out here (known, see bench/bad-input.md).
+`texture edit` and `texture animate` run on the texture that `texture extract` lifts off the mesh (the
+case then holds both runs); `transfer`, `atlas` and `synthesize` lay a small generated texture (a
+spiky plane's) onto the mesh, with refinement off for the two whole-surface ones (it only makes
+them slower here).
+`project` projects each mesh onto itself and onto the unit sphere (the off-centre mesh lies 1e7 away:
+near-linear since the normal-cone pruning, bench/bad-input.md).
 
 Usage: cli_properties.py GEOTEX [--seed N] [--jobs N] [--verbose]
 """
@@ -150,10 +152,28 @@ def commands(mesh, aux):
         ("surfels", ["surfels", mesh, "-o", "OUT/p.ply"], ["OUT/p.ply"]),
         ("param", ["param", mesh, "-o", "OUT/u.obj"], ["OUT/u.obj"]),
         ("deform", ["deform", mesh, "--handles", aux["handles"], "-o", "OUT/f.obj"], ["OUT/f.obj"]),
-        ("project", ["project", mesh, mesh, "-o", "OUT/j.obj"], ["OUT/j.obj"]),  # onto itself: see the note at the top
+        ("project", ["project", mesh, mesh, "-o", "OUT/j.obj"], ["OUT/j.obj"]),
+        ("project onto sphere", ["project", mesh, aux["base"], "-o", "OUT/j.obj"], ["OUT/j.obj"]),
         ("compare", ["compare", mesh, aux["base"]], []),
         ("resize", ["resize", mesh, "-o", "OUT/r.obj"], ["OUT/r.obj"]),
+        ("resize x2 adf", ["resize", mesh, "--scale", "2,1,1", "--features", "adf", "--save-features", "OUT/w.txt",
+                           "-o", "OUT/r.obj"], ["OUT/r.obj", "OUT/w.txt"]),
+        ("resize thesis", ["resize", mesh, "--scale", "1,1,0.5", "--preset", "thesis", "-o", "OUT/r.obj"], ["OUT/r.obj"]),
         ("texture extract+apply", ["texture", "extract", mesh, "-o", "OUT/t.ply"], ["OUT/t.ply"]),
+        ("texture extract+edit", ["texture", "extract", mesh, "-o", "OUT/t.ply"], ["OUT/t.ply"],
+         ["texture", "edit", "OUT/t.ply", "--op", "wrap", "-o", "OUT/e.ply", "--mesh", "OUT/em.obj"],
+         ["OUT/e.ply", "OUT/em.obj"]),
+        ("texture extract+animate", ["texture", "extract", mesh, "-o", "OUT/t.ply"], ["OUT/t.ply"],
+         ["texture", "animate", "OUT/t.ply", "--frames", "2", "--format", "obj", "-o", "OUT/fr"],
+         ["OUT/fr_0000.obj", "OUT/fr_0001.obj"]),
+        ("texture transfer", ["texture", "transfer", aux["texture"], mesh, "--source-radius", "0.5",
+                              "--target-radius", "0.3", "--texture-out", "OUT/tt.ply", "-o", "OUT/tr.obj"],
+         ["OUT/tr.obj", "OUT/tt.ply"]),
+        ("texture atlas", ["texture", "atlas", aux["texture"], mesh, "--source-radius", "0.5", "--target-radius", "0.8",
+                           "--refine-ratio", "0", "-o", "OUT/at.obj"], ["OUT/at.obj"]),
+        ("texture synthesize", ["texture", "synthesize", aux["texture"], "--target", mesh, "--refine-ratio", "0",
+                                "--candidates", "8", "--report", "OUT/sy.json", "-o", "OUT/sy.obj"],
+         ["OUT/sy.obj", "OUT/sy.json"]),
         ("render", ["render", mesh, "-o", "OUT/i.png"], ["OUT/i.png"]),
         ("view", ["view", mesh, "-o", "OUT/v.html"], ["OUT/v.html"]),
     ]
@@ -188,7 +208,7 @@ def run(geotex, args, env):
 def error_lines(stderr):
     return [l for l in stderr.splitlines()
             if l.strip() and not l.startswith("geotex: warning: ") and not l.startswith("geotex: note: ")
-            and not l.startswith("geotex: stats: ") and not l.startswith("wrote ") and "\r" not in l and "%" not in l]
+            and not l.startswith("geotex: stats: ") and not l.startswith("wrote ") and not l.startswith("read ") and "\r" not in l and "%" not in l]
 
 
 def check_mesh_obj(path):
@@ -211,6 +231,19 @@ def check_output(geotex, path, env):
         with open(path, "rb") as f:
             b = f.read()
         return None if b.startswith(b"\x89PNG\r\n\x1a\n") and b[-12:][4:8] == b"IEND" else "PNG incomplete"
+    if path.endswith(".json"):
+        def refuse(c):
+            raise ValueError(c)
+        try:
+            with open(path) as f:
+                json.load(f, parse_constant=refuse)
+        except ValueError as e:
+            return f"not strict JSON ({e})"
+        return None
+    if path.endswith(".txt"):
+        with open(path) as f:
+            values = [float(t) for line in f if not line.startswith("#") for t in line.replace(",", " ").split()]
+        return None if values and all(math.isfinite(v) for v in values) else "empty or non-finite weights"
     if path.endswith(".html"):
         with open(path, "rb") as f:
             return None if f.read().rstrip().endswith(b"</html>") else "HTML incomplete"
@@ -227,22 +260,24 @@ def check_output(geotex, path, env):
 
 
 def one_case(geotex, work, case_id, mesh_name, mesh, cmd, env):
-    name, args, outputs = cmd
+    name, args, outputs = cmd[:3]
+    if name == "texture extract+apply":  # apply the extracted texture to its own base
+        cmd = cmd + (["texture", "apply", "OUT/t.ply", "-o", "OUT/a.obj"], ["OUT/a.obj"])
+    then, then_outputs = cmd[3:] if len(cmd) > 3 else (None, [])
     out = os.path.join(work, "out", case_id)
     os.makedirs(out)
-    args = [a.replace("OUT/", out + "/") for a in args]
-    outputs = [o.replace("OUT/", out + "/") for o in outputs]
+    in_out = lambda l: [a.replace("OUT/", out + "/") for a in l]
+    args, outputs, then_outputs = in_out(args), in_out(outputs), in_out(then_outputs)
     inputs = sorted(os.path.join(work, "in", f) for f in os.listdir(os.path.join(work, "in")))
     before = digest(inputs)
     problems = []
     code, err = run(geotex, args, env)
-    # texture: apply the extracted texture to its own base (positional argument and -o only).
-    if name.startswith("texture") and code == 0:
-        t = outputs[0]
-        code, err = run(geotex, ["texture", "apply", t, "-o", out + "/a.obj"], env)
-        outputs = outputs + [out + "/a.obj"]
+    # A second step on the first one's output (a texture lifted off the mesh), which must then succeed.
+    if then and code == 0:
+        code, err = run(geotex, in_out(then), env)
+        outputs = outputs + then_outputs
         if code != 0:
-            problems.append("texture apply of an extracted texture failed: " + err.strip())
+            problems.append(f"{then[0]} {then[1]} of an extracted texture failed: " + err.strip())
     if code not in (0, 1, 2):
         problems.append(f"exit {code}" + (" (a signal)" if isinstance(code, int) and code < 0 else ""))
     elif code != 0:
@@ -262,7 +297,7 @@ def one_case(geotex, work, case_id, mesh_name, mesh, cmd, env):
             p = check_output(geotex, o, env)
             if p:
                 problems.append(f"{os.path.basename(o)}: {p}")
-    elif left and not name.startswith("texture"):
+    elif left and not then:
         problems.append(f"a failed run left {left}")
     shutil.rmtree(out)
     return case_id, mesh_name, name, code, problems, err
@@ -284,7 +319,11 @@ def main():
         os.makedirs(inp)
         os.makedirs(os.path.join(work, "out"))
         zoo = make_zoo(geotex, inp, a.seed)
-        aux = {"handles": os.path.join(inp, "handles.json"), "base": zoo["sphere"]}
+        aux = {"handles": os.path.join(inp, "handles.json"), "base": zoo["sphere"],
+               "texture": os.path.join(inp, "spiky-texture.ply")}
+        spiky_plane = os.path.join(work, "spiky-plane.obj")
+        subprocess.run([geotex, "-q", "generate", "spiky-plane", "--level", "0", "-o", spiky_plane], check=True)
+        subprocess.run([geotex, "-q", "texture", "extract", spiky_plane, "-o", aux["texture"]], check=True)
         with open(aux["handles"], "w") as f:
             f.write(HANDLES)
         cases = []

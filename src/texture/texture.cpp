@@ -104,8 +104,6 @@ Vec3 direction_from_tilt(Vec3 t, const Vec3& n, double sign, double lean = -1) {
 // Lean α ∈ [0, π/2] of a unit direction d from sign·n (Eq. 8.8): sin α = ‖d × n‖, cos α = |d·n|.
 double lean_of(const Vec3& d, const Vec3& n) { return std::atan2(d.cross(n).norm(), std::abs(d.dot(n))); }
 
-double max_abs_height(const Texture& t) { return t.height.size() ? t.height.cwiseAbs().maxCoeff() : 0.0; }
-
 Vec3 unit_or_throw(const Vec3& v, const char* what) {
   if (!(v.norm() > 0) || !v.allFinite()) throw InvalidInput(std::string(what) + ": direction must be a non-zero vector");
   return v.normalized();
