@@ -777,7 +777,21 @@ TEST(BadInputCatalogue, SpecialFilesAsInputs) {
   EXPECT_TRUE(one_line_error(run_cli_limited("resize " + cube + " --scale 2,1,1 --features " + (tmp / "zero.txt") + " -o " + out),
                              "device"));
   EXPECT_TRUE(one_line_error(run_cli_limited("surfels " + (tmp / "zero.txt") + " -o " + (tmp / "s.ply")), "device"));
+  // texture synthesize --weight had a reader of its own that waited on a FIFO (found by hand, 2026-12-02);
+  // it reads feature files now: regular files only, one weight in [0, 1] per line.
+  const std::string texture = tmp / "t.ply";
+  ASSERT_EQ(run_cli("-q texture extract " + cube + " -o " + texture).exit_code, 0);
+  const std::string synth = "texture synthesize " + texture + " --target " + cube + " --candidates 4 -o " + out;
+  EXPECT_TRUE(one_line_error(run_cli_limited(synth + " --weight " + (tmp / "fifo.obj")), "FIFO"));
+  EXPECT_TRUE(one_line_error(run_cli_limited(synth + " --weight " + (tmp / "zero.txt")), "device"));
+  write_file(tmp / "w.txt", "0.5\n2\n");
+  EXPECT_TRUE(one_line_error(run_cli_limited(synth + " --weight " + (tmp / "w.txt")), "2 feature weights for 152 vertices"));
   EXPECT_FALSE(fs::exists(out));
+  std::string weights;
+  for (int i = 0; i < 152; ++i) weights += i < 76 ? "1\n" : "0\n";
+  write_file(tmp / "w.txt", weights);
+  EXPECT_EQ(run_cli_limited("-q " + synth + " --weight " + (tmp / "w.txt")).exit_code, 0);
+  EXPECT_TRUE(fs::exists(out));
 }
 
 // ---- the output path (issue 14, class 3) ----------------------------------------------------------

@@ -2,7 +2,6 @@
 // surface (texture/synthesis.h). Registered from texture.cpp by add_texture_synthesize().
 
 #include <chrono>
-#include <fstream>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -11,6 +10,7 @@
 #include "cli.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
+#include "geotex/core/user_files.h"
 #include "geotex/texture/synthesis.h"
 #include "option_flags.h"
 
@@ -20,19 +20,6 @@ namespace {
 struct SynthesizeArgs {
   std::string exemplar, exemplar_base, target, output, texture_out, weight_file, report;
 };
-
-// One weight per line (or whitespace-separated), #V of the target.
-Eigen::VectorXd read_weights(const std::string& path, size_t n) {
-  std::ifstream in(path);
-  if (!in) throw IoError("cannot read the weight file " + path);
-  std::vector<double> w;
-  double x;
-  while (in >> x) w.push_back(x);
-  if (!in.eof()) throw IoError("weight file " + path + ": expected numbers only");
-  if (w.size() != n)
-    throw InvalidInput(fmt::format("weight file {}: {} values for a target of {} vertices", path, w.size(), n));
-  return Eigen::Map<Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
-}
 
 void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
   Outputs out({a.exemplar, a.exemplar_base, a.target, a.weight_file},
@@ -49,7 +36,8 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
   }
   const Mesh target = load_mesh(a.target);
   SynthesisGuides guides;
-  if (!a.weight_file.empty()) guides.weight = read_weights(a.weight_file, target.n_vertices());
+  // The feature-file reader: regular files only, size-capped, one number in [0, 1] per line (or a PLY).
+  if (!a.weight_file.empty()) guides.weight = read_feature_file(a.weight_file, target);
   o.progress = progress_printer("synthesize");
   const auto t0 = std::chrono::steady_clock::now();
   const SynthesisResult r = synthesize_texture(ex.base, ex.texture, target, o, guides);
@@ -97,7 +85,8 @@ void add_texture_synthesize(CLI::App& texture) {
   s->add_option("-o,--output", a->output, "textured target mesh")->required();
   s->add_option("--texture-out", a->texture_out, "also write the target's texture file (over the refined target)");
   s->add_option("--report", a->report, "write the synthesis measures (bench/synthesis.md) as JSON");
-  s->add_option("--weight", a->weight_file, "per-vertex growth weights in [0, 1] of the target (a text file)")
+  s->add_option("--weight", a->weight_file,
+                "per-vertex growth weights in [0, 1] of the target: text, one per line, or PLY with vertex 'feature'")
       ->check(CLI::ExistingFile);
   auto flags = std::make_shared<FlagSet>(*s);
   flags->add("synthesize", SynthesisOptions::table());
