@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -185,6 +186,25 @@ std::vector<std::string> numeric_flags(const std::string& command) {
   return flags;
 }
 
+// texture (every subcommand) and resize with their positional arguments and required flags, over
+// \p mesh and a texture extracted from a generated spiky plane in \p tmp.
+std::vector<std::pair<std::string, std::string>> texture_and_resize_commands(const TempDir& tmp, const std::string& mesh) {
+  const std::string spiky = tmp / "spiky.obj", texture = tmp / "t.ply";
+  EXPECT_EQ(run_cli("-q generate spiky-plane --level 0 -o " + spiky).exit_code, 0);
+  EXPECT_EQ(run_cli("-q texture extract " + spiky + " -o " + texture).exit_code, 0);
+  const std::string o = " -o " + (tmp / "out.obj");
+  return {
+      {"resize", mesh + " --scale 2,1,1" + o},
+      {"texture extract", spiky + " -o " + (tmp / "out.ply")},
+      {"texture apply", texture + o},
+      {"texture edit", texture + " -o " + (tmp / "out.ply")},
+      {"texture animate", texture + " -o " + (tmp / "frame")},
+      {"texture transfer", texture + " " + mesh + " --source-radius 0.5 --target-radius 0.3" + o},
+      {"texture atlas", texture + " " + mesh + " --source-radius 0.5" + o},
+      {"texture synthesize", texture + " --target " + mesh + o},
+  };
+}
+
 }  // namespace
 
 TEST(BadInputClasses, NanAndInfAreRefusedByEveryNumericFlag) {
@@ -196,7 +216,7 @@ TEST(BadInputClasses, NanAndInfAreRefusedByEveryNumericFlag) {
   const std::string o = " -o " + (tmp / "out.obj");
   // Each command with its positional arguments (and what else it requires), so that the flag under
   // test is the only thing wrong.
-  const std::vector<std::pair<std::string, std::string>> commands = {
+  std::vector<std::pair<std::string, std::string>> commands = {
       {"info", mesh},
       {"generate", "sphere" + o},
       {"noise", mesh + o},
@@ -210,10 +230,8 @@ TEST(BadInputClasses, NanAndInfAreRefusedByEveryNumericFlag) {
       {"render", mesh + " -o " + (tmp / "r.png")},
       {"view", mesh + " -o " + (tmp / "v.html")},
       {"demo", "-o " + (tmp / "demo")},
-      // texture and resize are left out while their flags move to option tables (hand-written flags
-      // there still take NaN: texture edit --factor/--phase/--wavelength, texture extract
-      // --fit-tolerance, resize --weight; see the report of issue 14).
   };
+  for (const auto& c : texture_and_resize_commands(tmp, mesh)) commands.push_back(c);
   int tried = 0;
   for (const auto& [cmd, args] : commands)
     for (const std::string& flag : numeric_flags(cmd))
@@ -230,6 +248,80 @@ TEST(BadInputClasses, NanAndInfAreRefusedByEveryNumericFlag) {
   for (const char* bad : {"nan", "inf", "1e308", "0x10"})
     EXPECT_TRUE(fails_with(run_cli(std::string("--threads ") + bad + " info " + mesh), 2, "threads")) << bad;
   EXPECT_GT(tried, 50);  // the flags were found
+  EXPECT_FALSE(fs::exists(tmp / "out.obj"));
+}
+
+TEST(BadInputClasses, ScaleFactorsAreBoundedAndGiveFiniteOutput) {
+  // texture synthesize --height-scale 1e200 crashed (SIGSEGV): overflowing displacements made every
+  // placement's matching cost NaN and the pick fell off an empty list (found by a flag sweep,
+  // 2026-12-02); transfer and atlas failed in the 1-form fit, resize --scale 1e300 in the solver.
+  // Scale factors now have bounds (1e6; resize 1e-6 to 1e6), and at the bound the output is finite.
+  TempDir tmp;
+  const std::string mesh = tmp / "m.obj";
+  ASSERT_EQ(run_cli("-q generate sphere --level 0 -o " + mesh).exit_code, 0);
+  for (const auto& [cmd, args] : texture_and_resize_commands(tmp, mesh)) {
+    const std::string flag = cmd == "resize" ? "--scale" : cmd == "texture edit" ? "--factor" : "--height-scale";
+    if (cmd == "texture extract" || cmd == "texture animate") continue;  // no such factor
+    const std::string edit = cmd == "texture edit" ? " --op scale-height" : "";
+    const std::string rest = cmd == "resize" ? mesh + " -o " + (tmp / "out.obj") + " " + flag + " " : args + edit + " " + flag + " ";
+    const std::string big = cmd == "resize" ? "1e300,1,1" : "1e200";
+    EXPECT_TRUE(fails_with(run_capped(cmd + " " + rest + big, 60), 2, "out of range")) << cmd;
+    const std::string bound = cmd == "resize" ? "1e6,1,1" : "1e6";
+    const CliResult r = run_capped("-q " + cmd + " " + rest + bound, 120);
+    ASSERT_EQ(r.exit_code, 0) << cmd << ": " << r.err;
+    const fs::path out = cmd == "texture edit" ? tmp / "out.ply" : tmp / "out.obj";
+    if (cmd != "texture edit") EXPECT_TRUE(positions(read_mesh(out)).allFinite()) << cmd;
+    fs::remove(out);
+  }
+}
+
+TEST(BadInputClasses, EveryCountFlagHasAnUpperBound) {
+  // A count of 1e9 (sweeps, iterations, frames, eigenpairs, rings, placements …) ran for hours or
+  // ran out of memory (texture animate --frames 1e9: 6 GB in 15 s; resize --eigenpairs 1e9, --dilate,
+  // --refinements; texture extract --robust-passes; texture synthesize --candidates; denoise
+  // --edge-sweeps, --normal-sweeps, --vertex-iterations). Each count now has a bound far above any
+  // useful value, and a larger one is refused at once (exit 2). Not counts: seeds, vertex indices
+  // (refused when out of range), sizes, and limits that stop on their own.
+  const std::set<std::string> not_counts = {"--seed", "--source-center", "--target-center", "--exemplar-center",
+                                            "--adf-full-vertices", "--adf-vertices", "--max-iterations",
+                                            "--stall-iterations", "--feather", "--fold-tries", "--match-samples"};
+  TempDir tmp;
+  const std::string mesh = tmp / "m.obj";
+  ASSERT_EQ(run_cli("-q generate sphere --level 0 -o " + mesh).exit_code, 0);
+  std::vector<std::pair<std::string, std::string>> commands = {
+      {"smooth", mesh + " -o " + (tmp / "out.obj")},
+      {"denoise", mesh + " -o " + (tmp / "out.obj")},
+      {"denoise --method mrf", mesh + " -o " + (tmp / "out.obj")},
+      {"denoise --method mrf-normal", mesh + " -o " + (tmp / "out.obj")},
+      {"denoise --method surfel", mesh + " -o " + (tmp / "out.obj")},
+      {"surfels", mesh + " -o " + (tmp / "s.ply")},
+      {"render", mesh + " -o " + (tmp / "r.png")},
+      {"view", mesh + " -o " + (tmp / "v.html")},
+      {"generate", "sphere -o " + (tmp / "out.obj")},
+  };
+  for (const auto& c : texture_and_resize_commands(tmp, mesh)) commands.push_back(c);
+  int tried = 0;
+  std::set<std::string> listed, tested;  // command and flag, as --help lists them; as tested
+  for (const auto& [cmd, args] : commands) {
+    const CliResult h = run_cli(cmd + " --help");
+    static const std::regex int_flag(R"(^\s+(?:-[a-zA-Z],)?(--[a-z0-9][a-z0-9-]*)\s+INT\b)");
+    std::istringstream in(h.out);
+    for (std::string l; std::getline(in, l);) {
+      std::smatch m;
+      if (!std::regex_search(l, m, int_flag) || not_counts.count(m[1])) continue;
+      const std::string flag = m[1];
+      listed.insert(cmd.substr(0, cmd.find(' ')) + " " + flag);
+      const CliResult r = run_capped(cmd + " " + args + " " + flag + " 1000000000", 60);
+      if (r.exit_code == 2 && r.err.find("is an option of") != std::string::npos) continue;  // another --method's
+      tested.insert(cmd.substr(0, cmd.find(' ')) + " " + flag);
+      EXPECT_EQ(r.exit_code, 2) << cmd << " " << flag << " 1e9: stderr " << r.err;
+      EXPECT_TRUE(r.err.find("in [") != std::string::npos || r.err.find("not in range") != std::string::npos)
+          << cmd << " " << flag << ": " << r.err;
+      ++tried;
+    }
+  }
+  EXPECT_GT(tried, 30);
+  EXPECT_EQ(listed, tested);  // each denoise flag under the method it belongs to
   EXPECT_FALSE(fs::exists(tmp / "out.obj"));
 }
 

@@ -244,7 +244,7 @@ const OptionTable<FeatureFileOptions>& FeatureFileOptions::table() {
       .add("height_threshold", &O::height_threshold,
            "feature PLY with 'height': features where |height| exceeds this many mean edge lengths", positive())
       .add("height_dilate", &O::dilate, "feature PLY with 'height': grow the thresholded features by this many vertex rings",
-           non_negative());
+           between(0, 10000));
   return t;
 }
 

@@ -88,7 +88,7 @@ const OptionTable<EdgeProcessOptions>& EdgeProcessOptions::table() {
               "edge process: metropolis (annealed, the thesis) or icm", "Sec. 6.3.5")
       .add("te", &O::temperature, "edge-process start temperature T_E", non_negative(), "Sec. 6.3.5")
       .add("te_cooling", &O::cooling, "T_E factor per outer iteration (annealing schedule)", {0, 1, true, false})
-      .add("edge_sweeps", &O::sweeps, "edge-process sweeps per outer iteration", at_least(1))
+      .add("edge_sweeps", &O::sweeps, "edge-process sweeps per outer iteration", between(1, 100))
       .add("quench", &O::quench, "last outer iteration: the edge process at T = 0 (labels exactly 0 or 1)")
       .add("phi0_start", &O::phi0_start_deg,
            "anneal the threshold from this angle (degrees) down to phi0 over the first half of the iterations; 0 = off",
@@ -106,12 +106,12 @@ const OptionTable<MrfOptions>& MrfOptions::table() {
       .add("tv", &O::temperature, "vertex-process start temperature T_v (Metropolis only)", non_negative(), "Sec. 6.3.5")
       .add("tv_cooling", &O::cooling, "T_v factor per outer iteration", {0, 1, true, false})
       .add("step", &O::step, "Metropolis proposal std. dev., mean edge lengths (adapted)", positive())
-      .add("iterations", &O::iterations, "outer iterations (edge process, then vertex process)", non_negative(), "Sec. 6.3.4")
+      .add("iterations", &O::iterations, "outer iterations (edge process, then vertex process)", between(0, 10000), "Sec. 6.3.4")
       .add("sweeps", &O::vertex_sweeps,
            "vertex sweeps (metropolis, icm) or line searches (cg, lbfgs) per outer iteration; 0 = 5, 2, 5, 5",
-           non_negative())
+           between(0, 100))
       .add("tolerance", &O::tolerance, "stop when labels are stable and U_V fell by less than this fraction", non_negative())
-      .add("final_sweeps", &O::final_sweeps, "vertex sweeps or line searches after the last alternation", non_negative())
+      .add("final_sweeps", &O::final_sweeps, "vertex sweeps or line searches after the last alternation", between(0, 10000))
       .add("final_phi0", &O::final_phi0_deg,
            "label the sharp edges once more on the denoised geometry with this threshold (degrees); 0 = off",
            angle_deg())
@@ -137,10 +137,10 @@ const OptionTable<MrfNormalOptions>& MrfNormalOptions::table() {
       .add("tv", &O::temperature, "normal-process start temperature (Metropolis only)", non_negative())
       .add("tv_cooling", &O::cooling, "its factor per outer iteration", {0, 1, true, false})
       .add("step", &O::step, "Metropolis proposal std. dev. of a normal, radians (adapted)", positive())
-      .add("iterations", &O::iterations, "outer iterations (edge process, then normal process)", non_negative())
-      .add("normal_sweeps", &O::normal_sweeps, "normal-process sweeps per outer iteration", at_least(1))
-      .add("vertex_iterations", &O::vertex_iterations, "iterations fitting the vertices to the normals", non_negative())
-      .add("rounds", &O::rounds, "rounds of (normal MRF, vertex fit)", at_least(1))
+      .add("iterations", &O::iterations, "outer iterations (edge process, then normal process)", between(0, 10000))
+      .add("normal_sweeps", &O::normal_sweeps, "normal-process sweeps per outer iteration", between(1, 100))
+      .add("vertex_iterations", &O::vertex_iterations, "iterations fitting the vertices to the normals", between(0, 1000))
+      .add("rounds", &O::rounds, "rounds of (normal MRF, vertex fit)", between(1, 100))
       .add("tolerance", &O::tolerance, "stop a round when labels are stable and U_N fell by less than this fraction",
            non_negative())
       .add("initial_labels", &O::initial_labels_from_angles,

@@ -33,7 +33,7 @@ const OptionTable<SurfelDenoiseOptions>& SurfelDenoiseOptions::table() {
            {0, 180, true, false}, "Sec. 7.4.3.4")
       .add("t_end", &O::t_end_deg, "last angle threshold t, degrees (reached exponentially)", {0, 180, true, false},
            "Sec. 7.4.3.4")
-      .add("iterations", &O::iterations, "threshold values (ICM iterations) from t_start down to t_end", non_negative(),
+      .add("iterations", &O::iterations, "threshold values (ICM iterations) from t_start down to t_end", between(0, 100000),
            "Sec. 7.4.3.5")
       .add("per_threshold", &O::per_threshold, "ICM sweeps at each threshold", between(1, 1000))
       .alias("surfel_per_threshold")

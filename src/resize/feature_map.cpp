@@ -33,7 +33,7 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
       .add("smoothing_scale", &O::smoothing_scale,
            "height: smoothing time of the base is (s R)^2, R the radius of a sphere of the same area", positive())
       .add("adf_t", &O::adf_t, "adf: diffusion time in units of 1/lambda_1", positive(), "Sec. 9.4 (Gebal et al. 2009)")
-      .add("eigenpairs", &O::eigenpairs, "adf: Laplace eigenpairs summed", at_least(2))
+      .add("eigenpairs", &O::eigenpairs, "adf: Laplace eigenpairs summed", between(2, 1000))
       .add("significance", &O::significance,
            "a maximum is a feature when it exceeds the median by this many robust standard deviations (1.4826 MAD)",
            non_negative())
@@ -44,11 +44,11 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
            "adf: meshes with more vertices get the spectrum of a simplification (0: never)", non_negative())
       .add("adf_vertices", &O::adf_vertices, "adf: vertices of that simplification", at_least(100))
       .add("adf_levels", &O::adf_levels, "adf: diffusion times tried, each half the last, inside regions too large",
-           at_least(1))
+           between(1, 30))
       .add("max_extent", &O::max_extent,
            "a region spanning more than this share of the model's extent along an axis is a part, not a feature",
            between(0, 1))
-      .add("dilate", &O::dilate, "grow the map by this many vertex rings", non_negative());
+      .add("dilate", &O::dilate, "grow the map by this many vertex rings", between(0, 10000));
   return t;
 }
 

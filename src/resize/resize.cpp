@@ -41,7 +41,7 @@ SpaceMap arc_map(double radius, double x0, double z0) {
 const OptionTable<SpaceMapOptions>& SpaceMapOptions::table() {
   using O = SpaceMapOptions;
   static const auto t = OptionTable<O>()
-      .add("scale", &O::scale, "anisotropic scale sx,sy,sz about the bounding-box centre", positive())
+      .add("scale", &O::scale, "anisotropic scale sx,sy,sz about the bounding-box centre", between(1e-6, 1e6))
       .add("twist", &O::twist, "twist about the x axis through the box centre, radians per unit length")
       .add("bend", &O::bend, "shear bend along x: z += K (x - x_centre)^2 / 2")
       .add("arc_radius", &O::arc_radius, "bend the x axis into an arc of this radius about the box centre (0: none)",
@@ -101,9 +101,9 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
       .add("frame_band", &O::frame_band,
            "sliding: a feature this many mean edge lengths from a box face reaches it (and is pushed to keep the box)",
            non_negative())
-      .add("refinements", &O::refinements, "sliding: extra re-projections onto the deformed surface", non_negative())
+      .add("refinements", &O::refinements, "sliding: extra re-projections onto the deformed surface", between(0, 10))
       .add("taper", &O::taper, "sliding: feature weights fall off linearly over this many vertex rings outside features",
-           non_negative())
+           between(0, 10000))
       .add("bend_features", &O::bend_features,
            "sliding: elongated features (ridges) bend with their base; false: every feature turns as one rigid piece")
       .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",

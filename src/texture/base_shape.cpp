@@ -30,13 +30,13 @@ const OptionTable<BaseShapeOptions>& BaseShapeOptions::table() {
            positive())
       .add("outlier", &O::outlier, "robust: protrusion bound, in robust standard deviations of the first fit's distances",
            positive())
-      .add("robust_passes", &O::robust_passes, "robust: reweighted fits after the first", non_negative())
+      .add("robust_passes", &O::robust_passes, "robust: reweighted fits after the first", between(0, 20))
       .add("project", &O::project, "robust: project textured vertices onto the fit along its Phong normals where it helps",
            {}, "Sec. 8.3.1, 5.2")
       .choice("laplacian", &O::laplacian, laplacian_names(), "smoothing: umbrella or cotan Laplacian", "Eq. (5.8), (5.11)")
       .add("lambda", &O::lambda, "smoothing: implicit step size", positive(), "Eq. (5.14)")
-      .add("steps", &O::steps, "smoothing: steps (0 = until the shape stops changing)", non_negative(), "Sec. 8.3.1")
-      .add("max_steps", &O::max_steps, "smoothing, automatic: at most this many steps", at_least(1))
+      .add("steps", &O::steps, "smoothing: steps (0 = until the shape stops changing)", between(0, 100000), "Sec. 8.3.1")
+      .add("max_steps", &O::max_steps, "smoothing, automatic: at most this many steps", between(1, 100000))
       .add("stop", &O::stop_tolerance,
            "smoothing, automatic: stop when a step moves no vertex more than this many mean edges", positive())
       .preset("thesis", "implicit umbrella smoothing until the shape stops changing (at most 30 steps), no projection",

@@ -37,16 +37,16 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            non_negative())
       .add("exemplar_direction", &O::exemplar_direction,
            "the exemplar's anchor: its tangent part at the exemplar centre is turned onto the target's field")
-      .add("scale", &O::scale, "target length per exemplar length (0: automatic from exemplar_share)", non_negative())
+      .add("scale", &O::scale, "target length per exemplar length (0: automatic from exemplar_share)", between(0, 1e9))
       .add("exemplar_share", &O::exemplar_share, "automatic scale: the exemplar disk's share of the target's area",
            {0, 1, true, false})
-      .add("height_scale", &O::height_scale, "multiply the displacements by this, on top of the scale", non_negative())
+      .add("height_scale", &O::height_scale, "multiply the displacements by this, on top of the scale", between(0, 1e6))
       .add("patch_radius", &O::patch_radius, "patch radius as a share of the exemplar disk's radius",
            {0, 0.9, true, false})
       .add("patch_spacing", &O::patch_spacing,
            "a patch is centred wherever a vertex is farther than this share of the patch radius from all centres",
            {0, 1, true, false})
-      .add("candidates", &O::candidates, "random exemplar placements compared per patch", at_least(1),
+      .add("candidates", &O::candidates, "random exemplar placements compared per patch", between(1, 1000),
            "Efros and Freeman 2001")
       .add("match_tolerance", &O::match_tolerance,
            "choose at random among placements whose overlap cost is within (1 + this) of the best", non_negative())
@@ -759,6 +759,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
       std::vector<int> good;
       for (int q = 0; q < o.candidates; ++q)
         if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
+      if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
       const int pick = good[rng.below(good.size())];
       t = ts[pick];
       std::vector<int> rest;  // then the others, best first

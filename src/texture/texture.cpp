@@ -300,7 +300,8 @@ Texture height_field_only(const Texture& texture) {
 const OptionTable<TextureApplyOptions>& TextureApplyOptions::table() {
   using O = TextureApplyOptions;
   static const auto t = OptionTable<O>()
-      .add("height_scale", &O::height_scale, "multiply every height by this (negative: bumps become dents)")
+      .add("height_scale", &O::height_scale, "multiply every height by this (negative: bumps become dents)",
+           between(-1e6, 1e6))
       .add("height_only", &O::height_only, "drop the tilt: a plain height field along the normals", {}, "Eq. (8.5)");
   return t;
 }
@@ -490,7 +491,7 @@ const OptionTable<TextureEditOptions>& TextureEditOptions::table() {
       .add("wavelength", &O::wavelength, "wiggle: wavelength along the direction (0: a quarter of the box diagonal)",
            non_negative())
       .add("phase", &O::phase, "wiggle: phase in wavelengths")
-      .add("factor", &O::factor, "scale-height: the factor")
+      .add("factor", &O::factor, "scale-height: the factor", between(-1e6, 1e6))
       .nest(&O::texture, TextureOptions::table())
       .preset("thesis", "the thesis' encoding and fit of the edited tilt (Eq. 8.6-8.8, 5.81; Sec. 8.5)",
               [](O& o) { TextureOptions::table().apply_preset(o.texture, "thesis"); });
@@ -525,7 +526,7 @@ const OptionTable<AnimationOptions>& AnimationOptions::table() {
   static const auto t = OptionTable<O>()
       .choice("op", &O::kind, animation_kind_names(),
               "wiggle (travelling wave), wrap (sway back and forth) or grow (heights 0 -> 1 -> 0)", "Sec. 8.4.1")
-      .add("frames", &O::frames, "number of frames (one period)", at_least(1))
+      .add("frames", &O::frames, "number of frames (one period)", between(1, 100000))
       .add("direction", &O::direction, "direction the texture leans or the wave travels (projected onto each tangent plane)")
       .add("angle", &O::angle_deg, "degrees: wave amplitude or sway angle at the highest point", any_value())
       .add("wavelength", &O::wavelength, "wiggle: wavelength along the direction (0: a quarter of the box diagonal)",

@@ -25,12 +25,12 @@ const OptionTable<AtlasOptions>& AtlasOptions::table() {
       .add("target_direction", &O::target_direction,
            "orientation field on the target: each disk's anchor is this direction's tangent part at its centre")
       .add("spacing", &O::spacing, "disk centres until every vertex is within this share of the radius of one",
-           {0, 1, true, false})
+           between(0.05, 1))  // below, a disk per vertex or so: a conformal map each, for no visible change
       .add("blend_power", &O::blend_power,
            "overlapping disks are averaged with weights (1 - |z|^2)^(2p): large p, narrow blends", at_least(1))
       .choice("height_rule", &O::height_rule, height_rule_names(),
               "patch-radius (heights times target/source radius) or absolute (model units)")
-      .add("height_scale", &O::height_scale, "multiply the heights by this, on top of the height rule", non_negative())
+      .add("height_scale", &O::height_scale, "multiply the heights by this, on top of the height rule", between(0, 1e6))
       .add("refine_ratio", &O::refine_ratio,
            "refine the target where its edges exceed this times the source's scaled to it (0: never)", non_negative())
       .nest(&O::geodesic, HeatGeodesicOptions::table())

@@ -37,7 +37,7 @@ const OptionTable<TransferOptions>& TransferOptions::table() {
       .add("rotation", &O::rotation_deg, "then turn the source about its centre by this many degrees")
       .choice("height_rule", &O::height_rule, height_rule_names(),
               "patch-radius (heights times target/source radius) or absolute (model units, the thesis)")
-      .add("height_scale", &O::height_scale, "multiply the heights by this, on top of the height rule", non_negative())
+      .add("height_scale", &O::height_scale, "multiply the heights by this, on top of the height rule", between(0, 1e6))
       .add("falloff", &O::falloff, "width of the smooth rim falloff, as a share of the radius (0: none)", unit_interval())
       .add("refine_ratio", &O::refine_ratio,
            "refine the target patch where its edges exceed this times the source's scaled to it (0: never)",

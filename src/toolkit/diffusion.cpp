@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <Eigen/Eigenvalues>
 #include <Spectra/SymEigsShiftSolver.h>
 
 #include "geotex/core/error.h"
@@ -16,7 +17,7 @@ const OptionTable<DiffusionOptions>& DiffusionOptions::table() {
   static const auto t = OptionTable<O>()
       .add("t", &O::t, "diffusion time in units of 1/lambda_1 (small t shows small features)", positive(),
            "Sec. 9.4 (Gebal et al. 2009)")
-      .add("eigenpairs", &O::eigenpairs, "number of Laplace eigenpairs summed", at_least(2));
+      .add("eigenpairs", &O::eigenpairs, "number of Laplace eigenpairs summed", between(2, 1000));
   return t;
 }
 
@@ -48,6 +49,20 @@ class ShiftInvertOp {
   SpdSolver solver_;
 };
 
+// φ = M^{-1/2} y (M-orthonormal), with φ = 0 at the isolated vertices left out of the solve.
+LaplaceSpectrum finish_spectrum(LaplaceSpectrum s, const Eigen::MatrixXd& y, const Eigen::VectorXd& m,
+                                const std::vector<int>& keep, int n_all) {
+  const int n = static_cast<int>(keep.size());
+  const Eigen::MatrixXd phi = m.cwiseSqrt().cwiseInverse().asDiagonal() * y;  // φ = M^{-1/2} y, M-orthonormal
+  if (n == n_all) {
+    s.vectors = phi;
+  } else {
+    s.vectors = Eigen::MatrixXd::Zero(n_all, phi.cols());
+    for (int k = 0; k < n; ++k) s.vectors.row(keep[k]) = phi.row(k);
+  }
+  return s;
+}
+
 }  // namespace
 
 LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
@@ -78,6 +93,20 @@ LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
     for (int k = 0; k < n; ++k) mk[k] = m[keep[k]];
     m = mk;
   }
+  LaplaceSpectrum s;
+  Eigen::MatrixXd y;  // orthonormal eigenvectors of M^{-1/2} K M^{-1/2}
+  if (2 * count > n) {
+    // Most of the spectrum of a small mesh: a dense solve (n < 2000 here, as count <= 1000) is both
+    // faster and surer than Lanczos with a subspace as large as the matrix.
+    const Eigen::VectorXd r = m.cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd A = r.asDiagonal() * Eigen::MatrixXd(K) * r.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(A);
+    if (dense.info() != Eigen::Success)
+      throw SolverError(fmt::format("Laplace eigenproblem: the dense solver failed for {} eigenpairs", count));
+    s.values = dense.eigenvalues().head(count);  // ascending
+    y = dense.eigenvectors().leftCols(count);
+    return finish_spectrum(std::move(s), y, m, keep, n_all);
+  }
   // All λ ≥ 0: a small negative shift makes K − σM positive definite and picks the smallest λ.
   const double sigma = -1e-6 * (K.diagonal().array() / m.array()).mean();
   ShiftInvertOp op(K, m);
@@ -87,18 +116,11 @@ LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
   eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10, Spectra::SortRule::SmallestAlge);
   if (eigs.info() != Spectra::CompInfo::Successful)
     throw SolverError(fmt::format("Laplace eigenproblem: Lanczos did not converge for {} eigenpairs", count));
-  LaplaceSpectrum s;
   s.values = eigs.eigenvalues();
-  const Eigen::MatrixXd y = eigs.eigenvectors();              // orthonormal
-  const Eigen::MatrixXd phi = m.cwiseSqrt().cwiseInverse().asDiagonal() * y;  // φ = M^{-1/2} y, M-orthonormal
-  if (n == n_all) {
-    s.vectors = phi;
-  } else {
-    s.vectors = Eigen::MatrixXd::Zero(n_all, phi.cols());
-    for (int k = 0; k < n; ++k) s.vectors.row(keep[k]) = phi.row(k);
-  }
-  return s;
+  y = eigs.eigenvectors();
+  return finish_spectrum(std::move(s), y, m, keep, n_all);
 }
+
 
 Eigen::VectorXd auto_diffusion_function(const LaplaceSpectrum& s, double t) {
   if (!(t > 0)) throw InvalidInput("diffusion time t must be positive");

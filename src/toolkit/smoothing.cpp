@@ -17,7 +17,7 @@ const OptionTable<SmoothingOptions>& SmoothingOptions::table() {
       .alias("explicit", "false")
       .add("lambda", &O::lambda, "step size: dimensionless for umbrella; in squared mean edge lengths for cotan",
            positive(), "Eq. (5.12), (5.14)")
-      .add("steps", &O::steps, "number of steps", non_negative())
+      .add("steps", &O::steps, "number of steps", between(0, 100000))
       .choice("mass", &O::mass, mass_names(), "cotan mass matrix: voronoi, barycentric, or thesis (Eq. 5.11 verbatim)", "Eq. (5.11)")
       .add("fix_boundary", &O::fix_boundary, "keep boundary vertices where they are (open meshes)")
       .alias("move_boundary", "false")
