@@ -263,6 +263,30 @@ def test_class4_nan_and_inf_options_are_refused(tmp_path):
             assert result in ("refused", "finite"), line  # 1e308: refused or a finite result
 
 
+def test_class4_counts_and_scale_factors_have_bounds():
+    # The same option tables as the CLI: a count of 1e9 (frames: 6 GB in 15 s; eigenpairs, edge sweeps:
+    # hours) or a height scale of 1e200 (texture_synthesize crashed) is refused before any work.
+    V, F = geotex.generate("sphere", level=0)
+    Vp, Fp = geotex.generate("spiky-plane", level=0)
+    tex = geotex.texture_extract(Vp, Fp)
+    calls = {
+        "texture_animate frames": lambda: geotex.texture_animate(tex, frames=10**9),
+        "auto_diffusion_function eigenpairs": lambda: geotex.auto_diffusion_function(V, F, eigenpairs=10**9),
+        "denoise_mrf edge_sweeps": lambda: geotex.denoise_mrf(V, F, edge_sweeps=10**9),
+        "resize dilate": lambda: geotex.resize(V, F, scale=(2, 1, 1), dilate=10**9),
+        "texture_synthesize candidates": lambda: geotex.texture_synthesize(tex, (V, F), candidates=10**9),
+        "texture_synthesize height_scale": lambda: geotex.texture_synthesize(tex, (V, F), height_scale=1e200),
+        "texture_transfer height_scale": lambda: geotex.texture_transfer(tex, (V, F), source_radius=0.5,
+                                                                         target_radius=0.3, height_scale=1e200),
+    }
+    for name, call in calls.items():
+        with pytest.raises(ValueError, match="range"):
+            call()
+    # At the bound: computed, finite.
+    r = geotex.texture_synthesize(tex, (V, F), height_scale=1e6, candidates=4)
+    assert np.isfinite(r.V).all()
+
+
 # ---- class 5: encodings and array conversion -----------------------------------------------------
 
 def test_class5_encodings_and_arrays_are_read_exactly(tmp_path):
