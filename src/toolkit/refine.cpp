@@ -63,7 +63,7 @@ RefineResult refine_region(const Mesh& input, const std::vector<char>& region, c
     ++r.added;
     for (auto hh : m.voh_range(vm)) consider(m.edge_handle(hh));
   }
-  if (o.fair && r.added > 0) {
+  if (o.fair && r.added > 0 && !r.capped) {  // a capped refinement is unfinished: the caller decides
     // Bi-Laplacian fairing of the new vertices (indices ≥ n0) with the old ones fixed: minimise
     // ‖G X‖² = Xᵀ K D⁻¹ K X, G = D^{-1/2} K, K = D − A, over the new rows: the least-squares problem
     // G_n X_n ≈ −G_o X_o (G's columns of the new and old vertices). It also relaxes their spacing

@@ -29,7 +29,7 @@ struct RefineResult {
   Mesh mesh;              //!< the refined mesh: the input's vertices first, in order, then the new ones
   size_t added = 0;       //!< vertices added
   std::vector<char> region;  //!< per vertex of \ref mesh: in the region (new vertices inherit it from both parents)
-  bool capped = false;    //!< RefineOptions::max_vertices stopped the refinement
+  bool capped = false;    //!< RefineOptions::max_vertices stopped the refinement (then nothing is faired)
 };
 
 //! Split the edges longer than options.max_edge with at least one end in \p region (#V flags) until
