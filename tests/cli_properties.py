@@ -158,7 +158,8 @@ def commands(mesh, aux):
         ("resize", ["resize", mesh, "-o", "OUT/r.obj"], ["OUT/r.obj"]),
         ("resize x2 adf", ["resize", mesh, "--scale", "2,1,1", "--features", "adf", "--save-features", "OUT/w.txt",
                            "-o", "OUT/r.obj"], ["OUT/r.obj", "OUT/w.txt"]),
-        ("resize thesis", ["resize", mesh, "--scale", "1,1,0.5", "--preset", "thesis", "-o", "OUT/r.obj"], ["OUT/r.obj"]),
+        ("resize thesis", ["resize", mesh, "--scale", "1,1,0.5", "--preset", "thesis", "-o", "OUT/r.obj"],
+         ["OUT/r.obj"]),
         ("texture extract+apply", ["texture", "extract", mesh, "-o", "OUT/t.ply"], ["OUT/t.ply"]),
         ("texture extract+edit", ["texture", "extract", mesh, "-o", "OUT/t.ply"], ["OUT/t.ply"],
          ["texture", "edit", "OUT/t.ply", "--op", "wrap", "-o", "OUT/e.ply", "--mesh", "OUT/em.obj"],
@@ -208,7 +209,7 @@ def run(geotex, args, env):
 def error_lines(stderr):
     return [l for l in stderr.splitlines()
             if l.strip() and not l.startswith("geotex: warning: ") and not l.startswith("geotex: note: ")
-            and not l.startswith("geotex: stats: ") and not l.startswith("wrote ") and not l.startswith("read ") and "\r" not in l and "%" not in l]
+            and not l.startswith(("geotex: stats: ", "wrote ", "read ")) and "\r" not in l and "%" not in l]
 
 
 def check_mesh_obj(path):

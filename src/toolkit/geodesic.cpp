@@ -130,7 +130,7 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
   // C φ = div needs Σ div = 0 over each component; on an open surface the boundary flux is left over.
   // Spread it in proportion to the masses (what (εM − C) φ = −div does as ε → 0), then solve with
   // φ = 0 at each component's root.
-  const int ncomp = static_cast<int>(m.roots.size());
+  const int ncomp = m.component.size() ? m.component.maxCoeff() + 1 : 0;
   std::vector<double> flux(ncomp, 0.0), mass(ncomp, 0.0);
   for (int i = 0; i < m.n; ++i) {
     flux[m.component[i]] += div[i];
