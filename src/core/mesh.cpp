@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <unordered_set>
 
 #include <fmt/format.h>
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
 #include "geotex/core/mesh_repair.h"
 
 namespace geotex {
@@ -140,17 +140,14 @@ Mesh make_mesh(const MatrixX3d& V, const MatrixX3i& F, BuildReport* report, cons
 
 void require_valid(const Mesh& mesh, const char* what) {
   if (mesh.n_faces() == 0) throw InvalidInput(fmt::format("{} has no faces", what));
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw InvalidInput(fmt::format("{}: vertex {} has a non-finite coordinate", what, v.idx()));
-    const Vec3 x(p[0], p[1], p[2]);
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
   }
-  const double reach = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
-  const double extent = (hi - lo).norm();  // finite: each side is at most 2 kMaxCoordinate here
+  const BoundingBox box = bounding_box(mesh);
+  const double reach = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  const double extent = box.diagonal();  // finite: each side is at most 2 kMaxCoordinate here
   if (reach > kMaxCoordinate)
     throw InvalidInput(fmt::format("{}: coordinates reach {:.3g}; geotex computes with lengths up to {:g} (fourth "
                                    "powers of larger ones overflow): scale the mesh down",
