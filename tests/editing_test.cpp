@@ -198,9 +198,10 @@ TEST(Editing, RejectsBadHandles) {
   EXPECT_THROW(LaplacianEditor(m, {3, 3}), InvalidInput);
   EXPECT_THROW(LaplacianEditor(m, {1, 2}, {1.0, -1.0}), InvalidInput);
   EXPECT_THROW(LaplacianEditor(m, {1, 2}, {1.0}), InvalidInput);
-  // One vertex fixes the translation only; the linear method also needs the rotation and scale pinned.
+  // One vertex fixes the translation only; the linear method's free rotation and scale are anchored
+  // (LinearMethodWithTooFewHandlesHasOneDefinedResult).
   EXPECT_NO_THROW(LaplacianEditor(m, {7}, {}, {EditMethod::Plain}));
-  EXPECT_THROW(LaplacianEditor(m, {7}, {}, {EditMethod::Linear}), SolverError);
+  EXPECT_NO_THROW(LaplacianEditor(m, {7}, {}, {EditMethod::Linear}));
   const LaplacianEditor ed(m, {1, 2}, {}, {EditMethod::Plain});
   EXPECT_THROW(ed.solve(MatrixX3d::Zero(3, 3)), InvalidInput);
 }
@@ -272,4 +273,102 @@ TEST(Editing, AFanOfThousandsIsEditedInLinearMemory) {
   EXPECT_GT(Y(0, 2), 0.2);  // the centre went up with its handle
   o.method = EditMethod::Linear;
   EXPECT_TRUE(laplacian_edit(fan, handles, targets, o).allFinite());
+}
+
+namespace {
+
+// Two disjoint copies of \p m, the second shifted by \p offset.
+Mesh two_copies(const Mesh& m, const Vec3& offset) {
+  Mesh out = m;
+  const int n = static_cast<int>(m.n_vertices());
+  for (auto v : m.vertices()) {
+    const auto& p = m.point(v);
+    out.add_vertex(Mesh::Point(p[0] + offset.x(), p[1] + offset.y(), p[2] + offset.z()));
+  }
+  for (auto f : m.faces()) {
+    std::vector<Mesh::VertexHandle> vs;
+    for (auto v : f.vertices()) vs.push_back(out.vertex_handle(v.idx() + n));
+    out.add_face(vs);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Issue 33: fewer than three non-collinear handles leave the linear method's system exactly singular
+// (rotation about the handles' axis, or rotation and scale about one handle). The outcome is decided
+// on the input, so it is the same whatever BLAS kernel factors it: the rest shape moved by the
+// handles' own similarity (x -> c_a + s Q (x - x_a), Q the minimal rotation taking the extreme handles'
+// rest difference to their targets'), which has zero energy and meets every handle exactly.
+TEST(Editing, LinearMethodWithTooFewHandlesHasOneDefinedResult) {
+  const Mesh sphere = icosphere(0);
+  const MatrixX3d X = positions(sphere);
+  const double diag = bounding_box(sphere).diagonal();
+  auto moved = [&](const std::vector<int>& h, const MatrixX3d& C) {
+    return LaplacianEditor(sphere, h, {}, {EditMethod::Linear}).solve(C);
+  };
+  // One handle: a translation.
+  {
+    const Vec3 t(0.01, -0.02, 0.03);
+    const MatrixX3d Y = moved({0}, X.row(0) + t.transpose());
+    EXPECT_LT((Y - (X.rowwise() + t.transpose())).cwiseAbs().maxCoeff(), 1e-6 * diag);
+  }
+  // Two handles moved alike (the issue's call): the same translation.
+  {
+    MatrixX3d C(2, 3);
+    C << X.row(0).array() + 0.01, X.row(1).array() + 0.01;
+    const MatrixX3d Y = moved({0, 1}, C);
+    EXPECT_LT((Y.array() - X.array() - 0.01).abs().maxCoeff(), 1e-6 * diag);
+  }
+  // Two handles moved apart along their axis: the scale of the stated rule, and no turn about the axis
+  // (a uniformly scaled shape has zero energy: T_i = s I is in the linear family exactly; a finite
+  // rotation is not, Sorkine et al.'s linearisation).
+  {
+    MatrixX3d C(2, 3);
+    C.row(0) = X.row(0) + Eigen::RowVector3d(0.1, 0, 0);
+    C.row(1) = C.row(0) + 1.2 * (X.row(1) - X.row(0));
+    MatrixX3d expect(X.rows(), 3);
+    for (Eigen::Index i = 0; i < X.rows(); ++i) expect.row(i) = C.row(0) + 1.2 * (X.row(i) - X.row(0));
+    const MatrixX3d Y = moved({0, 1}, C);
+    EXPECT_LT((Y - expect).cwiseAbs().maxCoeff(), 1e-6 * diag);
+  }
+  // Turned about another axis: finite, and the handles land (the rest is the linearisation's).
+  {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Vec3(0.3, -1, 0.2).normalized()).toRotationMatrix();
+    MatrixX3d C(2, 3);
+    C.row(0) = X.row(0);
+    C.row(1) = C.row(0) + (R * (X.row(1) - X.row(0)).transpose()).transpose();
+    const MatrixX3d Y = moved({0, 1}, C);
+    ASSERT_TRUE(Y.allFinite());
+    EXPECT_LT((Y.topRows(2) - C).cwiseAbs().maxCoeff(), 1e-2 * diag);
+  }
+  // Three collinear handles on a plane, translated: a translation.
+  {
+    const Mesh p = plane(6);
+    const MatrixX3d P = positions(p);
+    std::vector<int> line;
+    for (Eigen::Index i = 0; i < P.rows() && line.size() < 3; ++i)
+      if (std::abs(P(i, 1) - P(0, 1)) < 1e-12) line.push_back(static_cast<int>(i));
+    ASSERT_EQ(line.size(), 3u);
+    MatrixX3d C(3, 3);
+    for (int k = 0; k < 3; ++k) C.row(k) = P.row(line[k]) + Eigen::RowVector3d(0, 0, 0.2);
+    const MatrixX3d Y = LaplacianEditor(p, line, {}, {EditMethod::Linear}).solve(C);
+    EXPECT_LT((Y.col(2).array() - P.col(2).array() - 0.2).abs().maxCoeff(), 1e-6);
+    EXPECT_LT((Y.leftCols(2) - P.leftCols(2)).cwiseAbs().maxCoeff(), 1e-6);
+  }
+}
+
+TEST(Editing, AComponentWithoutAHandleIsNamedBeforeFactoring) {
+  const Mesh m = two_copies(icosphere(1), Vec3(3, 0, 0));
+  for (EditMethod method : kMethods) {
+    try {
+      LaplacianEditor(m, {0, 1, 2}, {}, {method});
+      ADD_FAILURE() << name(method) << ": no error";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("component 2 of 2"), std::string::npos) << e.what();
+    }
+  }
+  // One handle in each: fine for every method.
+  const int n = static_cast<int>(icosphere(1).n_vertices());
+  for (EditMethod method : kMethods) EXPECT_NO_THROW(LaplacianEditor(m, {0, n}, {}, {method})) << name(method);
 }

@@ -144,3 +144,28 @@ TEST(LeastSquaresSolver, FanBiLaplacianWithTinyWeightsAfterRefactorMatchesDenseS
     EXPECT_LT((A * X - B).norm(), 1e-7 * B.norm());
   }
 }
+
+// Issue 33: an exactly singular matrix is refused whatever rounding does to its last pivot (a
+// factorization may fail, or "succeed" with a pivot of round-off size: both are a SolverError).
+TEST(SpdSolver, NumericallySingularMatrixIsRefusedOnEveryKernel) {
+  for (int n : {4, 50, 2000}) {
+    // The path graph's Laplacian (rows sum to zero): singular, with the constants as null space.
+    std::vector<Triplet> t;
+    for (int i = 0; i + 1 < n; ++i) {
+      t.emplace_back(i, i, 1.0);
+      t.emplace_back(i + 1, i + 1, 1.0);
+      t.emplace_back(i, i + 1, -1.0);
+      t.emplace_back(i + 1, i, -1.0);
+    }
+    SparseMatrix A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    SpdSolver s;
+    EXPECT_THROW(s.compute(A), SolverError) << n;
+    // Pinned at one end it is SPD (its smallest pivot relative to the diagonal is ~1/n, far above the
+    // threshold) and solves.
+    A.coeffRef(0, 0) += 1.0;
+    ASSERT_NO_THROW(s.compute(A)) << n;
+    const Eigen::VectorXd b = Eigen::VectorXd::Ones(n);
+    EXPECT_LT((A * s.solve(b) - b).norm(), 1e-8 * n) << n;
+  }
+}

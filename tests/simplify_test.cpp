@@ -1,6 +1,7 @@
 // Simplification (toolkit/simplify.h): a coarse mesh whose vertices are input vertices, and the
 // harmonic extension of values known there.
 
+#include <cmath>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -72,4 +73,23 @@ TEST(Simplify, HarmonicExtensionAveragesNeighboursAndKeepsItsBounds) {
     EXPECT_NEAR(x(v.idx(), 0), sum / k, 1e-9);
   }
   EXPECT_THROW(extend_harmonic(m, {0, 1}, Eigen::MatrixXd::Zero(3, 1)), InvalidInput);
+}
+
+TEST(ExtendHarmonic, AComponentWithoutKnownVerticesIsRefusedByName) {
+  // Two disjoint triangles' fans: values known on the first only. Decided before any factorization.
+  Mesh m;
+  std::vector<Mesh::VertexHandle> v;
+  for (int k = 0; k < 8; ++k) v.push_back(m.add_vertex(Mesh::Point(k % 4 == 0 ? 0 : std::cos(k), std::sin(k), k / 4)));
+  m.add_face(v[0], v[1], v[2]);
+  m.add_face(v[0], v[2], v[3]);
+  m.add_face(v[4], v[5], v[6]);
+  m.add_face(v[4], v[6], v[7]);
+  try {
+    extend_harmonic(m, {0}, Eigen::MatrixXd::Ones(1, 1));
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("component 2 of 2"), std::string::npos) << e.what();
+  }
+  const Eigen::MatrixXd x = extend_harmonic(m, {0, 4}, Eigen::MatrixXd::Ones(2, 1));
+  EXPECT_NEAR((x.array() - 1).abs().maxCoeff(), 0.0, 1e-12);
 }

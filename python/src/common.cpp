@@ -226,6 +226,7 @@ CallOptions call_options(py::dict& kw) {
         py::gil_scoped_acquire gil;
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         (*holder)(fraction, std::string(stage));
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // a signal the callback raised
       };
     }
   } else {
@@ -236,6 +237,11 @@ CallOptions call_options(py::dict& kw) {
     };
   }
   return c;
+}
+
+void raise_pending_signals() {
+  // Handlers run only in the main thread; elsewhere this is a no-op and the signal waits for it.
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
 }
 
 ThreadScope::ThreadScope(std::optional<int> threads) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
@@ -148,12 +149,29 @@ class ThreadScope {
   bool set_ = false;
 };
 
-//! Run \p f without the GIL and with the requested thread count; exceptions propagate.
+//! Raise a signal that arrived during a call (KeyboardInterrupt for Ctrl-C) once the GIL is held again:
+//! a SIGINT raised at or after the last progress report, or in a call that reports none, is not lost.
+void raise_pending_signals();
+
+//! Run \p f without the GIL and with the requested thread count; exceptions propagate, and a signal that
+//! arrived during the call is raised before any result is returned.
 template <class F>
 auto run(const CallOptions& call, F&& f) -> decltype(f()) {
   ThreadScope threads(call.threads);
-  py::gil_scoped_release release;
-  return f();
+  if constexpr (std::is_void_v<decltype(f())>) {
+    {
+      py::gil_scoped_release release;
+      f();
+    }
+    raise_pending_signals();
+  } else {
+    auto result = [&] {
+      py::gil_scoped_release release;
+      return f();
+    }();
+    raise_pending_signals();
+    return result;
+  }
 }
 
 // One bind_* per topic.

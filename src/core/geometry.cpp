@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <fmt/format.h>
+
 namespace geotex {
 
 namespace {
@@ -151,6 +153,31 @@ Eigen::VectorXi connected_components(const Mesh& mesh, int* n_components) {
   }
   if (n_components) *n_components = k;
   return comp;
+}
+
+std::string component_without(const Mesh& mesh, const std::vector<int>& pinned) {
+  int k = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &k);
+  std::vector<char> held(k, 0);
+  for (int v : pinned)
+    if (v >= 0 && v < comp.size()) held[comp[v]] = 1;
+  std::vector<int> size(k, 0), first(k, -1);
+  for (auto v : mesh.vertices()) {
+    if (mesh.is_isolated(v)) continue;
+    const int c = comp[v.idx()];
+    if (size[c]++ == 0) first[c] = v.idx();
+  }
+  int counted = 0, index = -1, missing = -1;
+  for (int c = 0; c < k; ++c) {
+    if (size[c] == 0) continue;  // an isolated vertex
+    ++counted;
+    if (!held[c] && missing < 0) {
+      missing = c;
+      index = counted;
+    }
+  }
+  if (missing < 0) return {};
+  return fmt::format("component {} of {} ({} vertices, e.g. vertex {})", index, counted, size[missing], first[missing]);
 }
 
 int euler_characteristic(const Mesh& mesh) {

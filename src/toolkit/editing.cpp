@@ -4,9 +4,11 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 
 #include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
 
 namespace geotex {
 
@@ -61,7 +63,99 @@ Eigen::MatrixX3d gather(const MatrixX3d& X, const int* ids, int k) {
   return P;
 }
 
+// Largest distance from p to the line through a with unit direction u (u = 0: to the point a), and the
+// vertex of \p ids that attains it; ties (within 1e-9 of the largest) go to the lowest index, so that
+// a symmetric mesh picks the same vertex on every machine.
+int farthest_vertex(const MatrixX3d& X, const std::vector<int>& ids, const Vec3& a, const Vec3& u, double* dist) {
+  auto distance = [&](int v) {
+    const Vec3 d = X.row(v).transpose() - a;
+    return (d - d.dot(u) * u).norm();
+  };
+  double best = -1;
+  for (int v : ids) best = std::max(best, distance(v));
+  int pick = -1;
+  for (int v : ids)
+    if (distance(v) >= best - 1e-9 * std::abs(best) && (pick < 0 || v < pick)) pick = v;
+  if (dist) *dist = best;
+  return pick;
+}
+
 }  // namespace
+
+std::vector<LaplacianEditor::Anchor> LaplacianEditor::anchors(const Mesh& mesh) const {
+  // The linear method's T_i leave the whole similarity group free (Sorkine et al. 2004): translations,
+  // rotations and scale map rest solutions to rest solutions. Handles pin it only when a component has
+  // three non-collinear ones; otherwise the system is exactly singular and a factorization would
+  // decide by rounding. Stated rule, the same on every machine: the component's vertex farthest from the
+  // handles' line (one handle, or handles within 1e-3 of the component's size: the two farthest
+  // vertices) gets a weak pin (1e-4 of the handles' mean weight²) at the place the handles' own
+  // similarity takes it (minimal rotation taking the two extreme handles to their targets, and its
+  // scale; a translation for a single handle).
+  std::vector<Anchor> out;
+  int k = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &k);
+  std::vector<std::vector<int>> members(k), held(k);  // vertices; indices into handles_
+  for (auto v : mesh.vertices())
+    if (!mesh.is_isolated(v)) members[comp[v.idx()]].push_back(v.idx());
+  for (size_t h = 0; h < handles_.size(); ++h) held[comp[handles_[h]]].push_back(static_cast<int>(h));
+  double mean_w2 = 0;
+  for (double w : w2_) mean_w2 += w / static_cast<double>(w2_.size());
+  for (int c = 0; c < k; ++c) {
+    if (members[c].empty() || held[c].empty()) continue;
+    Vec3 lo = X_.row(members[c][0]).transpose(), hi = lo;
+    for (int v : members[c]) {
+      lo = lo.cwiseMin(X_.row(v).transpose());
+      hi = hi.cwiseMax(X_.row(v).transpose());
+    }
+    const double tol = 1e-3 * (hi - lo).norm();
+    const int a = held[c][0];
+    const Vec3 xa = X_.row(handles_[a]).transpose();
+    // The handle farthest from the first one, then the largest distance of any handle from their line.
+    int b = a;
+    double ab = 0;
+    for (int h : held[c]) {
+      const double d = (X_.row(handles_[h]).transpose() - xa).norm();
+      if (d > ab) { ab = d; b = h; }
+    }
+    if (ab <= tol) {  // one point: translation by the handles' mean displacement; two anchors
+      Anchor first{-1, a, -1, 1e-4 * mean_w2};
+      first.vertex = farthest_vertex(X_, members[c], xa, Vec3::Zero(), nullptr);
+      const Vec3 u = (X_.row(first.vertex).transpose() - xa).normalized();
+      Anchor second = first;
+      second.vertex = farthest_vertex(X_, members[c], xa, u, nullptr);
+      for (Anchor* an : {&first, &second}) {
+        an->handles.assign(held[c].begin(), held[c].end());
+        out.push_back(*an);
+      }
+      continue;
+    }
+    const Vec3 u = (X_.row(handles_[b]).transpose() - xa) / ab;
+    double off_line = 0;
+    for (int h : held[c]) {
+      const Vec3 d = X_.row(handles_[h]).transpose() - xa;
+      off_line = std::max(off_line, (d - d.dot(u) * u).norm());
+    }
+    if (off_line > tol) continue;  // three non-collinear handles: pinned
+    Anchor an{farthest_vertex(X_, members[c], xa, u, nullptr), a, b, 1e-4 * mean_w2};
+    out.push_back(an);
+  }
+  return out;
+}
+
+Vec3 LaplacianEditor::anchor_target(const Anchor& an, const MatrixX3d& C) const {
+  const Vec3 p = X_.row(an.vertex).transpose();
+  if (an.b < 0) {  // translation by the mean displacement of the handles
+    Vec3 t = Vec3::Zero();
+    for (int h : an.handles) t += (C.row(h) - X_.row(handles_[h])).transpose();
+    return p + t / static_cast<double>(an.handles.size());
+  }
+  const Vec3 xa = X_.row(handles_[an.a]).transpose(), xb = X_.row(handles_[an.b]).transpose();
+  const Vec3 ca = C.row(an.a).transpose(), cb = C.row(an.b).transpose();
+  const Vec3 d0 = xb - xa, d1 = cb - ca;
+  if (!(d1.norm() > 0)) return ca;
+  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(d0, d1);
+  return ca + (d1.norm() / d0.norm()) * (q * (p - xa));
+}
 
 Similarity fit_similarity(const Eigen::MatrixX3d& P, const Eigen::MatrixX3d& Q, bool allow_scale) {
   if (P.rows() != Q.rows() || P.rows() == 0) throw InvalidInput("fit_similarity: P and Q need the same, non-zero row count");
@@ -129,17 +223,35 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
     w2_[h] = w * w;
   }
 
+  // Decided on the input, before any factorization (issue 33): every component needs a handle.
+  if (const std::string c = component_without(mesh, handles_); !c.empty())
+    throw InvalidInput(fmt::format("the handles do not pin the mesh: {} holds no handle vertex; give every "
+                                   "connected component a handle", c));
   X_ = positions(mesh);
   L_ = editing_laplacian(mesh, options.laplacian);
   D_ = L_ * X_;  // Eq. (5.16)
-  const std::string pin_msg =
-      "the handles do not pin the mesh: every connected component needs a handle"
-      " (and, for the linear method, three non-collinear handle vertices)";
+  // Isolated vertices (zero Laplacian rows) stay where they are; the linear method's free similarities
+  // are fixed by weak anchors (anchors()).
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v) && !seen[v.idx()]) isolated_.push_back(v.idx());
+  if (options.method == EditMethod::Linear) anchors_ = anchors(mesh);
+  if (options.method == EditMethod::MembraneFit) {
+    // The membrane of fewer than three non-collinear handles is a point or a line: the rotations fitted
+    // to it would be decided by rounding. There the details keep their rest frame (the plain method).
+    const Eigen::VectorXi comp = connected_components(mesh);
+    std::vector<char> bad(comp.size() ? comp.maxCoeff() + 1 : 0, 0);
+    for (const Anchor& an : anchors(mesh)) bad[comp[an.vertex]] = 1;
+    rest_frame_.assign(n, 0);
+    for (int v = 0; v < n; ++v) rest_frame_[v] = bad[comp[v]];
+  }
+  const std::string pin_msg = "the handles do not pin the mesh";
 
-  SparseMatrix Wd(n, n);  // W² on the handle rows
+  SparseMatrix Wd(n, n);  // W² on the handle rows (and the isolated vertices' and anchors')
   {
     std::vector<Triplet> t;
     for (size_t h = 0; h < handles_.size(); ++h) t.emplace_back(handles_[h], handles_[h], w2_[h]);
+    for (int v : isolated_) t.emplace_back(v, v, 1.0);
+    for (const Anchor& an : anchors_) t.emplace_back(an.vertex, an.vertex, an.w2);
     Wd.setFromTriplets(t.begin(), t.end());
   }
 
@@ -147,8 +259,8 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
     // Normal equations of Eq. (5.20): (LᵀL + W²) X = Lᵀ D + W² C.
     try {
       solver_.compute(L_, Eigen::VectorXd(Wd.diagonal()));
-    } catch (const SolverError&) {
-      throw SolverError(pin_msg);
+    } catch (const SolverError& e) {
+      throw SolverError(fmt::format("{}: {}", pin_msg, e.what()));
     }
     if (options.method == EditMethod::MembraneFit && options.fit_to_rest_membrane) {
       MatrixX3d C(handles_.size(), 3);
@@ -196,13 +308,12 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
   for (auto& t : local) all.insert(all.end(), t.begin(), t.end());
   SparseMatrix G(3 * n, 3 * n);
   G.setFromTriplets(all.begin(), all.end());
-  Eigen::VectorXd w3 = Eigen::VectorXd::Zero(3 * n);
-  for (size_t h = 0; h < handles_.size(); ++h)
-    for (int d = 0; d < 3; ++d) w3[d * n + handles_[h]] += w2_[h];
+  Eigen::VectorXd w3(3 * n);
+  for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = Wd.diagonal();
   try {
     linear_solver_.compute(G, w3);
-  } catch (const SolverError&) {
-    throw SolverError(pin_msg);
+  } catch (const SolverError& e) {
+    throw SolverError(fmt::format("{}: {}", pin_msg, e.what()));
   }
 }
 
@@ -212,6 +323,8 @@ MatrixX3d LaplacianEditor::handle_rhs(const MatrixX3d& C) const {
   if (!C.allFinite()) throw InvalidInput("handle targets must be finite");
   MatrixX3d B = MatrixX3d::Zero(X_.rows(), 3);
   for (size_t h = 0; h < handles_.size(); ++h) B.row(handles_[h]) = w2_[h] * C.row(h);
+  for (int v : isolated_) B.row(v) = X_.row(v);
+  for (const Anchor& an : anchors_) B.row(an.vertex) += an.w2 * anchor_target(an, C).transpose();
   return B;
 }
 
@@ -239,7 +352,9 @@ MatrixX3d LaplacianEditor::solve(const MatrixX3d& C) const {
       const std::vector<Similarity> T = one_ring_similarities(*mesh_, rest, M, options_.allow_scale);  // Eq. (5.24)
       MatrixX3d Dt(n, 3);
 #pragma omp parallel for schedule(static)
-      for (int i = 0; i < n; ++i) Dt.row(i) = (T[i].linear() * D_.row(i).transpose()).transpose();
+      for (int i = 0; i < n; ++i)
+        Dt.row(i) = rest_frame_[i] ? Eigen::RowVector3d(D_.row(i))
+                                   : Eigen::RowVector3d((T[i].linear() * D_.row(i).transpose()).transpose());
       return solver_.solve(L_.transpose() * Dt + B);  // Eq. (5.22) with the fitted T_i
     }
     case EditMethod::Linear: {

@@ -1,5 +1,6 @@
 #include "geotex/toolkit/linear_solver.h"
 
+#include <algorithm>
 #include <new>
 
 #include <fmt/format.h>
@@ -14,9 +15,16 @@
 
 namespace geotex {
 
+#ifdef GEOTEX_HAVE_CHOLMOD
+// Eigen keeps CHOLMOD's factor protected; the pivot audit reads its diagonal.
+struct CholmodLLT : Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
+  const cholmod_factor* factor() const { return m_cholmodFactor; }
+};
+#endif
+
 struct SpdSolver::Impl {
 #ifdef GEOTEX_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> chol;
+  CholmodLLT chol;
 #else
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> chol;
 #endif
@@ -89,6 +97,47 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(c
   return expand(order);
 }
 
+// A factorization that succeeds with a pivot this small relative to its row's diagonal entry has met
+// a (numerically) singular matrix: whether it succeeds at all is decided by rounding, i.e. by the BLAS
+// kernel of the machine (issue 33): two digits or fewer are left of it. Legitimate ill-conditioning
+// stays above it (the biharmonic systems of editing reach ~1/#V; the heat system of a needle
+// triangle 1e-9 high, 4e-13). Singular systems a user can cause are refused before factoring, by
+// name (a component without a handle or known value).
+constexpr double kMinRelativePivot = 1e-14;
+
+// The smallest pivot of the last factorization relative to the diagonal of the factored matrix Ap
+// (already in the factor's own order where the ordering was given): min_k d_k / Ap(π(k), π(k)), with
+// d_k = L_kk² for LLᵀ and D_kk for LDLᵀ.
+#ifdef GEOTEX_HAVE_CHOLMOD
+double smallest_relative_pivot(const CholmodLLT& chol, const Eigen::VectorXd& diag) {
+  const cholmod_factor* L = chol.factor();
+  if (!L || !L->is_super || !L->is_ll || L->itype != CHOLMOD_INT || L->xtype != CHOLMOD_REAL) return 1.0;  // no audit
+  const int* perm = static_cast<const int*>(L->Perm);
+  const double* x = static_cast<const double*>(L->x);
+  double worst = 1.0;
+  for (size_t s = 0; s < L->nsuper; ++s) {
+    const int k1 = static_cast<const int*>(L->super)[s], k2 = static_cast<const int*>(L->super)[s + 1];
+    const int nrows = static_cast<const int*>(L->pi)[s + 1] - static_cast<const int*>(L->pi)[s];
+    const double* block = x + static_cast<const int*>(L->px)[s];
+    for (int j = 0; j < k2 - k1; ++j) {
+      const double l = block[static_cast<size_t>(j) * nrows + j];
+      const double a = diag[perm ? perm[k1 + j] : k1 + j];
+      worst = std::min(worst, a > 0 ? l * l / a : 0.0);
+    }
+  }
+  return worst;
+}
+#else
+double smallest_relative_pivot(const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>& chol,
+                               const Eigen::VectorXd& diag) {
+  const Eigen::VectorXd pd = chol.permutationP() * diag;  // (P A Pᵀ)_{P(i)P(i)} = A_ii
+  const Eigen::VectorXd& D = chol.vectorD();
+  double worst = 1.0;
+  for (Eigen::Index k = 0; k < D.size(); ++k) worst = std::min(worst, pd[k] > 0 ? D[k] / pd[k] : 0.0);
+  return worst;
+}
+#endif
+
 }  // namespace
 
 SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {
@@ -128,21 +177,28 @@ void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ord
 
 void SpdSolver::factorize(const SparseMatrix& A) {
   if (!impl_->analyzed || A.rows() != impl_->n) analyze(A);
-  if (impl_->permuted())
-    impl_->chol.factorize(impl_->permute(A));
-  else
+  Eigen::VectorXd diag;
+  if (impl_->permuted()) {
+    const SparseMatrix Ap = impl_->permute(A);
+    diag = Ap.diagonal();
+    impl_->chol.factorize(Ap);
+  } else {
+    diag = A.diagonal();
     impl_->chol.factorize(A);
+  }
 #ifdef GEOTEX_HAVE_CHOLMOD
   check_cholmod(impl_->chol.cholmod());
 #endif
-  bool ok = impl_->chol.info() == Eigen::Success;
-#ifndef GEOTEX_HAVE_CHOLMOD
-  // LDLᵀ succeeds on indefinite and singular matrices; a non-positive pivot is where Cholesky (CHOLMOD) fails.
-  if (ok && A.rows() > 0) ok = impl_->chol.vectorD().minCoeff() > 0;
-#endif
-  if (!ok)
+  // LDLᵀ succeeds on indefinite and singular matrices, and either backend may "succeed" on a singular
+  // one by rounding: a non-positive or relatively tiny pivot is a failure on every machine alike.
+  const bool ok = impl_->chol.info() == Eigen::Success;
+  const double pivot = ok && A.rows() > 0 ? smallest_relative_pivot(impl_->chol, diag) : 1.0;
+  if (!ok || !(pivot > 0))
     throw SolverError(fmt::format("sparse Cholesky failed on a {}x{} system (not positive definite?)",
                                   A.rows(), A.cols()));
+  if (pivot < kMinRelativePivot)
+    throw SolverError(fmt::format("sparse Cholesky of a {}x{} system met a pivot {:.1e} of its diagonal: the "
+                                  "system is numerically singular", A.rows(), A.cols(), pivot));
   impl_->factorized = true;
 }
 

@@ -158,14 +158,13 @@ Eigen::MatrixXd extend_harmonic(const Mesh& mesh, const std::vector<int>& known,
     }
     t.emplace_back(index[v], index[v], degree);
   }
+  // SPD exactly when every component holds a known vertex: decided here, not by the factorization.
+  if (const std::string c = component_without(mesh, known); !c.empty())
+    throw InvalidInput(fmt::format("extend_harmonic: {} holds no known vertex", c));
   SparseMatrix A(u, u);
   A.setFromTriplets(t.begin(), t.end());
   SpdSolver solver;
-  try {
-    solver.compute(A);
-  } catch (const SolverError&) {
-    throw InvalidInput("extend_harmonic: a connected component holds no known vertex");
-  }
+  solver.compute(A);
   const Eigen::MatrixXd x = solver.solve(b);
   for (int v = 0; v < n; ++v)
     if (index[v] >= 0) out.row(v) = x.row(index[v]);

@@ -15,8 +15,10 @@ const OptionTable<SmoothingOptions>& SmoothingOptions::table() {
       .choice("laplacian", &O::laplacian, laplacian_names(), "umbrella (Eq. 5.8) or cotan (Eq. 5.11) Laplacian", "Eq. (5.8), (5.11)")
       .add("implicit", &O::implicit, "backward Euler steps (stable for any lambda); false: forward Euler", {}, "Eq. (5.12), (5.14)")
       .alias("explicit", "false")
+      // Bounded: past ~1e15 the implicit system's last pivot is round-off (the mass is lost beside λL) and
+      // the factorization is refused as numerically singular; 1e9 is already the limit (component means).
       .add("lambda", &O::lambda, "step size: dimensionless for umbrella; in squared mean edge lengths for cotan",
-           positive(), "Eq. (5.12), (5.14)")
+           Bounds{0, 1e9, true, false}, "Eq. (5.12), (5.14)")
       .add("steps", &O::steps, "number of steps", between(0, 100000))
       .choice("mass", &O::mass, mass_names(), "cotan mass matrix: voronoi, barycentric, or thesis (Eq. 5.11 verbatim)", "Eq. (5.11)")
       .add("fix_boundary", &O::fix_boundary, "keep boundary vertices where they are (open meshes)")

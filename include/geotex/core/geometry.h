@@ -2,6 +2,7 @@
 //! \file geometry.h Per-element geometry and topology of a mesh: normals, areas, dihedral angles,
 //! edge lengths, bounding box, boundary loops, connected components, Euler characteristic.
 
+#include <string>
 #include <vector>
 
 #include "geotex/core/mesh.h"
@@ -51,6 +52,12 @@ std::vector<std::vector<int>> boundary_loops(const Mesh& mesh);
 //! \return one component id per vertex (0..k-1, by face connectivity; isolated vertices get their
 //!         own ids), and k through \p n_components.
 Eigen::VectorXi connected_components(const Mesh& mesh, int* n_components = nullptr);
+
+//! The first connected component (of connected_components; isolated vertices are not components here)
+//! that holds none of the vertices \p pinned, described for an error line: "component 2 of 3 (12
+//! vertices, e.g. vertex 40)"; empty when every component holds one. Solvers call it on their input
+//! before factoring, so that an under-constrained system is refused the same way on every machine.
+std::string component_without(const Mesh& mesh, const std::vector<int>& pinned);
 
 //! V − E + F.
 int euler_characteristic(const Mesh& mesh);

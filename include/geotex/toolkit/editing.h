@@ -64,9 +64,14 @@ SparseMatrix editing_laplacian(const Mesh& mesh, LaplacianType type);
 class LaplacianEditor {
  public:
   //! \param handles vertex indices of the handles (distinct), \param weights one w_i per handle, or
-  //! empty for EditOptions::handle_weight. \throw InvalidInput for bad indices, weights ≤ 0 or no
-  //! handles; SolverError when the handles do not pin the mesh (a component without a handle; for
-  //! Linear, fewer than three non-collinear handle vertices in a component).
+  //! empty for EditOptions::handle_weight. \throw InvalidInput for bad indices, weights ≤ 0, no
+  //! handles, or a connected component without a handle (decided on the mesh, before factoring).
+  //! Linear with fewer than three non-collinear handles in a component: the similarity the handles
+  //! leave free is fixed by weak anchors at the place the handles' own motion takes them (a
+  //! translation for one handle, the minimal rotation and scale of the two extreme handles for
+  //! collinear ones), the same result on every machine. MembraneFit there keeps the details' rest
+  //! frame (the plain method), as the membrane of such handles is a point or a line. Isolated vertices
+  //! stay where they are.
   //! \pre \p mesh outlives the editor (it is referenced, not copied).
   LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std::vector<double> weights = {},
                   const EditOptions& options = {});
@@ -83,7 +88,19 @@ class LaplacianEditor {
   const MatrixX3d& laplacian_coordinates() const { return D_; }
 
  private:
-  MatrixX3d handle_rhs(const MatrixX3d& C) const;  // W² C scattered to #V rows
+  //! A weak pin fixing a similarity the linear method's handles leave free (see the constructor).
+  struct Anchor {
+    int vertex = -1;           // the pinned vertex
+    int a = -1, b = -1;        // the extreme handles (indices into handles_); b < 0: a translation
+    double w2 = 0;             // its weight²
+    std::vector<int> handles;  // translation: the handles whose mean displacement it follows
+  };
+  std::vector<Anchor> anchors(const Mesh& mesh) const;
+  Vec3 anchor_target(const Anchor& anchor, const MatrixX3d& C) const;
+  MatrixX3d handle_rhs(const MatrixX3d& C) const;  // W² C scattered to #V rows, plus the pins'
+  std::vector<int> isolated_;  // isolated vertices: held at rest (weight 1)
+  std::vector<Anchor> anchors_;
+  std::vector<char> rest_frame_;  // MembraneFit: vertices whose component's membrane is degenerate
   const Mesh* mesh_;
   std::vector<int> handles_;
   std::vector<double> w2_;
