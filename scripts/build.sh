@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
-# Configure and build geotex (Release) into build/. Usage: scripts/build.sh [extra cmake args]
+# Configure and build geotex (Release) into build/.
+# Usage: scripts/build.sh [extra cmake args]; GEOTEX_TARGETS="geotex_cli" builds only those targets
+# (the demo does: the CLI alone, not the tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/generator.sh
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
-cmake --build build -j"$jobs"
+start=$(date +%s)
+cmake -S . -B build -G "$(generator build)" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+targets=()
+for t in ${GEOTEX_TARGETS:-}; do targets+=(--target "$t"); done
+cmake --build build -j"$jobs" "${targets[@]}"
+echo "build: ${GEOTEX_TARGETS:-everything} in $(( $(date +%s) - start )) s"
 
 # The Python module is in build/python (PYTHONPATH=build/python); to install it, see the README:
 # `/usr/bin/python3 -m venv --system-site-packages venv && venv/bin/pip install --no-build-isolation .`

@@ -4,5 +4,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-geotex-demo}"
 bash scripts/setup.sh
-bash scripts/build.sh
+GEOTEX_TARGETS=geotex_cli bash scripts/build.sh
 ./build/geotex demo -o "$out"

@@ -635,14 +635,10 @@ static void write_torus_ply(const std::string& path, int nu, int nv) {
 // faces is read by `info`, which reports its peak memory (measured: 2.4 GiB). Heavier commands at this
 // size take longer than a test should (see docs/bad-input.md for measured generate and smooth runs).
 TEST(BadInputCatalogue, TenMillionFaces) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   // Sanitizer builds run several times slower and larger: the same checks at 10^6 faces.
-  const int nu = 1024, nv = 512;
-  const long min_kib = 50L * 1024;
-#else
-  const int nu = 4096, nv = 1536;
-  const long min_kib = 500L * 1024;
-#endif
+  const bool small = test::kAddressSanitizer;
+  const int nu = small ? 1024 : 4096, nv = small ? 512 : 1536;
+  const long min_kib = (small ? 50L : 500L) * 1024;
   TempDir tmp;
   const std::string big = tmp / "big.ply";
   write_torus_ply(big, nu, nv);
@@ -687,7 +683,7 @@ std::string with_line_ends(const std::string& lf, const std::string& eol) {
 CliResult run_cli_limited(const std::string& args, int seconds = 30) {
   TempDir tmp;
   const std::string out = tmp / "out.txt", err = tmp / "err.txt";
-  const std::string cmd = "timeout -s KILL " + std::to_string(seconds) + " " + std::string(GEOTEX_CLI) + " " + args +
+  const std::string cmd = "timeout -s KILL " + std::to_string(seconds) + " " + std::string(::geotex::test::cli_path()) + " " + args +
                           " >" + out + " 2>" + err + " </dev/null";
   const int status = std::system(cmd.c_str());
   CliResult r;

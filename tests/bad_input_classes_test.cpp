@@ -73,7 +73,7 @@ CliResult run_capped(const std::string& args, int seconds, long mib = 0) {
   }
   const std::string cap = mib > 0 ? fmt::format("ulimit -v {}; ", mib * 1024) : "";
   const std::string cmd = fmt::format("bash -c '{}exec timeout -s KILL {} {} {}' >{} 2>{} </dev/null", cap, seconds,
-                                      GEOTEX_CLI, args, out, err);
+                                      ::geotex::test::cli_path(), args, out, err);
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;  // 137: killed by the time cap
@@ -146,7 +146,7 @@ TEST(BadInputClasses, SignalsDuringARunLeaveNoTemporary) {
         ::dup2(devnull, 1);
         ::dup2(devnull, 2);
         const std::string a = tmp / "a.ply", e = tmp / "e.ply";
-        ::execl(GEOTEX_CLI, GEOTEX_CLI, "-q", "denoise", in.c_str(), "-o", a.c_str(), "--edges", e.c_str(), nullptr);
+        ::execl(::geotex::test::cli_path(), ::geotex::test::cli_path(), "-q", "denoise", in.c_str(), "-o", a.c_str(), "--edges", e.c_str(), nullptr);
         ::_exit(127);
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path regressions_dir() { return fs::path(GEOTEX_SOURCE_DIR) / "tests" / "fuzz_regressions"; }
+fs::path regressions_dir() { return fs::path(::geotex::test::source_dir()) / "tests" / "fuzz_regressions"; }
 
 template <class F>
 void reads_or_throws_geotex_error(F&& f) {

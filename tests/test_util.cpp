@@ -10,6 +10,12 @@
 
 namespace geotex::test {
 
+extern "C" void __asan_init() __attribute__((weak));
+bool address_sanitizer() { return &__asan_init != nullptr; }
+const char* cli_path() { return GEOTEX_CLI; }
+const char* source_dir() { return GEOTEX_SOURCE_DIR; }
+
+
 namespace fs = std::filesystem;
 
 TempDir::TempDir() {

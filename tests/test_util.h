@@ -8,13 +8,17 @@
 
 namespace geotex::test {
 
-// True in the AddressSanitizer build (scripts/sanitize.sh). Its shadow memory reserves terabytes of
-// address space, so tests that cap the address space (RLIMIT_AS, ulimit -v) drop the cap there.
-#if defined(__SANITIZE_ADDRESS__)
-inline constexpr bool kAddressSanitizer = true;
-#else
-inline constexpr bool kAddressSanitizer = false;
-#endif
+// True when the AddressSanitizer runtime is linked in (scripts/sanitize.sh: the library is instrumented,
+// the tests themselves are compiled as in the Release build, so this is asked at run time). Its shadow
+// memory reserves terabytes of address space, so tests that cap the address space (RLIMIT_AS, ulimit -v)
+// drop the cap there, and slow tests shrink.
+bool address_sanitizer();
+inline const bool kAddressSanitizer = address_sanitizer();
+
+//! The geotex CLI of this build, the source tree (kept out of the headers' defines, so that a test
+//! compiles to the same object in every build tree and ccache shares it).
+const char* cli_path();
+const char* source_dir();
 
 //! A fresh temporary folder, removed at destruction.
 struct TempDir {

@@ -454,7 +454,7 @@ TEST(ViewCli, EdgeAndFieldFilesAreBoundToTheirMeshes) {
 
 // The pages in Debian's headless Chromium (Playwright from npm drives /usr/bin/chromium).
 TEST(ViewerChromium, OffCentreMeshesShowTheirLabelsOnThemAtOneScale) {
-  const fs::path viewer = fs::path(GEOTEX_SOURCE_DIR) / "viewer";
+  const fs::path viewer = fs::path(::geotex::test::source_dir()) / "viewer";
   if (!fs::exists("/usr/bin/chromium")) GTEST_SKIP() << "/usr/bin/chromium not found (scripts/setup_viewer.sh installs it)";
   if (!have_node()) GTEST_SKIP() << "node not found (scripts/setup_viewer.sh installs it)";
   if (!fs::exists(viewer / "node_modules" / "playwright-core"))

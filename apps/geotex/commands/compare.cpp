@@ -7,7 +7,7 @@
 #include "geotex/tools/metrics.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_compare {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string result, truth, labels;
@@ -78,5 +78,5 @@ Registrar reg{90, "compare", "Compare a result with the ground truth: mean norma
   app.callback([a] { run(*a); });
 }};
 
-}  // namespace
+}  // namespace cmd_compare
 }  // namespace geotex::cli

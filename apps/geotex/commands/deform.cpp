@@ -24,7 +24,7 @@
 #include "geotex/core/user_files.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_deform {  // named, not anonymous: a unity build compiles several commands in one unit
 
 void run(const MeshIo& io, const std::string& handles, const EditOptions& o) {
   Outputs out({io.input, handles}, {{io.output, "-o"}});
@@ -58,5 +58,5 @@ Registrar reg{70, "deform", "Laplacian surface editing with handles (Sec. 5.1.4)
   app.callback([io, handles, flags] { run(*io, *handles, flags->resolve<EditOptions>("deform")); });
 }};
 
-}  // namespace
+}  // namespace cmd_deform
 }  // namespace geotex::cli

@@ -10,7 +10,7 @@
 #include "cli.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_demo {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string dir = "geotex-demo";
@@ -70,5 +70,5 @@ Registrar reg{1000, "demo", "Run the whole pipeline on generated shapes, writing
   app.callback([a] { run(*a); });
 }};
 
-}  // namespace
+}  // namespace cmd_demo
 }  // namespace geotex::cli

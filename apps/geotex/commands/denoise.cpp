@@ -15,7 +15,7 @@ std::vector<DenoiseMethod>& denoise_methods() {
   return m;
 }
 
-namespace {
+namespace cmd_denoise {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string method = "auto", edges_ply, edges_obj, report;
@@ -86,5 +86,5 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
   });
 }};
 
-}  // namespace
+}  // namespace cmd_denoise
 }  // namespace geotex::cli

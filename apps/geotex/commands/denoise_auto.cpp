@@ -8,7 +8,7 @@
 #include "geotex/denoise/auto_denoise.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_denoise_auto {  // named, not anonymous: a unity build compiles several commands in one unit
 
 DenoiseRegistrar reg{
     "auto", "the default: estimates the noise, reads creased or smooth, then surfels + fitted positions + labels",
@@ -41,5 +41,5 @@ DenoiseRegistrar reg{
       };
     }};
 
-}  // namespace
+}  // namespace cmd_denoise_auto
 }  // namespace geotex::cli

@@ -7,7 +7,7 @@
 #include "geotex/denoise/mrf.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_denoise_mrf {  // named, not anonymous: a unity build compiles several commands in one unit
 
 template <class O>
 DenoiseOutput to_output(const Mesh& input, const MrfResult& r, const O& o) {
@@ -54,5 +54,5 @@ DenoiseRegistrar mrf_normal{
       };
     }};
 
-}  // namespace
+}  // namespace cmd_denoise_mrf
 }  // namespace geotex::cli

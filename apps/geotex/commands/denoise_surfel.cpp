@@ -7,7 +7,7 @@
 #include "geotex/denoise/surfel.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_denoise_surfel {  // named, not anonymous: a unity build compiles several commands in one unit
 
 auto polygons_path = std::make_shared<std::string>();
 
@@ -48,5 +48,5 @@ DenoiseRegistrar reg{
     },
     [] { return std::vector<std::pair<std::string, std::string>>{{*polygons_path, "--polygons"}}; }};
 
-}  // namespace
+}  // namespace cmd_denoise_surfel
 }  // namespace geotex::cli

@@ -6,7 +6,7 @@
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_generate {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string shape, output, base_output;
@@ -34,5 +34,5 @@ Registrar reg{20, "generate", "Write a procedural test shape (see SHAPE for the 
                 app.callback([a] { run(*a); });
               }};
 
-}  // namespace
+}  // namespace cmd_generate
 }  // namespace geotex::cli

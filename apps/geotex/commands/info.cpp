@@ -6,7 +6,7 @@
 #include "geotex/core/geometry.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_info {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string input;
@@ -88,5 +88,5 @@ Registrar reg{10, "info", "Print counts, bounds, boundary loops, genus and manif
                 app.callback([a] { run(*a); });
               }};
 
-}  // namespace
+}  // namespace cmd_info
 }  // namespace geotex::cli

@@ -5,7 +5,7 @@
 #include "option_flags.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_noise {  // named, not anonymous: a unity build compiles several commands in one unit
 
 Registrar reg{30, "noise", "Add seeded noise (sigma in units of the mean edge length)", [](CLI::App& app) {
   auto io = std::make_shared<MeshIo>(app);
@@ -21,5 +21,5 @@ Registrar reg{30, "noise", "Add seeded noise (sigma in units of the mean edge le
   });
 }};
 
-}  // namespace
+}  // namespace cmd_noise
 }  // namespace geotex::cli

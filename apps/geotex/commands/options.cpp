@@ -6,12 +6,12 @@
 #include "option_flags.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_options {  // named, not anonymous: a unity build compiles several commands in one unit
 
 Registrar reg{990, "options", "", [](CLI::App& app) {
   app.group("");  // hidden from `geotex --help`
   app.callback([] { fmt::print("{}\n", FlagSet::describe_all().dump(1)); });
 }};
 
-}  // namespace
+}  // namespace cmd_options
 }  // namespace geotex::cli

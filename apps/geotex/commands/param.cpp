@@ -9,7 +9,7 @@
 #include "geotex/toolkit/parametrization.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_param {  // named, not anonymous: a unity build compiles several commands in one unit
 
 void run(const MeshIo& io, bool json, const ParametrizationOptions& o) {
   Outputs out({io.input}, {{io.output, "-o"}});
@@ -50,5 +50,5 @@ Registrar reg{60, "param", "Parametrize a disk-topology mesh (Sec. 5.4): writes 
   });
 }};
 
-}  // namespace
+}  // namespace cmd_param
 }  // namespace geotex::cli

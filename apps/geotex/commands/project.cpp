@@ -10,7 +10,7 @@
 #include "geotex/toolkit/phong_projection.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_project {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string input, base, output;
@@ -50,5 +50,5 @@ Registrar reg{75, "project", "project a mesh's vertices onto a base along the ba
   app.callback([a, flags] { run(*a, flags->resolve<PhongProjectionOptions>("project")); });
 }};
 
-}  // namespace
+}  // namespace cmd_project
 }  // namespace geotex::cli

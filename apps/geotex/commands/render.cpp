@@ -8,7 +8,7 @@
 #include "view_common.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_render {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string input, output, size;
@@ -71,5 +71,5 @@ Registrar reg{910, "render", "Render a mesh to a PNG picture (fixed camera, shad
   app.callback([a, flags] { run(*a, flags->resolve<RenderOptions>("render")); });
 }};
 
-}  // namespace
+}  // namespace cmd_render
 }  // namespace geotex::cli

@@ -18,7 +18,7 @@
 #include "option_flags.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_resize {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string deformed, feature_file, save_features, report;
@@ -120,5 +120,5 @@ Registrar reg{80, "resize", "Feature-aware resizing and deformation (ch. 9): fea
   });
 }};
 
-}  // namespace
+}  // namespace cmd_resize
 }  // namespace geotex::cli

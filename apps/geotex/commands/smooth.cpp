@@ -9,7 +9,7 @@
 #include "option_flags.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_smooth {  // named, not anonymous: a unity build compiles several commands in one unit
 
 Registrar reg{40, "smooth", "Laplacian smoothing: explicit (Eq. 5.12) or implicit (Eq. 5.14), umbrella or cotangent", [](CLI::App& app) {
   auto io = std::make_shared<MeshIo>(app);
@@ -30,5 +30,5 @@ Registrar reg{40, "smooth", "Laplacian smoothing: explicit (Eq. 5.12) or implici
   });
 }};
 
-}  // namespace
+}  // namespace cmd_smooth
 }  // namespace geotex::cli

@@ -11,7 +11,7 @@
 #include "geotex/core/user_files.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_surfels {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::string input, output, points = "centers";
@@ -72,5 +72,5 @@ Registrar reg{55, "surfels", "Surfel reconstruction of a point cloud (thesis ch.
   app.callback([a, flags] { run(*a, flags->resolve<PointSurfelOptions>("surfels")); });
 }};
 
-}  // namespace
+}  // namespace cmd_surfels
 }  // namespace geotex::cli

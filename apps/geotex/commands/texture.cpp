@@ -24,7 +24,7 @@ namespace geotex::cli {
 
 void add_texture_synthesize(CLI::App& texture);  // texture_synthesize.cpp
 
-namespace {
+namespace cmd_texture {  // named, not anonymous: a unity build compiles several commands in one unit
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -349,5 +349,5 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
   add_texture_synthesize(app);  // texture_synthesize.cpp
 }};
 
-}  // namespace
+}  // namespace cmd_texture
 }  // namespace geotex::cli

@@ -10,7 +10,7 @@
 #include "view_common.h"
 
 namespace geotex::cli {
-namespace {
+namespace cmd_view {  // named, not anonymous: a unity build compiles several commands in one unit
 
 struct Args {
   std::vector<std::string> inputs;
@@ -62,5 +62,5 @@ Registrar reg{920, "view", "Write a self-contained HTML page showing meshes side
   app.callback([a, flags] { run(*a, flags->resolve<ViewerOptions>("view"), flags->given("title")); });
 }};
 
-}  // namespace
+}  // namespace cmd_view
 }  // namespace geotex::cli

@@ -8,7 +8,7 @@
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_bad_input {  // named, not anonymous: a unity build compiles several commands in one unit
 
 DemoRegistrar step{15, "bad input", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
@@ -54,5 +54,5 @@ DemoRegistrar step{15, "bad input", [](const DemoContext& ctx) {
                 {"isolated_vertices", rep.build.isolated_vertices}};
 }};
 
-}  // namespace
+}  // namespace demo_bad_input
 }  // namespace geotex::cli

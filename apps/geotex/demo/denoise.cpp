@@ -18,7 +18,7 @@
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_denoise {  // named, not anonymous: a unity build compiles several commands in one unit
 
 // Edges of `mesh` labelled above ½, scored against the edges of `truth` (same connectivity) whose
 // dihedral angle exceeds 30°.
@@ -138,5 +138,5 @@ DemoRegistrar step{40, "denoising", [](const DemoContext& ctx) {
   }
 }};
 
-}  // namespace
+}  // namespace demo_denoise
 }  // namespace geotex::cli

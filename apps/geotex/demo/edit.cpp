@@ -13,7 +13,7 @@
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_edit {  // named, not anonymous: a unity build compiles several commands in one unit
 
 DemoRegistrar edit{21, "laplacian editing", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
@@ -131,5 +131,5 @@ DemoRegistrar adf{23, "auto diffusion function", [](const DemoContext& ctx) {
   }
 }};
 
-}  // namespace
+}  // namespace demo_edit
 }  // namespace geotex::cli

@@ -10,7 +10,7 @@
 #include "geotex/toolkit/smoothing.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_foundation {  // named, not anonymous: a unity build compiles several commands in one unit
 
 DemoRegistrar shapes{10, "shapes", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
@@ -66,5 +66,5 @@ DemoRegistrar smoothing{20, "noise and smoothing", [](const DemoContext& ctx) {
   }
 }};
 
-}  // namespace
+}  // namespace demo_foundation
 }  // namespace geotex::cli

@@ -18,7 +18,7 @@
 #include "geotex/tools/viewer.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_report {  // named, not anonymous: a unity build compiles several commands in one unit
 
 namespace fs = std::filesystem;
 
@@ -300,5 +300,5 @@ bar at their right). Click a picture to enlarge it, "3D" for a viewer page. Step
                                      figures.size(), steps.size(), drawn, pages, rest.size(), sec));
 }};
 
-}  // namespace
+}  // namespace demo_report
 }  // namespace geotex::cli

@@ -11,7 +11,7 @@
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_resize {  // named, not anonymous: a unity build compiles several commands in one unit
 
 void save_with_features(const Mesh& mesh, const MatrixX3d& Y, const Eigen::VectorXd& f, const std::filesystem::path& path) {
   Mesh out = mesh;
@@ -150,5 +150,5 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
   }
 }};
 
-}  // namespace
+}  // namespace demo_resize
 }  // namespace geotex::cli

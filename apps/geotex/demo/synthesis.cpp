@@ -12,7 +12,7 @@
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_synthesis {  // named, not anonymous: a unity build compiles several commands in one unit
 
 DemoRegistrar step{82, "texture synthesis", [](const DemoContext& ctx) {
   nlohmann::json& r = *ctx.report;
@@ -77,5 +77,5 @@ DemoRegistrar step{82, "texture synthesis", [](const DemoContext& ctx) {
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
 }};
 
-}  // namespace
+}  // namespace demo_synthesis
 }  // namespace geotex::cli

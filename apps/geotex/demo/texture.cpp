@@ -13,7 +13,7 @@
 #include "geotex/texture/transfer.h"
 
 namespace geotex::cli {
-namespace {
+namespace demo_texture {  // named, not anonymous: a unity build compiles several commands in one unit
 
 // The vertex of \p mesh whose direction from the origin is nearest to \p dir.
 int vertex_towards(const Mesh& mesh, const Vec3& dir) {
@@ -160,5 +160,5 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
 }};
 
-}  // namespace
+}  // namespace demo_texture
 }  // namespace geotex::cli
