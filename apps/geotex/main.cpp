@@ -64,7 +64,8 @@ int main(int argc, char** argv) {
 namespace {
 int run(int argc, char** argv) {
   using namespace geotex::cli;
-  CLI::App app{"geotex: 3D shape modeling with high-level descriptors (after V. Andersen, DTU 2011)"};
+  // Named, so that the usage line says "geotex", not the path the binary was started by.
+  CLI::App app{"geotex: 3D shape modeling with high-level descriptors (after V. Andersen, DTU 2011)", "geotex"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "geotex 0.1.0");
   app.add_flag("-q,--quiet", globals().quiet, "no progress or warnings on stderr");

@@ -126,7 +126,10 @@ def test_pip_install_into_a_virtual_environment(tmp_path):
     src = Path(os.environ["GEOTEX_SOURCE_DIR"])
     venv = tmp_path / "venv"
     subprocess.run(["/usr/bin/python3", "-m", "venv", "--system-site-packages", str(venv)], check=True)
-    env = {**os.environ, "GEOTEX_PIP_BUILD_DIR": str(src / "build-pip"), "PIP_NO_INDEX": "1"}
+    # ctest passes its own build tree to reuse (GEOTEX_PIP_BUILD_DIR, GEOTEX_PIP_REUSE=1: the wheel from
+    # the objects the tests ran); by hand, a build in build-pip/ as a user's pip install does.
+    env = {**os.environ, "PIP_NO_INDEX": "1"}
+    env.setdefault("GEOTEX_PIP_BUILD_DIR", str(src / "build-pip"))
     env.pop("PYTHONPATH", None)
     r = subprocess.run([str(venv / "bin" / "pip"), "install", "--no-build-isolation", "--no-deps", "-q", str(src)],
                        capture_output=True, text=True, env=env)
@@ -137,6 +140,21 @@ def test_pip_install_into_a_virtual_environment(tmp_path):
     r = subprocess.run([str(venv / "bin" / "python"), "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert str(venv) in r.stdout  # the installed copy, not the build tree
+    # The command line comes with it: the `geotex` command and `python -m geotex`, the same CLI.
+    r = subprocess.run([str(venv / "bin" / "geotex"), "--version"], capture_output=True, text=True, env=env)
+    assert r.returncode == 0 and r.stdout.startswith("geotex "), r.stdout + r.stderr
+    mesh, out = tmp_path / "cube.ply", tmp_path / "clean.ply"
+    for args in (["generate", "cube", "--level", "1", "-o", str(mesh)], ["noise", str(mesh), "--sigma", "0.2", "-o", str(out)],
+                 ["denoise", str(out), "-o", str(tmp_path / "d.ply")]):
+        r = subprocess.run([str(venv / "bin" / "geotex"), "-q", *args], capture_output=True, text=True, env=env)
+        assert r.returncode == 0, r.stderr
+    r = subprocess.run([str(venv / "bin" / "python"), "-m", "geotex", "info", str(tmp_path / "d.ply")],
+                       capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert r.returncode == 0 and "vertices" in r.stdout, r.stdout + r.stderr
+    r = subprocess.run([str(venv / "bin" / "python"), "-m", "geotex", "info"], capture_output=True, text=True, env=env)
+    assert r.returncode == 2 and "MESH is required" in r.stderr, r.stderr
+    r = subprocess.run([str(venv / "bin" / "geotex"), "info", "--help"], capture_output=True, text=True, env=env)
+    assert r.returncode == 0 and "Usage: geotex info" in r.stdout and str(venv) not in r.stdout, r.stdout
 
 
 # Each command's options (and each method's, for denoise) and the Python function with the same ones.
