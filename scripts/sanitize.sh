@@ -12,9 +12,7 @@ build=build-asan
 start=$(date +%s)
 source scripts/generator.sh
 
-# Release, as scripts/test.sh's build/: the library, CLI and Python module get -O1 -g1 and the sanitizers
-# (GEOTEX_SANITIZE); the tests compile as there, so ccache has them and only the library is built again.
-cmake -S . -B "$build" -G "$(generator "$build")" -DCMAKE_BUILD_TYPE=Release \
+cmake -S . -B "$build" -G "$(generator "$build")" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
   -DGEOTEX_SANITIZE=ON -DGEOTEX_USE_CHOLMOD=OFF -DGEOTEX_BUILD_BENCH=OFF "$@" >/dev/null
 cmake --build "$build" -j"$jobs"
 echo "sanitize: built in $(( $(date +%s) - start )) s"

@@ -75,6 +75,12 @@ def _first_array(out):
             return np.asarray(out[key])
     if isinstance(out, tuple):
         return np.asarray(out[0])
+    if hasattr(out, "keys"):  # a Result without positions: its first float array
+        for key in out.keys():
+            a = np.asarray(out[key])
+            if a.dtype.kind == "f" and a.size:
+                return a
+        return np.zeros(0)
     return np.asarray(out)
 
 
