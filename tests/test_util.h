@@ -8,15 +8,13 @@
 
 namespace geotex::test {
 
-// True when the AddressSanitizer runtime is linked in (scripts/sanitize.sh: the library is instrumented,
-// the tests themselves are compiled as in the Release build, so this is asked at run time). Its shadow
+// True when the AddressSanitizer runtime is linked in (scripts/sanitize.sh), asked at run time. Its shadow
 // memory reserves terabytes of address space, so tests that cap the address space (RLIMIT_AS, ulimit -v)
 // drop the cap there, and slow tests shrink.
 bool address_sanitizer();
 inline const bool kAddressSanitizer = address_sanitizer();
 
-//! The geotex CLI of this build, the source tree (kept out of the headers' defines, so that a test
-//! compiles to the same object in every build tree and ccache shares it).
+//! The geotex CLI of this build, the source tree (defined in test_util.cpp only, not in every test).
 const char* cli_path();
 const char* source_dir();
 
