@@ -71,11 +71,12 @@ int farthest_vertex(const MatrixX3d& X, const std::vector<int>& ids, const Vec3&
     const Vec3 d = X.row(v).transpose() - a;
     return (d - d.dot(u) * u).norm();
   };
+  std::vector<double> d(ids.size());
   double best = -1;
-  for (int v : ids) best = std::max(best, distance(v));
+  for (size_t k = 0; k < ids.size(); ++k) best = std::max(best, d[k] = distance(ids[k]));
   int pick = -1;
-  for (int v : ids)
-    if (distance(v) >= best - 1e-9 * std::abs(best) && (pick < 0 || v < pick)) pick = v;
+  for (size_t k = 0; k < ids.size(); ++k)
+    if (d[k] >= best - 1e-9 * std::abs(best) && (pick < 0 || ids[k] < pick)) pick = ids[k];
   if (dist) *dist = best;
   return pick;
 }
