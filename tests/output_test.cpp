@@ -431,6 +431,7 @@ KilledChild kill_during_transaction(const TempDir& tmp, int sig, bool named) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::close(ready[0]);
+    ::signal(sig, SIG_DFL);  // a shell that starts the tests in the background ignores SIGINT: not here
     try {
       detail::use_named_temporaries(named);
       OutputTransaction tx;

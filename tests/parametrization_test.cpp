@@ -207,6 +207,24 @@ TEST(Parametrization, RejectsMeshesThatAreNotDisks) {
   }
 }
 
+TEST(Parametrization, NaturalMapRefusesABoundaryCollapsedToOnePointBeforeFactoring) {
+  // The two pins of the natural map would coincide: the map's similarity is free and the system
+  // singular. The refusal is decided on the input, whatever the solver would have made of it.
+  Mesh p = plane(6);
+  const auto loops = boundary_loops(p);
+  for (int v : loops.front()) p.set_point(p.vertex_handle(v), to_point(Vec3::Zero()));
+  ParametrizationOptions o;
+  o.method = ParamMethod::NaturalConformal;
+  try {
+    parametrize(p, o);
+    FAIL() << "a collapsed boundary was parametrized";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("boundary vertex"), std::string::npos) << e.what();
+  }
+  o.method = ParamMethod::Conformal;  // the circle boundary needs no pins: still a map
+  EXPECT_TRUE(parametrize(p, o).allFinite());
+}
+
 TEST(Parametrization, ObjWithUvRoundTrip) {
   TempDir tmp;
   const Mesh p = plane(5);

@@ -140,8 +140,10 @@ def test_class1_exceptions_from_progress_callbacks_while_the_gil_is_released():
                 print(name, "finished")          # a function may report no progress at all
             except Stop:
                 print(name, "stopped")
-        # raise_signal: to this thread, at once (os.kill lets the kernel pick any thread, OpenMP's too,
-        # and under the sanitizer build the signal was sometimes never seen).
+        # raise_signal: to this thread, at once (os.kill lets the kernel pick any thread, OpenMP's too).
+        # A shell that starts the tests in the background (cmd &) starts them with SIGINT ignored, and
+        # Python then installs no handler: an ignored SIGINT is rightly not an interrupt, so install it.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         def interrupt(fraction, stage): signal.raise_signal(signal.SIGINT)
         try:
             geotex.denoise_mrf(V, F, progress=interrupt)

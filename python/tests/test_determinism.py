@@ -88,6 +88,8 @@ def thread_cases(V, F):
     """Every computing operation on one mesh, as (name, call taking a thread count)."""
     n = len(V)
     handles = [0, n // 3, (2 * n) // 3]
+    texture = geotex.texture_extract(V, F)
+    disk = len(geotex.boundary_loops(V, F)) == 1 and len(np.unique(geotex.connected_components(V, F))) == 1
     return [
         ("smooth", lambda t: geotex.smooth(V, F, steps=3, threads=t)),
         ("denoise", lambda t: geotex.denoise(V, F, threads=t)),
@@ -98,7 +100,10 @@ def thread_cases(V, F):
         ("resize", lambda t: geotex.resize(V, F, scale=(2, 1, 1), threads=t)),
         ("texture extract", lambda t: geotex.texture_extract(V, F, threads=t)),
         ("feature map", lambda t: geotex.feature_map(V, F, threads=t)),
-    ]
+        ("surfels", lambda t: geotex.point_surfels(V, threads=t)),
+        ("project", lambda t: geotex.phong_project(V, F, V + 0.01 * (V - V.mean(0)), threads=t)["point"]),
+        ("texture apply", lambda t: geotex.texture_apply(texture, threads=t)),
+    ] + ([("param", lambda t: geotex.parametrize(V, F, threads=t))] if disk else [])
 
 
 def thread_differences(V, F):
@@ -116,5 +121,8 @@ def test_outputs_agree_across_thread_counts():
     # the result depend on the thread count would show as a difference far above round-off.
     V, F = geotex.generate("cube", level=2)
     V = geotex.add_noise(V, F, sigma=0.2, seed=3)
-    for name, d in thread_differences(V, F).items():
+    P, Q = geotex.generate("bumpy-plate", level=1)  # a disk: parametrize joins the list
+    found = {**thread_differences(V, F), **{f"{k} (disk)": d for k, d in thread_differences(P, Q).items()}}
+    assert "param (disk)" in found
+    for name, d in found.items():
         assert d < 1e-9, f"{name}: 1 and 2 threads differ by {d:.2e} of the diagonal"

@@ -160,6 +160,11 @@ MatrixX2d natural_conformal(const Mesh& mesh, const std::vector<int>& loop) {
   best = -1;
   for (int a : loop)
     if (const double d = (P(mesh, a) - P(mesh, p1)).squaredNorm(); d > best) { best = d; p0 = a; }
+  // Two pins at one place leave the similarity of the map free (a singular system): decide it on the
+  // input, scale-aware, before factoring.
+  if (!((P(mesh, p0) - P(mesh, p1)).norm() > 1e-9 * mean_edge_length(mesh)))
+    throw InvalidInput("natural parametrization: every boundary vertex is at one point (nothing to pin two "
+                       "vertices apart)");
   Eigen::VectorXd z_fixed = Eigen::VectorXd::Zero(2 * n);
   std::vector<char> fixed(2 * n, 0);
   fixed[p0] = fixed[n + p0] = fixed[p1] = fixed[n + p1] = 1;
