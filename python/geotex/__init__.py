@@ -296,7 +296,9 @@ def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
     """The default denoiser (`geotex denoise`, --method auto): estimates the noise, reads whether the
     surface is creased or smooth, then surfels, positions fitted to them and edge labels, with every
     parameter derived from the input (auto_denoise.h). Returns a Result: V, F (same connectivity),
-    edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), parameters."""
+    edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), creased (#F: how
+    each face was read, 1 creased, 0 smooth, between: a transition), creased_share (of the area),
+    parameters."""
     return _denoise_result(_geotex.denoise_auto(*_arrays(mesh, F), options))
 
 

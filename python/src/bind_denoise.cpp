@@ -55,6 +55,8 @@ void bind_denoise(py::module_& m) {
     d["noise_normal_sigma"] = r.noise.normal_sigma;
     d["choices"] = r.choices;
     d["turned_over"] = r.turned_over;
+    d["creased"] = r.creased;
+    d["creased_share"] = r.creased_share;
     d["parameters"] = options_dict(r.resolved);
     return d;
   });

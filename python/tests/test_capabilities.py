@@ -1,6 +1,9 @@
 """Every capability beyond the foundation through Python, each with a property that could fail."""
 
+import json
 import math
+import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -36,7 +39,8 @@ def test_default_denoiser_is_auto_and_adapts_to_the_noise(noisy_cube):
     assert np.array_equal(r["F"], F)
     err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
     assert err(r["V"]) < err(Vn) / 3
-    assert r["parameters"]["creased"] is True  # a cube is read as creased
+    assert r["parameters"]["creased"] is None  # read per region, not given
+    assert len(r["creased"]) == len(F) and r["creased_share"] > 0.95  # a cube reads creased everywhere
     assert r["noise_sigma"] > 0 and any("noise" in c for c in r["choices"])
     E, labels = r["edges"], r["edge_labels"]
     truth = E[np.abs(geotex.dihedral_angles(V, F)) > math.radians(30)]
@@ -49,6 +53,31 @@ def test_default_denoiser_is_auto_and_adapts_to_the_noise(noisy_cube):
     assert given["parameters"]["sigma"] == 0.2 and any("given" in c for c in given["choices"])
     with pytest.raises(TypeError):
         geotex.denoise(Vn, F, alpha=0.3)  # an option of mrf, not of the default
+
+
+def test_default_denoiser_reads_each_part_of_a_mixed_mesh_on_its_own(tmp_path):
+    # A cube beside a sphere of the same resolution (issue 24): the cube's faces read creased, the
+    # sphere's smooth, through Python and in the CLI's report, and the forced readings are refused by none.
+    Vc, Fc = geotex.generate("cube", level=3)
+    Vs, Fs = geotex.generate("sphere", level=3)
+    Vs = Vs * (geotex.mean_edge_length(Vc, Fc) / geotex.mean_edge_length(Vs, Fs))
+    Vs = Vs + [Vc[:, 0].max() - Vs[:, 0].min() + np.ptp(Vc[:, 0]), 0, 0]
+    V, F = np.vstack([Vc, Vs]), np.vstack([Fc, Fs + len(Vc)])
+    Vn = geotex.add_noise(V, F, sigma=0.3, seed=4)
+    r = geotex.denoise(Vn, F)
+    c = np.asarray(r["creased"])
+    assert c.shape == (len(F),) and c.min() >= 0 and c.max() <= 1
+    assert c[: len(Fc)].mean() > 0.9 and c[len(Fc):].mean() < 0.1, (c[: len(Fc)].mean(), c[len(Fc):].mean())
+    assert any(line.startswith("surface, read per region") for line in r["choices"])
+    forced = geotex.denoise(Vn, F, creased=False)
+    assert np.all(np.asarray(forced["creased"]) == 0) and forced["parameters"]["creased"] is False
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), "--report",
+                        str(tmp_path / "r.json")], check=True)
+        report = json.loads((tmp_path / "r.json").read_text())
+        assert np.allclose(report["creased"], c) and abs(report["creased_share"] - r["creased_share"]) < 1e-12
 
 
 def test_surfel_primal_denoising(noisy_cube):

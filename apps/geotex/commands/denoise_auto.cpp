@@ -36,6 +36,9 @@ DenoiseRegistrar reg{
                       {"samples", r.noise.samples}};
         j["choices"] = r.choices;
         j["turned_over"] = r.turned_over;
+        // The reading per face (1 creased, 0 smooth), in face order, and its share of the area.
+        j["creased_share"] = r.creased_share;
+        j["creased"] = std::vector<double>(r.creased.data(), r.creased.data() + r.creased.size());
         for (const auto& [stage, sec] : r.seconds) j["seconds_per_stage"][stage] = sec;
         return out;
       };

@@ -6,18 +6,19 @@
 //! The pipeline (auto_denoise()):
 //!  1. the noise level, estimate_noise();
 //!  2. a mild surfel pass (ch. 7, IRLS weights; thresholds from 2.5× the median angle between neighbouring
-//!     initial surfels down to 20°, 4 sweeps): enough for smooth (organic) surfaces, and a reading of the
-//!     surface: creased (CAD-like) when, after it, the angles between neighbouring surfels have a long tail
-//!     (98th percentile above 20× the median) or are nearly all zero (median below 1°);
-//!  3. creased surfaces only: the sharp surfel pass from the initial surfels (thresholds from 0.85× the
-//!     median angle down to 10°, 30 sweeps, cluster moves): what surfel_denoise() runs by default;
-//!  4. positions fitted to the surfels' face normals (surfel_fitted_mesh(): Sun et al. 2007 with
-//!     tangential relaxation), from the data points; same connectivity;
-//!  5. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
+//!     initial surfels down to 20°, 4 sweeps): the smooth (organic) reading;
+//!  3. the sharp surfel pass from the initial surfels (thresholds from 0.85× that median down to 10°,
+//!     30 sweeps, cluster moves; what surfel_denoise() runs by default): the creased (CAD-like) reading;
+//!  4. positions fitted to each reading's face normals (Sun et al. 2007 with tangential relaxation);
+//!  5. the reading per region, not per mesh (issue 24): each vertex takes the fit whose residual against
+//!     the input along the normals, over its neighbourhood, is the smaller, with a threshold set by its
+//!     part's look (creased-looking parts lean to the sharp reading); a soft per-face map
+//!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
+//!  6. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
 //!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
-//!  6. faces turned over against their target normals are untangled (their vertices moved to the mean of
+//!  7. faces turned over against their target normals are untangled (their vertices moved to the mean of
 //!     their neighbours until none is left);
-//!  7. labels: the edge process (Eq. 6.12) on the result, φ0 = 60° on creased surfaces and 75° on smooth
+//!  8. labels: the edge process (Eq. 6.12) on the result, φ0 = 60° in creased regions and 75° in smooth
 //!     ones (only folds that stand out: no invented creases on organic shapes).
 
 #include <optional>
@@ -66,7 +67,8 @@ NoiseEstimate estimate_noise(const Mesh& mesh, int max_samples = 20000);
 struct AutoDenoiseOptions {
   //! The noise level, as `geotex noise --sigma` (isotropic, mean edge lengths); auto: estimate_noise().
   std::optional<double> sigma;
-  //! Whether the surface has sharp creases (CAD-like) or is smooth (organic); auto: read from the input.
+  //! Whether the surface has sharp creases (CAD-like) or is smooth (organic) everywhere; auto: read per
+  //! region from the input.
   std::optional<bool> creased;
   int mild_iterations = 4;      //!< sweeps of the mild surfel pass (every input)
   int sharp_iterations = 30;    //!< threshold steps of the sharp surfel pass (creased inputs)
@@ -88,6 +90,10 @@ struct AutoDenoiseResult {
   AutoDenoiseOptions resolved;         //!< the options with every automatic value set
   std::vector<std::string> choices;    //!< what was chosen and why, one short line each
   int turned_over = 0;                 //!< faces left turned over against their target normals (normally 0)
+  //! #F: how each face was read, 1 creased (CAD-like: the sharp pass's normals), 0 smooth (organic: the
+  //! mild pass's), in between a blend (transitions); constant when AutoDenoiseOptions::creased is given.
+  Eigen::VectorXd creased;
+  double creased_share = 0;            //!< the share of the surface area read creased (creased >= 0.5)
   std::vector<std::pair<std::string, double>> seconds;  //!< wall time of each stage
 
 };
