@@ -11,7 +11,7 @@ namespace geotex::cli {
 namespace cmd_denoise_auto {  // named, not anonymous: a unity build compiles several commands in one unit
 
 DenoiseRegistrar reg{
-    "auto", "the default: estimates the noise, reads creased or smooth, then surfels + fitted positions + labels",
+    "auto", "the default: estimates the noise, reads creased or smooth per region, then surfels + fitted positions + labels",
     [](FlagSet& f) { f.add("auto", AutoDenoiseOptions::table(), "auto"); },
     [](const FlagSet& f) -> DenoiseRun {
       const AutoDenoiseOptions o = f.resolve<AutoDenoiseOptions>("auto");
