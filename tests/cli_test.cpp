@@ -1,5 +1,6 @@
 // End-to-end tests of the geotex command line: help, errors, and the foundation commands.
 
+#include <filesystem>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -23,6 +24,22 @@ TEST(Cli, HelpForEveryCommand) {
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
   }
+}
+
+// The README's exit codes: 1 for bad input or files (a missing input, a folder, an unknown extension),
+// 2 for bad flags, whichever command reads the file.
+TEST(Cli, AMissingInputIsAFileErrorNotAFlagError) {
+  TempDir tmp;
+  for (const std::string& c : {"info " + (tmp / "missing.obj"), "denoise " + (tmp / "missing.obj") + " -o " + (tmp / "o.ply"),
+                               "info " + tmp.path.string(), "texture apply " + (tmp / "missing.ply") + " -o " + (tmp / "o.ply"),
+                               "info " + (tmp / "mesh.xyz")}) {
+    const auto r = run_cli(c);
+    EXPECT_EQ(r.exit_code, 1) << c << ": " << r.err;
+    EXPECT_NE(r.err.find("file error"), std::string::npos) << c << ": " << r.err;
+  }
+  geotex::test::write_file(tmp / "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(run_cli("smooth " + (tmp / "t.obj") + " -o " + (tmp / "o.obj") + " --laplacian fancy").exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(tmp / "o.ply"));
 }
 
 TEST(Cli, ErrorsAreOneLineAndNonZero) {

@@ -103,19 +103,26 @@ ProgressFn progress_printer(const std::string& label) {
   };
 }
 
+// A missing or unreadable input is a file error (exit 1, as the README says), not a flag error (exit 2):
+// these validators throw IoError, which CLI11 lets through its parser (it catches ValidationError only).
 const CLI::Validator ExistingMeshFile(
     [](std::string& path) -> std::string {
       std::error_code ec;
-      if (!std::filesystem::exists(path, ec)) return fmt::format("{}: no such file", path);
-      if (std::filesystem::is_directory(path, ec)) return fmt::format("{}: is a directory", path);
-      try {
-        format_from_path(path);
-      } catch (const IoError& e) {
-        return e.what();
-      }
+      if (!std::filesystem::exists(path, ec)) throw IoError(fmt::format("{}: no such file", path));
+      if (std::filesystem::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path));
+      format_from_path(path);  // an unknown extension: IoError naming the formats
       return {};
     },
     "MESH", "ExistingMeshFile");
+
+const CLI::Validator ExistingFile(
+    [](std::string& path) -> std::string {
+      std::error_code ec;
+      if (!std::filesystem::exists(path, ec)) throw IoError(fmt::format("{}: no such file", path));
+      if (std::filesystem::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path));
+      return {};
+    },
+    "FILE", "ExistingFile");
 
 const CLI::Validator FiniteNumber(
     [](std::string& text) -> std::string {

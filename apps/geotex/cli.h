@@ -106,6 +106,8 @@ void info(const std::string& line);  // stderr unless quiet
 
 // Validators for CLI11.
 extern const CLI::Validator ExistingMeshFile;
+//! An existing file that is not a folder (texture, deform handles, point files); IoError (exit 1) otherwise.
+extern const CLI::Validator ExistingFile;
 extern const CLI::Validator FiniteNumber;  // refuses nan and inf (hand-written numeric flags)
 
 }  // namespace geotex::cli

@@ -52,7 +52,7 @@ Registrar reg{70, "deform", "Laplacian surface editing with handles (Sec. 5.1.4)
   app.add_option("--handles", *handles,
                  "JSON handles file: {\"handles\": [{\"vertices\"|\"sphere\"|\"box\": ..., \"targets\"|\"translate\"|"
                  "\"rotate\"|\"scale\": ..., \"weight\": w}]} (see commands/deform.cpp)")
-      ->required()->check(CLI::ExistingFile);
+      ->required()->check(ExistingFile);
   auto flags = std::make_shared<FlagSet>(app);
   flags->add("deform", EditOptions::table());
   app.callback([io, handles, flags] { run(*io, *handles, flags->resolve<EditOptions>("deform")); });

@@ -62,7 +62,7 @@ Registrar reg{55, "surfels", "Surfel reconstruction of a point cloud (thesis ch.
               [](CLI::App& app) {
   auto a = std::make_shared<Args>();
   app.add_option("IN", a->input, "points: PLY, OBJ (faces ignored), XYZ/PTS/TXT (x y z per line), or another mesh format")
-      ->required()->check(CLI::ExistingFile);
+      ->required()->check(ExistingFile);
   app.add_option("-o,--output", a->output, "output PLY with vertex x y z nx ny nz")->required();
   auto flags = std::make_shared<FlagSet>(app);
   flags->add("surfels", PointSurfelOptions::table());

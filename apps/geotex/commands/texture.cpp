@@ -292,7 +292,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     auto a = std::make_shared<ApplyFiles>();
     CLI::App* s = app.add_subcommand(
         "apply", "apply a texture to its base, or to a deformed/rescaled base of the same connectivity (Sec. 8.4.2)");
-    s->add_option("TEXTURE", a->input, "texture file")->required()->check(CLI::ExistingFile);
+    s->add_option("TEXTURE", a->input, "texture file")->required()->check(ExistingFile);
     s->add_option("-o,--output", a->output, "textured mesh")->required();
     s->add_option("--base", a->base, "new base with the texture's connectivity (default: the stored base)")
         ->check(ExistingMeshFile);
@@ -303,7 +303,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
   {
     auto a = std::make_shared<EditFiles>();
     CLI::App* s = app.add_subcommand("edit", "edit a texture: set-tilt, wrap, wiggle, scale-height (Sec. 8.4.1)");
-    s->add_option("TEXTURE", a->input, "texture file")->required()->check(CLI::ExistingFile);
+    s->add_option("TEXTURE", a->input, "texture file")->required()->check(ExistingFile);
     s->add_option("-o,--output", a->output, "edited texture file")->required();
     s->add_option("--mesh", a->mesh, "also write the textured surface");
     auto flags = table_flags<TextureEditOptions>(*s, "edit");
@@ -312,7 +312,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
   {
     auto a = std::make_shared<AnimateFiles>();
     CLI::App* s = app.add_subcommand("animate", "write a numbered frame sequence of an edit in motion (Fig. 8.7)");
-    s->add_option("TEXTURE", a->input, "texture file")->required()->check(CLI::ExistingFile);
+    s->add_option("TEXTURE", a->input, "texture file")->required()->check(ExistingFile);
     s->add_option("-o,--output", a->prefix, "frame path prefix: frames are PREFIX_0000.EXT, PREFIX_0001.EXT, ...")
         ->required();
     s->add_option("--format", a->format, "frame file format")
@@ -325,7 +325,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     auto a = std::make_shared<TransferFiles>();
     CLI::App* s = app.add_subcommand(
         "transfer", "transfer a disk patch of a texture onto a disk patch of another base (Sec. 8.3.3)");
-    s->add_option("TEXTURE", a->source, "source texture file")->required()->check(CLI::ExistingFile);
+    s->add_option("TEXTURE", a->source, "source texture file")->required()->check(ExistingFile);
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "textured target mesh")->required();
     s->add_option("--texture-out", a->texture_out, "also write the target's texture file");
@@ -338,7 +338,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     auto a = std::make_shared<AtlasFiles>();
     CLI::App* s = app.add_subcommand(
         "atlas", "cover a whole surface with copies of one texture disk, blended where they overlap");
-    s->add_option("TEXTURE", a->source, "source texture file")->required()->check(CLI::ExistingFile);
+    s->add_option("TEXTURE", a->source, "source texture file")->required()->check(ExistingFile);
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "textured target mesh")->required();
     s->add_option("--texture-out", a->texture_out, "also write the target's texture file");

@@ -78,7 +78,7 @@ void add_texture_synthesize(CLI::App& texture) {
       "synthesize", "grow a texture like an exemplar over a whole surface (patch-based, oriented by a direction field)");
   s->add_option("EXEMPLAR", a->exemplar, "exemplar texture file (texture extract), or a textured mesh with --exemplar-base")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(ExistingFile);
   s->add_option("--exemplar-base", a->exemplar_base, "the exemplar's base, when EXEMPLAR is a textured mesh")
       ->check(ExistingMeshFile);
   s->add_option("--target", a->target, "target base mesh")->required()->check(ExistingMeshFile);
@@ -87,7 +87,7 @@ void add_texture_synthesize(CLI::App& texture) {
   s->add_option("--report", a->report, "write the synthesis measures (bench/synthesis.md) as JSON");
   s->add_option("--weight", a->weight_file,
                 "per-vertex growth weights in [0, 1] of the target: text, one per line, or PLY with vertex 'feature'")
-      ->check(CLI::ExistingFile);
+      ->check(ExistingFile);
   auto flags = std::make_shared<FlagSet>(*s);
   flags->add("synthesize", SynthesisOptions::table());
   s->callback([a, flags] { run_synthesize(*a, flags->resolve<SynthesisOptions>("synthesize")); });
