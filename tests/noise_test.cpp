@@ -51,3 +51,41 @@ TEST(Noise, ImpulsiveTouchesOnlyAFraction) {
   o.impulsive_fraction = 2;
   EXPECT_THROW(add_noise(m, o), InvalidInput);
 }
+
+// Scanner-like noise (issue 24): correlated over patches, banded, or along one viewing axis. Each keeps the
+// asked standard deviation; the patterns are correlated between neighbours where white noise is not.
+TEST(Noise, PatternsAreCorrelatedAndDepthNoiseIsAlongTheAxis) {
+  const Mesh m = icosphere(4);
+  const double h = mean_edge_length(m);
+  const MatrixX3d N = vertex_normals(m);
+  const auto neighbour_correlation = [&](const MatrixX3d& D) {
+    std::vector<double> a, b;
+    for (auto e : m.edges()) {
+      const int i = e.v0().idx(), j = e.v1().idx();
+      a.push_back(D.row(i).dot(N.row(i)));
+      b.push_back(D.row(j).dot(N.row(j)));
+    }
+    const Eigen::Map<Eigen::VectorXd> x(a.data(), a.size()), y(b.data(), b.size());
+    const Eigen::VectorXd xc = x.array() - x.mean(), yc = y.array() - y.mean();
+    return xc.dot(yc) / (xc.norm() * yc.norm());
+  };
+  NoiseOptions o;
+  o.sigma = 0.3;
+  o.seed = 5;
+  EXPECT_LT(std::abs(neighbour_correlation(add_noise(m, o) - positions(m))), 0.1) << "white";
+  for (NoisePattern p : {NoisePattern::LowFrequency, NoisePattern::Striped}) {
+    o.pattern = p;
+    const MatrixX3d D = add_noise(m, o) - positions(m);
+    EXPECT_GT(neighbour_correlation(D), 0.6) << enum_name(noise_pattern_names(), p);
+    EXPECT_NEAR(std::sqrt(D.squaredNorm() / D.rows()) / h, 0.3, 0.03) << enum_name(noise_pattern_names(), p);
+    EXPECT_TRUE(add_noise(m, o) == D + positions(m)) << "seeded";
+  }
+  o = {};
+  o.direction = NoiseDirection::Depth;
+  o.axis = Vec3(1, 2, 2);
+  const MatrixX3d D = add_noise(m, o) - positions(m);
+  const Vec3 a = o.axis.normalized();
+  for (Eigen::Index i = 0; i < D.rows(); ++i) EXPECT_LT((D.row(i).transpose() - D.row(i).dot(a) * a).norm(), 1e-12 * h);
+  o.axis = Vec3::Zero();
+  EXPECT_THROW(add_noise(m, o), InvalidInput);
+}

@@ -189,3 +189,27 @@ def test_texture_synthesize_is_seeded_and_respects_the_weight():
     assert (a.owner[Vs[:, 2] > 0] >= 0).all()
     with pytest.raises(ValueError):
         geotex.texture_synthesize(tex, Vs, Fs, patch_radius=2.0)
+
+
+def test_scanner_like_noise_patterns(tmp_path):
+    # Correlated (low-frequency), banded (striped) and depth-direction noise, through Python and the CLI.
+    V, F = geotex.generate("sphere", level=3)
+    E = geotex.edges(V, F)
+    N = geotex.vertex_normals(V, F)
+    def neighbour_corr(X):
+        s = np.sum((X - V) * N, 1)
+        return np.corrcoef(s[E[:, 0]], s[E[:, 1]])[0, 1]
+    assert abs(neighbour_corr(geotex.add_noise(V, F, sigma=0.3, seed=2))) < 0.1
+    for pattern in ("low-frequency", "striped"):
+        assert neighbour_corr(geotex.add_noise(V, F, sigma=0.3, seed=2, pattern=pattern)) > 0.6, pattern
+    D = geotex.add_noise(V, F, sigma=0.3, seed=2, direction="depth", axis=(0, 1, 0)) - V
+    assert np.abs(D[:, [0, 2]]).max() < 1e-12 and np.abs(D[:, 1]).max() > 0
+    with pytest.raises(geotex.InvalidInput):
+        geotex.add_noise(V, F, pattern="pink")
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "s.ply", V, F)
+        subprocess.run([cli, "-q", "noise", str(tmp_path / "s.ply"), "-o", str(tmp_path / "n.ply"), "--pattern", "striped",
+                        "--seed", "2", "--sigma", "0.3"], check=True)
+        X, _ = geotex.read_mesh(tmp_path / "n.ply")
+        assert np.allclose(X, geotex.add_noise(V, F, sigma=0.3, seed=2, pattern="striped"), atol=1e-6)

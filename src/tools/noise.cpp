@@ -1,6 +1,8 @@
 #include "geotex/tools/noise.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
@@ -8,12 +10,32 @@
 
 namespace geotex {
 
+const EnumNames<NoisePattern>& noise_pattern_names() {
+  static const EnumNames<NoisePattern> n{{"white", NoisePattern::White},
+                                         {"low-frequency", NoisePattern::LowFrequency},
+                                         {"striped", NoisePattern::Striped}};
+  return n;
+}
+
+const EnumNames<NoiseDirection>& noise_direction_names() {
+  static const EnumNames<NoiseDirection> n{
+      {"random", NoiseDirection::Random}, {"normal", NoiseDirection::Normal}, {"depth", NoiseDirection::Depth}};
+  return n;
+}
+
 const OptionTable<NoiseOptions>& NoiseOptions::table() {
   using O = NoiseOptions;
   static const auto t = OptionTable<O>()
       .add("sigma", &O::sigma, "standard deviation, in mean edge lengths", non_negative())
-      .add("along_normal", &O::along_normal, "displace along vertex normals (else along random directions)")
+      .add("along_normal", &O::along_normal, "displace along vertex normals (the same as direction normal)")
       .alias("normal")
+      .choice("direction", &O::direction, noise_direction_names(),
+              "displacement direction: random per vertex (white only; patterns use the normal), the vertex normal, or depth (along axis: a range scanner's view)")
+      .choice("pattern", &O::pattern, noise_pattern_names(),
+              "white (independent per vertex), low-frequency (correlated over wavelength), striped (bands across axis)")
+      .add("wavelength", &O::wavelength, "low-frequency correlation length / stripe period, mean edge lengths",
+           between(1, 1e6))
+      .add("axis", &O::axis, "depth: the viewing direction; striped: the stripes run across it", between(-1e6, 1e6))
       .add("impulsive_fraction", &O::impulsive_fraction, "fraction of vertices hit (impulsive noise); 0 = all",
            unit_interval())
       .alias("impulsive")
@@ -21,24 +43,77 @@ const OptionTable<NoiseOptions>& NoiseOptions::table() {
   return t;
 }
 
+namespace {
+
+// A smooth random field of unit standard deviation: white values diffused over the mesh graph (Jacobi
+// averaging; k rounds spread a value over about √k rings, so k = (wavelength/2)² gives a correlation over
+// ~wavelength edges), then rescaled to unit variance.
+Eigen::VectorXd smooth_field(const Mesh& mesh, Eigen::VectorXd x, double wavelength) {
+  const int rounds = std::max(1, static_cast<int>(std::lround(0.25 * wavelength * wavelength)));
+  std::vector<std::vector<int>> nb(mesh.n_vertices());
+  for (auto v : mesh.vertices())
+    for (auto w : mesh.vv_range(v)) nb[v.idx()].push_back(w.idx());
+  for (int r = 0; r < rounds; ++r) {
+    Eigen::VectorXd next(x.size());
+#pragma omp parallel for schedule(static)
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      double sum = x[i];
+      for (int j : nb[i]) sum += x[j];
+      next[i] = sum / double(1 + nb[i].size());
+    }
+    x.swap(next);
+  }
+  x.array() -= x.mean();
+  const double sd = std::sqrt(x.squaredNorm() / std::max<Eigen::Index>(1, x.size()));
+  if (sd > 0) x /= sd;
+  return x;
+}
+
+}  // namespace
+
 MatrixX3d add_noise(const Mesh& mesh, const NoiseOptions& opt) {
   require_valid(mesh, "noise: input mesh");
+  NoiseOptions::table().check(opt);
   if (!(opt.sigma >= 0) || !std::isfinite(opt.sigma)) throw InvalidInput("noise: sigma must be >= 0");
   if (!(opt.impulsive_fraction >= 0 && opt.impulsive_fraction <= 1))
     throw InvalidInput("noise: impulsive fraction must be in [0, 1]");
+  const bool fixed_axis = opt.direction == NoiseDirection::Depth || opt.pattern == NoisePattern::Striped;
+  if (fixed_axis && !(opt.axis.norm() > 0)) throw InvalidOption("noise: axis must not be zero");
+  const Vec3 axis = fixed_axis ? Vec3(opt.axis.normalized()) : Vec3::UnitZ();
   const double s = opt.sigma * mean_edge_length(mesh);
   MatrixX3d X = positions(mesh);
   const MatrixX3d N = vertex_normals(mesh);
   Rng rng(opt.seed);
-  for (Eigen::Index i = 0; i < X.rows(); ++i) {
-    // Draw every number for every vertex, so that changing the fraction keeps the other draws.
-    const double pick = rng.uniform();
-    const double amount = s * rng.normal();
-    Vec3 dir(rng.normal(), rng.normal(), rng.normal());
-    if (opt.impulsive_fraction > 0 && pick >= opt.impulsive_fraction) continue;
-    if (opt.along_normal) dir = N.row(i);
+  const Eigen::Index n = X.rows();
+  // Draw every number for every vertex, so that changing the fraction keeps the other draws.
+  Eigen::VectorXd pick(n), amount(n);
+  MatrixX3d dirs(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    pick[i] = rng.uniform();
+    amount[i] = rng.normal();
+    dirs.row(i) = Eigen::RowVector3d(rng.normal(), rng.normal(), rng.normal());
+  }
+  if (opt.pattern == NoisePattern::LowFrequency) {
+    amount = smooth_field(mesh, amount, opt.wavelength);
+  } else if (opt.pattern == NoisePattern::Striped) {
+    // Bands across the axis: t is the position along it, in mean edge lengths.
+    const double h = mean_edge_length(mesh), phase = 2 * M_PI * rng.uniform();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double t = X.row(i).dot(axis) / h;
+      amount[i] = std::sqrt(0.91) * std::sqrt(2.0) * std::sin(2 * M_PI * t / opt.wavelength + phase) + 0.3 * amount[i];
+    }
+  }
+  // A correlated amount along random directions would be uncorrelated again: the patterns displace along
+  // the normals unless told the depth axis.
+  NoiseDirection direction = opt.along_normal ? NoiseDirection::Normal : opt.direction;
+  if (opt.pattern != NoisePattern::White && direction == NoiseDirection::Random) direction = NoiseDirection::Normal;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (opt.impulsive_fraction > 0 && pick[i] >= opt.impulsive_fraction) continue;
+    Vec3 dir = dirs.row(i).transpose();
+    if (direction == NoiseDirection::Normal) dir = N.row(i).transpose();
+    else if (direction == NoiseDirection::Depth) dir = axis;
     else if (dir.norm() > 0) dir.normalize();
-    X.row(i) += amount * dir.transpose();
+    X.row(i) += s * amount[i] * dir.transpose();
   }
   // Coordinates near the double range (1e200) overflow here: say so rather than return inf (issue 14).
   if (!X.allFinite()) throw InvalidInput("noise: non-finite positions: the coordinates are too large and overflow; scale the mesh down");
