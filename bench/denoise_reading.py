@@ -2,7 +2,7 @@
 """The default denoiser's reading per region against both forced readings (issue 24), on synthetic noise
 of the shared clean models: mean face-normal error (degrees), the creased share, CPU seconds.
 
-Usage: PYTHONPATH=build/python /usr/bin/python3 bench/denoise_reading.py [DATA_DIR] [MODEL,...]
+Usage: PYTHONPATH=build/python /usr/bin/python3 bench/denoise_reading.py [DATA_DIR] [MODEL,...] [scanner]
 (writes a markdown table on stdout; "mixed" is fandisk and spot, scaled to one edge length, in one mesh)."""
 
 import sys
@@ -16,6 +16,9 @@ import geotex
 ROOT = Path(__file__).resolve().parent.parent
 NOISES = [("g0.1", dict(sigma=0.1)), ("g0.2", dict(sigma=0.2)), ("g0.5", dict(sigma=0.5)),
           ("n0.3", dict(sigma=0.3, along_normal=True)), ("imp", dict(sigma=0.6, impulsive_fraction=0.1))]
+# Scanner-like noise (not i.i.d.): correlated over ~8 edges, banded, and along one viewing axis.
+SCANNER_NOISES = [("lowfreq0.3", dict(sigma=0.3, pattern="low-frequency")), ("striped0.3", dict(sigma=0.3, pattern="striped")),
+                  ("depth0.3", dict(sigma=0.3, direction="depth", axis=(0.3, 0.4, 0.866)))]
 MODELS = ["fandisk.obj", "gen:cube", "woody.obj", "spot.obj", "cheburashka.obj", "teapot.obj", "cow.obj", "mixed"]
 
 
@@ -35,6 +38,7 @@ def load(data, name):
 def main() -> None:
     data = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT.parent / "shared" / "data"
     models = sys.argv[2].split(",") if len(sys.argv) > 2 else MODELS
+    noises = SCANNER_NOISES if len(sys.argv) > 3 and sys.argv[3] == "scanner" else NOISES
     err = lambda V, F, X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
     print("| model | noise | creased (forced) | smooth (forced) | **default (per region)** | ratio to the better forced "
           "| creased share | CPU s |")
@@ -42,7 +46,7 @@ def main() -> None:
     ratios = []
     for m in models:
         V, F = load(data, m)
-        for name, kw in NOISES:
+        for name, kw in noises:
             Vn = geotex.add_noise(V, F, seed=7, **kw)
             es = err(V, F, geotex.denoise(Vn, F, creased=True).V)
             em = err(V, F, geotex.denoise(Vn, F, creased=False).V)
