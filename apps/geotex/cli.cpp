@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -89,17 +90,30 @@ void Outputs::output(const std::string& path, const std::string& what) {
 
 ProgressFn progress_printer(const std::string& label) {
   if (globals().quiet) return {};
-  const bool tty = ::isatty(STDERR_FILENO);
-  auto last = std::make_shared<int>(-1);
-  return [label, tty, last](double fraction, std::string_view stage) {
-    const int pct = static_cast<int>(fraction * 100 + 0.5);
-    if (tty) {
+  if (::isatty(STDERR_FILENO)) {  // one line redrawn in place
+    return [label](double fraction, std::string_view stage) {
+      const int pct = static_cast<int>(fraction * 100 + 0.5);
       std::fprintf(stderr, "\r%s: %.*s %3d%%%s", label.c_str(), int(stage.size()), stage.data(), pct,
                    pct >= 100 ? "\n" : "");
-    } else if (pct / 10 != *last / 10 || pct == 100) {
-      if (pct != *last) std::fprintf(stderr, "%s: %.*s %d%%\n", label.c_str(), int(stage.size()), stage.data(), pct);
-    }
-    *last = pct;
+    };
+  }
+  // A log or a pipe: every line stays, so a run that ends within the first interval prints none, and
+  // a longer one a line per interval at most (the stage as it is then), and its 100% once after them.
+  using Clock = std::chrono::steady_clock;
+  struct State {
+    Clock::time_point start = Clock::now(), last = start;
+    bool pending_end = false;  // a line was printed since the last 100%
+  };
+  auto s = std::make_shared<State>();
+  return [label, s](double fraction, std::string_view stage) {
+    const int pct = static_cast<int>(fraction * 100 + 0.5);
+    const Clock::time_point now = Clock::now();
+    const bool end = pct >= 100;
+    if (end ? !s->pending_end : now - s->last < kLogProgressInterval) return;
+    s->last = now;
+    s->pending_end = !end;
+    const double seconds = std::chrono::duration<double>(now - s->start).count();
+    std::fprintf(stderr, "%s: %.*s %d%% (%.0f s)\n", label.c_str(), int(stage.size()), stage.data(), pct, seconds);
   };
 }
 

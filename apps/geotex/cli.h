@@ -2,6 +2,7 @@
 // Shared pieces of the geotex command-line tool: subcommand and demo-step registries, reading and
 // writing with user-facing messages, progress lines.
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -100,8 +101,11 @@ class Outputs {
   OutputTransaction tx_;
 };
 
-// A progress callback printing "stage 42%" on stderr (a carriage-return line on a terminal).
+// A progress callback printing "stage 42%" on stderr: on a terminal one line redrawn in place; otherwise
+// (a log, a pipe) nothing during the first kLogProgressInterval, then a line per interval at most, and
+// the final 100% only if a line was printed.
 ProgressFn progress_printer(const std::string& label);
+inline constexpr std::chrono::seconds kLogProgressInterval{5};
 void info(const std::string& line);  // stderr unless quiet
 
 // Validators for CLI11.

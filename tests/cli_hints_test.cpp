@@ -1,0 +1,59 @@
+// The command line as a user meets it (issue 28): quiet logs, "did you mean" for a mistyped flag or
+// command, output names refused before any work, help texts that list what exists.
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+
+using geotex::test::run_cli;
+using geotex::test::TempDir;
+
+namespace {
+std::vector<std::string> lines_of(const std::string& s) {
+  std::vector<std::string> lines;
+  std::istringstream in(s);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
+
+// A small noisy cube with one vertex in no face (a reader warning on every run).
+std::string noisy_cube_with_warning(const TempDir& tmp) {
+  EXPECT_EQ(run_cli("generate cube --level 1 -o " + (tmp / "c.obj")).exit_code, 0);
+  EXPECT_EQ(run_cli("noise " + (tmp / "c.obj") + " -o " + (tmp / "n.obj") + " --sigma 0.2").exit_code, 0);
+  std::ofstream(tmp / "n.obj", std::ios::app) << "v 5 5 5\n";
+  return tmp / "n.obj";
+}
+}  // namespace
+
+// stderr is a file here: a run that ends within seconds prints no progress line, only what it found,
+// its warnings and what it wrote.
+TEST(CliHints, ShortRunsPrintNoProgressLinesToALog) {
+  TempDir tmp;
+  const std::string in = noisy_cube_with_warning(tmp);
+  for (const std::string& c : {"denoise " + in + " -o " + (tmp / "d.ply") + " --edges " + (tmp / "e.ply"),
+                               "denoise " + in + " -o " + (tmp / "m.ply") + " --method mrf",
+                               "smooth " + in + " -o " + (tmp / "s.ply") + " --steps 3"}) {
+    const auto r = run_cli(c);
+    ASSERT_EQ(r.exit_code, 0) << c << "\n" << r.err;
+    bool warned = false, wrote = false;
+    for (const auto& line : lines_of(r.err)) {
+      EXPECT_FALSE(starts_with(line, "denoise ") || starts_with(line, "smooth:")) << c << ": a progress line: " << line;
+      EXPECT_EQ(line.find('\r'), std::string::npos) << c;
+      warned = warned || (starts_with(line, "geotex: warning: ") && line.find("belong to no face") != std::string::npos);
+      wrote = wrote || starts_with(line, "wrote ");
+    }
+    EXPECT_TRUE(warned) << c << "\n" << r.err;
+    EXPECT_TRUE(wrote) << c << "\n" << r.err;
+  }
+}
+
