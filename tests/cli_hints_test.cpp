@@ -57,3 +57,37 @@ TEST(CliHints, ShortRunsPrintNoProgressLinesToALog) {
   }
 }
 
+TEST(CliHints, AMistypedFlagNamesTheClosestOne) {
+  TempDir tmp;
+  const std::string in = noisy_cube_with_warning(tmp), out = tmp / "o.ply";
+  struct Case {
+    std::string args, message;
+  };
+  const Case cases[] = {
+      {"denoise " + in + " -o " + out + " --sigmaa 0.2", "geotex: error: unknown flag --sigmaa (did you mean --sigma?)"},
+      {"denoise " + in + " -o " + out + " --sigmaa=0.2", "geotex: error: unknown flag --sigmaa (did you mean --sigma?)"},
+      // The value after the unknown flag shifts into IN ("0.2: no such file"): the flag is still the error named.
+      {"denoise --sigmaa 0.2 " + in + " -o " + out, "geotex: error: unknown flag --sigmaa (did you mean --sigma?)"},
+      {"denoise " + in + " -o " + out + " --lable-threshold 0.3",
+       "geotex: error: unknown flag --lable-threshold (did you mean --label-threshold?)"},
+      {"--quite info " + in, "geotex: error: unknown flag --quite (did you mean --quiet?)"},
+      {"info " + in + " --jsn", "geotex: error: unknown flag --jsn (did you mean --json?)"},
+      {"smooth " + in + " -o " + out + " --lamda 0.1", "geotex: error: unknown flag --lamda (did you mean --lambda?)"},
+      {"denoise " + in + " -o " + out + " --zzzzzzzz", "geotex: error: unknown flag --zzzzzzzz (see geotex denoise --help)"},
+      {"denoize " + in + " -o " + out, "geotex: error: unknown command denoize (did you mean denoise?)"},
+      {"texture synthesise " + in + " --target " + in + " -o " + out,
+       "geotex: error: unknown texture command synthesise (did you mean synthesize?)"},
+      {"frobnicate", "geotex: error: unknown command frobnicate (see geotex --help)"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.err, c.message + "\n") << c.args;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
+  }
+  // A flag of the right name but a bad value is still reported as such.
+  const auto r = run_cli("denoise " + in + " -o " + out + " --sigma -1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("out of range"), std::string::npos) << r.err;
+}
+

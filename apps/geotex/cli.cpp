@@ -1,5 +1,7 @@
 #include "cli.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -146,5 +148,92 @@ const CLI::Validator FiniteNumber(
       return {};
     },
     "", "FiniteNumber");
+
+}  // namespace geotex::cli
+
+namespace geotex::cli {
+
+namespace {
+// Optimal string alignment distance: Levenshtein with adjacent transpositions ("sigam" is 1 from "sigma").
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i)
+    for (size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+std::string_view without_dashes(std::string_view s) {
+  while (!s.empty() && s.front() == '-') s.remove_prefix(1);
+  return s;
+}
+
+// "-x", "--name", "--name=value"; not "-0.5" (a negative number) or "-" (stdin).
+bool looks_like_flag(const std::string& arg) {
+  return arg.size() > 1 && arg[0] == '-' && !std::isdigit(static_cast<unsigned char>(arg[1])) && arg[1] != '.';
+}
+
+// Every spelling of every option of \p app and of the commands above it (global flags go anywhere).
+std::vector<std::string> flag_names(const CLI::App* app) {
+  std::vector<std::string> names;
+  for (; app; app = app->get_parent())
+    for (const CLI::Option* o : app->get_options()) {
+      for (const auto& l : o->get_lnames()) names.push_back("--" + l);
+      for (const auto& s : o->get_snames()) names.push_back("-" + s);
+    }
+  return names;
+}
+
+// "geotex texture": the command line up to \p app.
+std::string command_path(const CLI::App* app) {
+  std::string path;
+  for (; app; app = app->get_parent()) path = app->get_name() + (path.empty() ? "" : " " + path);
+  return path;
+}
+}  // namespace
+
+std::string closest_name(std::string_view name, const std::vector<std::string>& candidates) {
+  // A slip, not another word: at most a third of the letters differ (one for short names, three at most).
+  const std::string_view bare = without_dashes(name);
+  const size_t limit = std::clamp<size_t>(bare.size() / 3, 1, 3);
+  std::string best;
+  size_t best_distance = limit + 1;
+  for (const auto& c : candidates) {
+    const size_t d = edit_distance(bare, without_dashes(c));
+    if (d < best_distance) best = c, best_distance = d;
+  }
+  return best;
+}
+
+std::optional<std::string> unknown_argument_message(const CLI::App& app) {
+  const std::vector<std::string> left = app.remaining(true);
+  if (left.empty()) return std::nullopt;
+  const CLI::App* at = &app;  // the last command given
+  while (!at->get_subcommands().empty()) at = at->get_subcommands().front();
+  // Visible subcommands: a command that needs one and got none reads its first word as the typo.
+  std::vector<std::string> commands;
+  for (const CLI::App* s : at->get_subcommands([](const CLI::App* s) { return !s->get_group().empty(); }))
+    commands.push_back(s->get_name());
+  const std::string where = command_path(at);
+  if (!commands.empty()) {
+    for (const auto& arg : left) {
+      if (looks_like_flag(arg)) continue;
+      const std::string what = at->get_parent() ? "unknown " + at->get_name() + " command " : "unknown command ";
+      const std::string best = closest_name(arg, commands);
+      return what + arg + (best.empty() ? " (see " + where + " --help)" : " (did you mean " + best + "?)");
+    }
+  }
+  for (const auto& arg : left) {
+    if (!looks_like_flag(arg)) continue;
+    const std::string flag = arg.substr(0, arg.find('='));
+    const std::string best = closest_name(flag, flag_names(at));
+    return "unknown flag " + flag + (best.empty() ? " (see " + where + " --help)" : " (did you mean " + best + "?)");
+  }
+  return std::nullopt;
+}
 
 }  // namespace geotex::cli

@@ -5,7 +5,9 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -107,6 +109,15 @@ class Outputs {
 ProgressFn progress_printer(const std::string& label);
 inline constexpr std::chrono::seconds kLogProgressInterval{5};
 void info(const std::string& line);  // stderr unless quiet
+
+//! The candidate closest to \p name by edit distance (dashes aside), or "" when none is within a slip
+//! of it (a third of its letters, at least one and at most three).
+std::string closest_name(std::string_view name, const std::vector<std::string>& candidates);
+//! After a failed parse: "unknown flag --sigmaa (did you mean --sigma?)" for the first argument the
+//! command line did not take (a mistyped command, or else a flag), or nullopt when every argument was
+//! taken. It is the error to report even when a validator failed first: an unknown flag shifts the
+//! arguments after it (its value becomes IN, which then "does not exist").
+std::optional<std::string> unknown_argument_message(const CLI::App& app);
 
 // Validators for CLI11.
 extern const CLI::Validator ExistingMeshFile;

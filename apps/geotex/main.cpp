@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <string>
 
@@ -62,6 +63,40 @@ int main(int argc, char** argv) {
 }
 
 namespace {
+// The one line and exit code of an error: 1 for bad input or files, 2 for bad flags, 3 for a bug.
+int report_error(std::exception_ptr error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
+    return 2;
+  } catch (const geotex::InvalidOption& e) {
+    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
+    return 2;
+  } catch (const geotex::InvalidInput& e) {
+    std::fprintf(stderr, "geotex: invalid input: %s\n", one_line(e.what()).c_str());
+    return 1;
+  } catch (const geotex::IoError& e) {
+    std::fprintf(stderr, "geotex: file error: %s\n", one_line(e.what()).c_str());
+    return 1;
+  } catch (const geotex::SolverError& e) {
+    std::fprintf(stderr, "geotex: solver error: %s\n", one_line(e.what()).c_str());
+    return 1;
+  } catch (const geotex::Error& e) {
+    std::fprintf(stderr, "geotex: error: %s\n", one_line(e.what()).c_str());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "geotex: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "geotex: internal error: %s\n", one_line(e.what()).c_str());
+    return 3;
+  } catch (...) {
+    std::fprintf(stderr, "geotex: internal error: an unknown exception\n");
+    return 3;
+  }
+}
+
 int run(int argc, char** argv) {
   using namespace geotex::cli;
   // Named, so that the usage line says "geotex", not the path the binary was started by.
@@ -109,30 +144,14 @@ int run(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
-    return 2;
-  } catch (const geotex::InvalidOption& e) {
-    std::fprintf(stderr, "geotex: error: %s (see --help)\n", one_line(e.what()).c_str());
-    return 2;
-  } catch (const geotex::InvalidInput& e) {
-    std::fprintf(stderr, "geotex: invalid input: %s\n", one_line(e.what()).c_str());
-    return 1;
-  } catch (const geotex::IoError& e) {
-    std::fprintf(stderr, "geotex: file error: %s\n", one_line(e.what()).c_str());
-    return 1;
-  } catch (const geotex::SolverError& e) {
-    std::fprintf(stderr, "geotex: solver error: %s\n", one_line(e.what()).c_str());
-    return 1;
-  } catch (const geotex::Error& e) {
-    std::fprintf(stderr, "geotex: error: %s\n", one_line(e.what()).c_str());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "geotex: out of memory\n");
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "geotex: internal error: %s\n", one_line(e.what()).c_str());
-    return 3;
+  } catch (...) {
+    // A mistyped flag or command is the mistake to name, even when a validator failed first because
+    // of it (its value shifted into IN) or a requirement is then missing.
+    if (const auto message = unknown_argument_message(app)) {
+      std::fprintf(stderr, "geotex: error: %s\n", one_line(message->c_str()).c_str());
+      return 2;
+    }
+    return report_error(std::current_exception());
   }
   return 0;
 }

@@ -75,6 +75,41 @@ def options_doc(names: List[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _edit_distance(a: str, b: str) -> int:
+    """Optimal string alignment distance (Levenshtein with adjacent transpositions), as the CLI's."""
+    d = [[i + j if i * j == 0 else 0 for j in range(len(b) + 1)] for i in range(len(a) + 1)]
+    for i in range(1, len(a) + 1):
+        for j in range(1, len(b) + 1):
+            d[i][j] = min(d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1]))
+            if i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
+                d[i][j] = min(d[i][j], d[i - 2][j - 2] + 1)
+    return d[len(a)][len(b)]
+
+
+def closest_name(name: str, candidates: List[str]) -> Optional[str]:
+    """The candidate closest to `name`, or None when none is within a slip of it (a third of its
+    letters, at least one and at most three: the rule of the command line's "did you mean")."""
+    limit = min(max(len(name) // 3, 1), 3)
+    best, best_distance = None, limit + 1
+    for c in candidates:
+        d = _edit_distance(name, c.rstrip("_"))  # lambda_ is 'lambda' spelt as a keyword allows
+        if d < best_distance:
+            best, best_distance = c, d
+    return best
+
+
+def _unexpected_keyword(fn: Callable, sig: inspect.Signature, kwargs: Dict[str, Any]) -> Optional[TypeError]:
+    """TypeError naming the first keyword `sig` does not take, with the closest one it takes."""
+    keywords = [p.name for p in sig.parameters.values()
+                if p.kind in (inspect.Parameter.KEYWORD_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)]
+    for name in kwargs:
+        if name not in sig.parameters:
+            best = closest_name(name, keywords)
+            hint = f" (did you mean '{best}'?)" if best else ""
+            return TypeError(f"{fn.__name__}() got an unexpected keyword argument '{name}'{hint}")
+    return None
+
+
 def with_options(table_name: str) -> Callable:
     """Give `fn(…, **options)` the options of table `table_name` as keyword-only arguments with their
     defaults. The wrapper passes on only the options given (the library applies the defaults and the
@@ -102,7 +137,13 @@ def with_options(table_name: str) -> Callable:
 
         @functools.wraps(fn)
         def wrapper(*args: Any, **kwargs: Any) -> Any:
-            bound = sig.bind(*args, **kwargs)
+            try:
+                bound = sig.bind(*args, **kwargs)
+            except TypeError as e:
+                unexpected = _unexpected_keyword(fn, sig, kwargs)
+                if unexpected is None:
+                    raise
+                raise unexpected from None
             positional = {k: v for k, v in bound.arguments.items() if k in own_names}
             options = {k: v for k, v in bound.arguments.items() if k not in own_names}
             return fn(**positional, **options)
