@@ -91,3 +91,37 @@ TEST(CliHints, AMistypedFlagNamesTheClosestOne) {
   EXPECT_NE(r.err.find("out of range"), std::string::npos) << r.err;
 }
 
+// An output name no writer takes is refused while the command line is read: before the input is loaded,
+// so at once even for a mesh that takes seconds to denoise, and nothing is written.
+TEST(CliHints, BadOutputNamesAreRefusedBeforeAnyWork) {
+  TempDir tmp;
+  const std::string in = noisy_cube_with_warning(tmp);
+  ASSERT_EQ(run_cli("generate spiky-plane --level 0 -o " + (tmp / "sp.ply") + " --base-output " + (tmp / "spb.ply")).exit_code, 0);
+  struct Case {
+    std::string args, says;
+  };
+  const Case cases[] = {
+      {"denoise " + in + " -o " + (tmp / "x.glb"), "x.glb: unknown mesh format '.glb'"},
+      {"denoise " + in + " -o " + (tmp / "d.ply") + " --edges " + (tmp / "e.obj"), "--edges-obj"},
+      {"denoise " + in + " -o " + (tmp / "d.ply") + " --edges-obj " + (tmp / "e.ply"), "--edges-obj writes OBJ"},
+      {"denoise " + in + " -o " + (tmp / "d.ply") + " --method surfel --polygons " + (tmp / "p.ply"), "--polygons writes OBJ"},
+      {"smooth " + in + " -o " + (tmp / "x.gltf"), "unknown mesh format '.gltf'"},
+      {"generate cube -o " + (tmp / "x.glb"), "unknown mesh format '.glb'"},
+      {"generate spiky-plane -o " + (tmp / "g.ply") + " --base-output " + (tmp / "b.glb"), "unknown mesh format '.glb'"},
+      {"texture extract " + (tmp / "sp.ply") + " --base " + (tmp / "spb.ply") + " -o " + (tmp / "t.obj"), "a texture file is a PLY"},
+      {"texture extract " + (tmp / "sp.ply") + " --base " + (tmp / "spb.ply") + " -o " + (tmp / "t.ply") + " --reconstructed " +
+           (tmp / "r.glb"),
+       "unknown mesh format '.glb'"},
+      {"project " + in + " " + in + " -o " + (tmp / "x.fbx"), "unknown mesh format '.fbx'"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_cli(c.args);
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("geotex: file error: ", 0), 0u) << c.args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;  // no warning: IN is not read
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
+  }
+  for (const char* f : {"d.ply", "e.obj", "e.ply", "p.ply", "x.glb", "g.ply", "t.obj", "t.ply"})
+    EXPECT_FALSE(std::filesystem::exists(tmp / f)) << f;
+}
+

@@ -50,7 +50,7 @@ void add_figure(const DemoContext& ctx, const DemoFigure& f) {
 
 MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
   app.add_option("IN", input, "input mesh")->required()->check(ExistingMeshFile);
-  app.add_option("-o,--output", output, output_help)->required();
+  app.add_option("-o,--output", output, output_help)->required()->check(MeshOutputFile);
   app.add_flag("--ascii", ascii, "ascii PLY/STL output");
 }
 
@@ -139,6 +139,30 @@ const CLI::Validator ExistingFile(
       return {};
     },
     "FILE", "ExistingFile");
+
+// Outputs are checked by their flags, while parsing: a name no writer takes fails before the input is read.
+const CLI::Validator MeshOutputFile(
+    [](std::string& path) -> std::string {
+      format_from_path(path);  // an unknown extension: IoError naming the formats
+      return {};
+    },
+    "MESH", "MeshOutputFile");
+
+CLI::Validator OutputWithExtension(const std::string& extension, const std::string& explanation) {
+  std::string desc = extension.substr(1);
+  std::transform(desc.begin(), desc.end(), desc.begin(), [](unsigned char c) { return std::toupper(c); });
+  return CLI::Validator(
+      [extension, explanation](std::string& path) -> std::string {
+        std::string ext = std::filesystem::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (ext != extension) throw IoError(fmt::format("{}: {}", path, explanation));
+        return {};
+      },
+      desc, "OutputWithExtension");
+}
+
+const CLI::Validator TextureOutputFile = OutputWithExtension(
+    ".ply", "a texture file is a PLY (base mesh, vertex height and lean, edge tilt): name it .ply");
 
 const CLI::Validator FiniteNumber(
     [](std::string& text) -> std::string {

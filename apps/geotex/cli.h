@@ -124,5 +124,11 @@ extern const CLI::Validator ExistingMeshFile;
 //! An existing file that is not a folder (texture, deform handles, point files); IoError (exit 1) otherwise.
 extern const CLI::Validator ExistingFile;
 extern const CLI::Validator FiniteNumber;  // refuses nan and inf (hand-written numeric flags)
+//! An output mesh name with a format geotex writes (.obj, .ply, .off, .stl); IoError (exit 1) otherwise,
+//! while parsing, so before any work.
+extern const CLI::Validator MeshOutputFile;
+//! An output name ending in \p extension (".ply"); IoError "PATH: explanation" otherwise, while parsing.
+CLI::Validator OutputWithExtension(const std::string& extension, const std::string& explanation);
+extern const CLI::Validator TextureOutputFile;  //!< a texture file's name: .ply
 
 }  // namespace geotex::cli

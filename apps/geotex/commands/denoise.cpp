@@ -39,8 +39,17 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
     help += "\n  " + m.name + ": " + m.help;
   }
   app.add_option("--method", a->method, help)->check(CLI::IsMember(names))->capture_default_str();
-  app.add_option("--edges", a->edges_ply, "write edge labels as PLY (edge element: vertex1 vertex2 label)");
-  app.add_option("--edges-obj", a->edges_obj, "write labelled sharp edges as OBJ line segments");
+  // Each file has one format: an --edges name not ending in .ply is refused, not written as PLY under
+  // another name nor quietly turned into OBJ lines (which would drop the labels of the smooth edges).
+  app.add_option("--edges", a->edges_ply,
+                 "write every edge's label as PLY (edge element: vertex1 vertex2 label); the name must end in .ply "
+                 "(OBJ line segments of the sharp edges: --edges-obj)")
+      ->check(OutputWithExtension(".ply", "--edges writes PLY (every edge with its label): name it .ply, or use "
+                                          "--edges-obj for the sharp edges as OBJ line segments"));
+  app.add_option("--edges-obj", a->edges_obj,
+                 "write the sharp edges (label above --label-threshold) as OBJ line segments; the name must end in .obj")
+      ->check(OutputWithExtension(".obj", "--edges-obj writes OBJ line segments: name it .obj, or use --edges for "
+                                          "every edge's label as PLY"));
   app.add_option("--label-threshold", a->label_threshold, "label above which an edge counts as sharp (OBJ output)")
       ->check(FiniteNumber)->check(CLI::Range(0.0, 1.0))->capture_default_str();
   app.add_option("--report", a->report, "write a JSON report (energies per iteration, parameters, time)");

@@ -16,6 +16,7 @@ DenoiseRegistrar reg{
     [](FlagSet& f) {
       f.add("surfel", SurfelDenoiseOptions::table(), "surfel");
       f.app().add_option("--polygons", *polygons_path, "surfel, dual retrieval: also write the dual polygon mesh as OBJ")
+          ->check(OutputWithExtension(".obj", "--polygons writes OBJ polygons: name it .obj"))
           ->group("surfel");
     },
     [](const FlagSet& f) -> DenoiseRun {

@@ -26,11 +26,12 @@ Registrar reg{20, "generate", "Write a procedural test shape (see SHAPE for the 
               [](CLI::App& app) {
                 auto a = std::make_shared<Args>();
                 app.add_option("SHAPE", a->shape, "shape name")->required()->check(CLI::IsMember(shape_names()));
-                app.add_option("-o,--output", a->output, "output mesh file")->required();
+                app.add_option("-o,--output", a->output, "output mesh file")->required()->check(MeshOutputFile);
                 app.add_option("--level", a->level, "resolution level: 0 coarse, 1 default, each level ~4x the faces")
                     ->check(CLI::Range(0, 8))->capture_default_str();
                 app.add_option("--seed", a->seed, "seed for the spiky shapes")->capture_default_str();
-                app.add_option("--base-output", a->base_output, "also write the untextured base (spiky shapes)");
+                app.add_option("--base-output", a->base_output, "also write the untextured base (spiky shapes)")
+                    ->check(MeshOutputFile);
                 app.callback([a] { run(*a); });
               }};
 

@@ -44,7 +44,9 @@ Registrar reg{75, "project", "project a mesh's vertices onto a base along the ba
   auto a = std::make_shared<Args>();
   app.add_option("IN", a->input, "mesh whose vertices are projected")->required()->check(ExistingMeshFile);
   app.add_option("BASE", a->base, "base mesh (vertex normals: angle-weighted)")->required()->check(ExistingMeshFile);
-  app.add_option("-o,--output", a->output, "IN with its vertices moved to their projections")->required();
+  app.add_option("-o,--output", a->output, "IN with its vertices moved to their projections")
+      ->required()
+      ->check(MeshOutputFile);
   auto flags = std::make_shared<FlagSet>(app);
   flags->add("project", PhongProjectionOptions::table());
   app.callback([a, flags] { run(*a, flags->resolve<PhongProjectionOptions>("project")); });

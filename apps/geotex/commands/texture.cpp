@@ -280,11 +280,13 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
               "smoothing). --preset thesis: the thesis' base and encoding.");
     s->add_option("IN", a->input, "textured mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "texture file (PLY: base mesh, vertex 'height' and 'lean', edge 'tilt')")
-        ->required();
+        ->required()
+        ->check(TextureOutputFile);
     s->add_option("--base", a->base, "base mesh: same connectivity (used vertex for vertex) or any (textured vertices "
                                       "are projected onto it along its Phong normals)")
         ->check(ExistingMeshFile);
-    s->add_option("--reconstructed", a->reconstructed, "also write the surface rebuilt from the texture");
+    s->add_option("--reconstructed", a->reconstructed, "also write the surface rebuilt from the texture")
+        ->check(MeshOutputFile);
     auto flags = table_flags<TextureExtractOptions>(*s, "extract");
     s->callback([a, flags] { run_extract(*a, *flags); });
   }
@@ -293,7 +295,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     CLI::App* s = app.add_subcommand(
         "apply", "apply a texture to its base, or to a deformed/rescaled base of the same connectivity (Sec. 8.4.2)");
     s->add_option("TEXTURE", a->input, "texture file")->required()->check(ExistingFile);
-    s->add_option("-o,--output", a->output, "textured mesh")->required();
+    s->add_option("-o,--output", a->output, "textured mesh")->required()->check(MeshOutputFile);
     s->add_option("--base", a->base, "new base with the texture's connectivity (default: the stored base)")
         ->check(ExistingMeshFile);
     s->add_flag("--ascii", a->ascii, "ascii PLY/STL output");
@@ -304,8 +306,8 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     auto a = std::make_shared<EditFiles>();
     CLI::App* s = app.add_subcommand("edit", "edit a texture: set-tilt, wrap, wiggle, scale-height (Sec. 8.4.1)");
     s->add_option("TEXTURE", a->input, "texture file")->required()->check(ExistingFile);
-    s->add_option("-o,--output", a->output, "edited texture file")->required();
-    s->add_option("--mesh", a->mesh, "also write the textured surface");
+    s->add_option("-o,--output", a->output, "edited texture file")->required()->check(TextureOutputFile);
+    s->add_option("--mesh", a->mesh, "also write the textured surface")->check(MeshOutputFile);
     auto flags = table_flags<TextureEditOptions>(*s, "edit");
     s->callback([a, flags] { run_edit(*a, *flags); });
   }
@@ -327,8 +329,8 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
         "transfer", "transfer a disk patch of a texture onto a disk patch of another base (Sec. 8.3.3)");
     s->add_option("TEXTURE", a->source, "source texture file")->required()->check(ExistingFile);
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
-    s->add_option("-o,--output", a->output, "textured target mesh")->required();
-    s->add_option("--texture-out", a->texture_out, "also write the target's texture file");
+    s->add_option("-o,--output", a->output, "textured target mesh")->required()->check(MeshOutputFile);
+    s->add_option("--texture-out", a->texture_out, "also write the target's texture file")->check(TextureOutputFile);
     auto flags = table_flags<TransferOptions>(*s, "transfer", {"--source-radius", "--target-radius"});
     add_near(*s, a->source_near, "source", "source base");
     add_near(*s, a->target_near, "target", "target");
@@ -340,8 +342,8 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
         "atlas", "cover a whole surface with copies of one texture disk, blended where they overlap");
     s->add_option("TEXTURE", a->source, "source texture file")->required()->check(ExistingFile);
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
-    s->add_option("-o,--output", a->output, "textured target mesh")->required();
-    s->add_option("--texture-out", a->texture_out, "also write the target's texture file");
+    s->add_option("-o,--output", a->output, "textured target mesh")->required()->check(MeshOutputFile);
+    s->add_option("--texture-out", a->texture_out, "also write the target's texture file")->check(TextureOutputFile);
     auto flags = table_flags<AtlasOptions>(*s, "atlas", {"--source-radius"});
     add_near(*s, a->source_near, "source", "source base");
     s->callback([a, flags] { run_atlas(*a, *flags); });

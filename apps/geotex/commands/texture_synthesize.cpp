@@ -82,8 +82,9 @@ void add_texture_synthesize(CLI::App& texture) {
   s->add_option("--exemplar-base", a->exemplar_base, "the exemplar's base, when EXEMPLAR is a textured mesh")
       ->check(ExistingMeshFile);
   s->add_option("--target", a->target, "target base mesh")->required()->check(ExistingMeshFile);
-  s->add_option("-o,--output", a->output, "textured target mesh")->required();
-  s->add_option("--texture-out", a->texture_out, "also write the target's texture file (over the refined target)");
+  s->add_option("-o,--output", a->output, "textured target mesh")->required()->check(MeshOutputFile);
+  s->add_option("--texture-out", a->texture_out, "also write the target's texture file (over the refined target)")
+      ->check(TextureOutputFile);
   s->add_option("--report", a->report, "write the synthesis measures (bench/synthesis.md) as JSON");
   s->add_option("--weight", a->weight_file,
                 "per-vertex growth weights in [0, 1] of the target: text, one per line, or PLY with vertex 'feature'")
