@@ -26,6 +26,18 @@ std::vector<std::string> lines_of(const std::string& s) {
 
 bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
+// The names listed under "Subcommands:" in a --help text.
+std::vector<std::string> subcommands_in_help(const std::string& help) {
+  std::vector<std::string> names;
+  bool in = false;
+  for (const auto& line : lines_of(help)) {
+    if (line == "Subcommands:") in = true;
+    else if (in && starts_with(line, "  ") && line.size() > 2 && line[2] != ' ') names.push_back(line.substr(2, line.find(' ', 2) - 2));
+    else if (in && !line.empty()) in = false;
+  }
+  return names;
+}
+
 // A small noisy cube with one vertex in no face (a reader warning on every run).
 std::string noisy_cube_with_warning(const TempDir& tmp) {
   EXPECT_EQ(run_cli("generate cube --level 1 -o " + (tmp / "c.obj")).exit_code, 0);
@@ -125,3 +137,55 @@ TEST(CliHints, BadOutputNamesAreRefusedBeforeAnyWork) {
     EXPECT_FALSE(std::filesystem::exists(tmp / f)) << f;
 }
 
+TEST(CliHints, HelpListsEverySubcommandAndNoSourceFile) {
+  const auto top = run_cli("--help");
+  ASSERT_EQ(top.exit_code, 0);
+  const std::vector<std::string> commands = subcommands_in_help(top.out);
+  ASSERT_GE(commands.size(), 10u) << top.out;
+  const auto texture = run_cli("texture --help");
+  ASSERT_EQ(texture.exit_code, 0);
+  const std::vector<std::string> texture_commands = subcommands_in_help(texture.out);
+  ASSERT_GE(texture_commands.size(), 7u) << texture.out;
+  // The description (first line of `texture --help`, and texture's line in `geotex --help`) names them all.
+  std::string texture_line;
+  for (const auto& line : lines_of(top.out))
+    if (starts_with(line, "  texture ")) texture_line = line;
+  for (const auto& s : texture_commands) {
+    EXPECT_NE(lines_of(texture.out).front().find(s), std::string::npos) << s << "\n" << texture.out;
+    EXPECT_NE(texture_line.find(s), std::string::npos) << s << "\n" << texture_line;
+  }
+  EXPECT_NE(std::find(texture_commands.begin(), texture_commands.end(), "synthesize"), texture_commands.end());
+
+  std::vector<std::string> all;
+  for (const auto& c : commands)
+    if (c != "texture") all.push_back(c);
+  for (const auto& s : texture_commands) all.push_back("texture " + s);
+  for (const auto& c : all) {
+    const auto r = run_cli(c + " --help");
+    EXPECT_EQ(r.exit_code, 0) << c;
+    for (const char* source : {".cpp", ".h)", ".h ", "src/", "apps/"})
+      EXPECT_EQ(r.out.find(source), std::string::npos) << c << " --help points to a source file:\n" << r.out;
+  }
+  // deform's handles file is described where the user looks for it.
+  const auto deform = run_cli("deform --help");
+  for (const char* key : {"\"vertices\"", "\"sphere\"", "\"box\"", "\"targets\"", "\"translate\"", "\"rotate\"", "\"scale\"", "\"weight\""})
+    EXPECT_NE(deform.out.find(key), std::string::npos) << key;
+}
+
+// README's command table has a row for every command (and texture subcommand) of `geotex --help`.
+TEST(CliHints, ReadmeTableHasEveryCommand) {
+  std::ifstream readme(std::filesystem::path(geotex::test::source_dir()) / "README.md");
+  ASSERT_TRUE(readme) << "README.md not found";
+  std::set<std::string> rows;
+  for (std::string line; std::getline(readme, line);) {
+    if (!starts_with(line, "| `geotex ")) continue;
+    std::istringstream words(line.substr(10));
+    std::string name, sub;
+    words >> name >> sub;
+    rows.insert(name);
+    if (name == "texture") rows.insert("texture " + sub);
+  }
+  for (const auto& c : subcommands_in_help(run_cli("--help").out)) EXPECT_TRUE(rows.count(c)) << "no README row for geotex " << c;
+  for (const auto& s : subcommands_in_help(run_cli("texture --help").out))
+    EXPECT_TRUE(rows.count("texture " + s)) << "no README row for geotex texture " << s;
+}

@@ -1,18 +1,7 @@
 // geotex deform IN --handles H.json -o OUT: Laplacian surface editing (thesis Sec. 5.1.4).
 //
-// Handles file (JSON; parsed by geotex::parse_handles() in user_files.h):
-//   {"handles": [ HANDLE, ... ]}
-// HANDLE selects vertices by exactly one of
-//   "vertices": [i, j, ...]                          vertex ids
-//   "sphere": {"center": [x,y,z], "radius": r}       every vertex within r of the centre
-//   "box": {"min": [x,y,z], "max": [x,y,z]}          every vertex inside the axis-aligned box
-// and gives their targets by either
-//   "targets": [[x,y,z], ...]                        one per id (only with "vertices")
-// or a transform x ↦ R(s (x − c)) + c + t, applied in that order (a handle without one stays put):
-//   "scale": s, "rotate": {"axis": [x,y,z], "angle_deg": a, "center": [x,y,z]}, "translate": [x,y,z],
-//   "center": [x,y,z]   (c for scale and rotation; default: the centroid of the selected vertices;
-//                         "rotate.center" overrides it for the rotation)
-// Optional "weight": w_i of Eq. (5.19) for the handle's vertices (default --weight).
+// The handles file is described in the command's help (kHandlesHelp), parsed by geotex::parse_handles()
+// in user_files.h.
 
 #include <chrono>
 
@@ -25,6 +14,21 @@
 
 namespace geotex::cli {
 namespace cmd_deform {  // named, not anonymous: a unity build compiles several commands in one unit
+
+constexpr const char* kHandlesHelp = R"(Handles file (--handles, JSON):
+  {"handles": [HANDLE, ...]}
+A HANDLE selects vertices by exactly one of
+  "vertices": [i, j, ...]                          vertex ids
+  "sphere": {"center": [x,y,z], "radius": r}       every vertex within r of the centre
+  "box": {"min": [x,y,z], "max": [x,y,z]}          every vertex inside the axis-aligned box
+and gives their targets by either
+  "targets": [[x,y,z], ...]                        one per id (only with "vertices")
+or a transform x -> R(s (x - c)) + c + t, applied in that order (a handle without one stays put):
+  "scale": s, "rotate": {"axis": [x,y,z], "angle_deg": a, "center": [x,y,z]}, "translate": [x,y,z],
+  "center": [x,y,z]   (c for scale and rotation; default: the centroid of the selected vertices;
+                       "rotate.center" overrides it for the rotation)
+Optional "weight": w_i of Eq. (5.19) for the handle's vertices (default --handle-weight).
+Every connected component needs a handle.)";
 
 void run(const MeshIo& io, const std::string& handles, const EditOptions& o) {
   Outputs out({io.input, handles}, {{io.output, "-o"}});
@@ -51,8 +55,9 @@ Registrar reg{70, "deform", "Laplacian surface editing with handles (Sec. 5.1.4)
   auto handles = std::make_shared<std::string>();
   app.add_option("--handles", *handles,
                  "JSON handles file: {\"handles\": [{\"vertices\"|\"sphere\"|\"box\": ..., \"targets\"|\"translate\"|"
-                 "\"rotate\"|\"scale\": ..., \"weight\": w}]} (see commands/deform.cpp)")
+                 "\"rotate\"|\"scale\": ..., \"weight\": w}]} (see below)")
       ->required()->check(ExistingFile);
+  app.footer(kHandlesHelp);
   auto flags = std::make_shared<FlagSet>(app);
   flags->add("deform", EditOptions::table());
   app.callback([io, handles, flags] { run(*io, *handles, flags->resolve<EditOptions>("deform")); });

@@ -268,8 +268,7 @@ std::shared_ptr<FlagSet> table_flags(CLI::App& s, const std::string& owner, std:
   return flags;
 }
 
-Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply, edit, animate, transfer, atlas (ch. 8)",
-              [](CLI::App& app) {
+Registrar reg{70, "texture", "height-and-tilt geometric texture (ch. 8)", [](CLI::App& app) {
   app.require_subcommand(1);
   {
     auto a = std::make_shared<ExtractFiles>();
@@ -349,6 +348,11 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture: extract, apply,
     s->callback([a, flags] { run_atlas(*a, *flags); });
   }
   add_texture_synthesize(app);  // texture_synthesize.cpp
+  // The subcommands named in the description (`geotex --help`, `geotex texture --help`) are the ones added.
+  std::string names;
+  for (const CLI::App* s : app.get_subcommands([](CLI::App*) { return true; }))
+    names += (names.empty() ? ": " : ", ") + s->get_name();
+  app.description(app.get_description() + names);
 }};
 
 }  // namespace cmd_texture
