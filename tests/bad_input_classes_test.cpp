@@ -110,11 +110,11 @@ TEST(BadInputClasses, AFailedRunLeavesInputsAndOutputsAsTheyWere) {
   // A secondary output that cannot be written: the existing -o file is not replaced (main replaced it
   // first, then failed), and the check comes before the work.
   write_file(out, "old result");
-  write_file(tmp / "ro.ply", "read-only");
-  ::chmod((tmp / "ro.ply").c_str(), 0444);
+  write_file(tmp / "ro.obj", "read-only");
+  ::chmod((tmp / "ro.obj").c_str(), 0444);
   EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges " + (tmp / "missing") + "/e.ply"), 1,
                          "does not exist"));
-  EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges-obj " + (tmp / "ro.ply")), 1, "read-only"));
+  EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges-obj " + (tmp / "ro.obj")), 1, "read-only"));
   EXPECT_TRUE(fails_with(run_cli("-q denoise " + in + " -o " + out + " --edges " + out), 1, "--edges"));
   EXPECT_EQ(read_file(out), "old result");
   EXPECT_TRUE(read_file(in) == in_bytes);
@@ -124,7 +124,7 @@ TEST(BadInputClasses, AFailedRunLeavesInputsAndOutputsAsTheyWere) {
   const std::string tex_bytes = read_file(tex);
   EXPECT_TRUE(fails_with(run_cli("-q texture apply " + tex + " -o " + tex), 1, "input"));
   EXPECT_TRUE(read_file(tex) == tex_bytes);  // (bytes not printed: binary)
-  EXPECT_EQ(names_in(tmp.path), (std::vector<std::string>{"hard.ply", "in.ply", "link.ply", "out.ply", "ro.ply", "tex.ply"}));
+  EXPECT_EQ(names_in(tmp.path), (std::vector<std::string>{"hard.ply", "in.ply", "link.ply", "out.ply", "ro.obj", "tex.ply"}));
 }
 
 // ---- class 3: a signal while a command runs leaves nothing behind -----------------------------------
