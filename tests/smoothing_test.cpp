@@ -177,3 +177,29 @@ TEST(Smoothing, ExplicitBlowUpIsReported) {
   o.steps = 1000;
   EXPECT_THROW(smooth(m, o), SolverError);
 }
+
+// Parts at very different scales (issue 30): a unit sphere ×10^6 beside one ×10^-6, inside the promised
+// coordinate range. The cotangent step is taken per part (λ times its own squared edge length), so each
+// part is smoothed exactly as it would be alone; one step length for the whole mesh made the small part's
+// system singular ("sparse Cholesky failed").
+TEST(Smoothing, PartsAtDifferentScalesAreEachSmoothedAsAlone) {
+  const Mesh s = icosphere(3);
+  const MatrixX3d V = positions(s);
+  const MatrixX3i F = faces(s);
+  const MatrixX3d big = (1e6 * V).rowwise() + Eigen::RowVector3d(5e6, 0, 0), small = 1e-6 * V;
+  MatrixX3d V2(2 * V.rows(), 3);
+  V2 << big, small;
+  MatrixX3i F2(2 * F.rows(), 3);
+  F2 << F, F.array() + static_cast<int>(V.rows());
+  for (LaplacianType lap : {LaplacianType::Cotangent, LaplacianType::Umbrella}) {
+    SmoothingOptions o;
+    o.steps = 3;
+    o.laplacian = lap;
+    o.rescale = false;
+    const MatrixX3d X = smooth(make_mesh(V2, F2), o);
+    const MatrixX3d a = smooth(make_mesh(big, F), o), b = smooth(make_mesh(small, F), o);
+    EXPECT_LT((X.topRows(V.rows()) - a).cwiseAbs().maxCoeff(), 1e-9 * 1e6);
+    EXPECT_LT((X.bottomRows(V.rows()) - b).cwiseAbs().maxCoeff(), 1e-9 * 1e-6);
+    EXPECT_GT((b - small).cwiseAbs().maxCoeff(), 1e-3 * 1e-6) << "the small part moved (was smoothed)";
+  }
+}

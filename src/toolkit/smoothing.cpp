@@ -113,7 +113,30 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
   const double size0 = closed ? std::abs(signed_volume(mesh)) : surface_area(mesh);
   const Vec3 centroid0 = surface_centroid(mesh);
   const double h = mean_edge_length(mesh);
-  const double lambda = opt.laplacian == LaplacianType::Cotangent ? opt.lambda * h * h : opt.lambda;
+  // The cotangent step is a length²: λ h², with h the mean edge length of each vertex's own connected
+  // component, so that parts at different scales (a unit sphere ×10^6 beside one ×10^-6) each take the
+  // same step relative to their size. One h for the whole mesh made the small part's system M − λC a
+  // multiple of −C, singular: "sparse Cholesky failed" (issue 30). C couples no two components, so
+  // diag(λ) C stays symmetric.
+  Eigen::VectorXd lambda_v = Eigen::VectorXd::Constant(mesh.n_vertices(), opt.lambda);
+  if (opt.laplacian == LaplacianType::Cotangent) {
+    int nc = 0;
+    const Eigen::VectorXi comp = connected_components(mesh, &nc);
+    std::vector<double> length(std::max(nc, 1), 0.0);
+    std::vector<int> count(std::max(nc, 1), 0);
+    for (auto e : mesh.edges()) {
+      const int c = comp[e.v0().idx()];
+      if (c < 0) continue;
+      length[c] += mesh.calc_edge_length(e);
+      ++count[c];
+    }
+    for (Eigen::Index v = 0; v < lambda_v.size(); ++v) {
+      const int c = comp[v];
+      const double hc = c >= 0 && count[c] > 0 ? length[c] / count[c] : h;
+      lambda_v[v] = opt.lambda * hc * hc;
+    }
+  }
+  const double lambda = opt.lambda;  // the umbrella step (dimensionless)
 
   std::vector<char> fixed(mesh.n_vertices(), 0);
   for (auto v : mesh.vertices())
@@ -155,12 +178,12 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
       }
       if (opt.implicit) {
         // (M − λC) X' = M X: Eq. (5.14) multiplied by M, symmetric positive definite.
-        if (rebuild) system.factorize(SparseMatrix(m.asDiagonal()) - lambda * C);
+        if (rebuild) system.factorize(SparseMatrix(m.asDiagonal()) - SparseMatrix(lambda_v.asDiagonal() * C));
         X = system.solve(m.asDiagonal() * X, X);
       } else {
         const MatrixX3d LX = m.cwiseInverse().asDiagonal() * (C * X);  // (5.12)
         for (Eigen::Index i = 0; i < X.rows(); ++i)
-          if (!fixed[i]) X.row(i) += lambda * LX.row(i);
+          if (!fixed[i]) X.row(i) += lambda_v[i] * LX.row(i);
       }
     }
     if (!X.allFinite())
