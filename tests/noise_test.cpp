@@ -89,3 +89,18 @@ TEST(Noise, PatternsAreCorrelatedAndDepthNoiseIsAlongTheAxis) {
   o.axis = Vec3::Zero();
   EXPECT_THROW(add_noise(m, o), InvalidInput);
 }
+
+// An output no command could compute with (issue 30): coordinates beyond kMaxCoordinate are refused, not written.
+TEST(Noise, ASigmaThatLeavesTheComputableRangeIsRefused) {
+  const Mesh m = icosphere(2);
+  NoiseOptions o;
+  o.sigma = 1e100;
+  try {
+    add_noise(m, o);
+    FAIL() << "noise of sigma 1e100 was returned";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond"), std::string::npos) << e.what();
+  }
+  o.sigma = 1e60;  // large, but inside the range: returned
+  EXPECT_TRUE(add_noise(m, o).allFinite());
+}

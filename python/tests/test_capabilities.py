@@ -206,6 +206,8 @@ def test_scanner_like_noise_patterns(tmp_path):
     assert np.abs(D[:, [0, 2]]).max() < 1e-12 and np.abs(D[:, 1]).max() > 0
     with pytest.raises(geotex.InvalidInput):
         geotex.add_noise(V, F, pattern="pink")
+    with pytest.raises(geotex.InvalidInput, match="beyond"):
+        geotex.add_noise(V, F, sigma=1e300)  # coordinates no command could compute with
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "s.ply", V, F)

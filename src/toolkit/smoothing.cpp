@@ -17,7 +17,7 @@ const OptionTable<SmoothingOptions>& SmoothingOptions::table() {
       .alias("explicit", "false")
       // Bounded: past ~1e15 the implicit system's last pivot is round-off (the mass is lost beside λL) and
       // the factorization is refused as numerically singular; 1e9 is already the limit (component means).
-      .add("lambda", &O::lambda, "step size: dimensionless for umbrella; in squared mean edge lengths for cotan",
+      .add("lambda", &O::lambda, "step size: dimensionless for umbrella; in squared mean edge lengths (of each connected part) for cotan",
            Bounds{0, 1e9, true, false}, "Eq. (5.12), (5.14)")
       .add("steps", &O::steps, "number of steps", between(0, 100000))
       .choice("mass", &O::mass, mass_names(), "cotan mass matrix: voronoi, barycentric, or thesis (Eq. 5.11 verbatim)", "Eq. (5.11)")

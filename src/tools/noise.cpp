@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/random.h"
@@ -117,6 +119,10 @@ MatrixX3d add_noise(const Mesh& mesh, const NoiseOptions& opt) {
   }
   // Coordinates near the double range (1e200) overflow here: say so rather than return inf (issue 14).
   if (!X.allFinite()) throw InvalidInput("noise: non-finite positions: the coordinates are too large and overflow; scale the mesh down");
+  // An output no command could compute with is no output (issue 30): refuse it, naming the limit.
+  if (const double reach = X.cwiseAbs().maxCoeff(); reach > kMaxCoordinate)
+    throw InvalidInput(fmt::format("noise: sigma {:g} moves vertices to coordinates of {:.3g}, beyond the {:g} geotex computes "
+                                   "with: use a smaller sigma", opt.sigma, reach, kMaxCoordinate));
   return X;
 }
 
