@@ -1,5 +1,6 @@
 // End-to-end tests of the geotex command line: help, errors, and the foundation commands.
 
+#include <algorithm>
 #include <filesystem>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -139,4 +140,17 @@ TEST(Cli, DemoWritesItsFolder) {
   EXPECT_TRUE(std::filesystem::exists(tmp / "demo/report.json"));
   EXPECT_TRUE(std::filesystem::exists(tmp / "demo/cube-noisy.ply"));
   EXPECT_TRUE(std::filesystem::exists(tmp / "demo/spiky-sphere.ply"));
+}
+
+// The "wrote NAME" line is one line whatever the name (issue 30): ESC and a newline in an output name are
+// shown escaped, as error lines show them; the file gets the name as given.
+TEST(Cli, AnOutputNameWithControlBytesIsEchoedEscaped) {
+  TempDir tmp;
+  const std::string name = std::string("a\x1b[31m") + "\n" + "b.ply";
+  const auto r = run_cli("generate cube --level 1 -o '" + (tmp / name) + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(tmp.path / name));
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\\x1b[31m\\x0ab.ply"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }

@@ -55,7 +55,17 @@ MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
 }
 
 void info(const std::string& line) {
-  if (!globals().quiet) std::fprintf(stderr, "%s\n", line.c_str());
+  if (globals().quiet) return;
+  // A line is one line: control bytes (an output named with ESC or a newline in it) are shown escaped, as
+  // in error lines (issue 30), so that a name cannot disturb the terminal or forge a second line.
+  std::string out;
+  out.reserve(line.size());
+  for (const char ch : line) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) out += fmt::format("\\x{:02x}", c);
+    else out += ch;
+  }
+  std::fprintf(stderr, "%s\n", out.c_str());
 }
 
 Mesh load_mesh(const std::string& path, ReadReport* report, bool strict) {
