@@ -54,18 +54,24 @@ MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
   app.add_flag("--ascii", ascii, "ascii PLY/STL output");
 }
 
-void info(const std::string& line) {
-  if (globals().quiet) return;
-  // A line is one line: control bytes (an output named with ESC or a newline in it) are shown escaped, as
-  // in error lines (issue 30), so that a name cannot disturb the terminal or forge a second line.
+std::string printable(std::string_view text, size_t max_chars) {
   std::string out;
-  out.reserve(line.size());
-  for (const char ch : line) {
+  out.reserve(std::min(text.size(), max_chars));
+  for (const char ch : text) {
+    if (out.size() >= max_chars) {
+      out += "...";
+      break;
+    }
     const unsigned char c = static_cast<unsigned char>(ch);
     if (c < 0x20 || c == 0x7f) out += fmt::format("\\x{:02x}", c);
     else out += ch;
   }
-  std::fprintf(stderr, "%s\n", out.c_str());
+  return out;
+}
+
+void info(const std::string& line) {
+  // A line is one line: an output named with ESC or a newline in it is shown escaped (issue 30).
+  if (!globals().quiet) std::fprintf(stderr, "%s\n", printable(line).c_str());
 }
 
 Mesh load_mesh(const std::string& path, ReadReport* report, bool strict) {

@@ -108,7 +108,10 @@ class Outputs {
 // the final 100% only if a line was printed.
 ProgressFn progress_printer(const std::string& label);
 inline constexpr std::chrono::seconds kLogProgressInterval{5};
-void info(const std::string& line);  // stderr unless quiet
+//! \p text with control bytes shown as \xNN (a name or a file's bytes cannot disturb the terminal or forge a
+//! line), cut after about \p max_chars with "..." appended.
+std::string printable(std::string_view text, size_t max_chars = std::string::npos);
+void info(const std::string& line);  // stderr unless quiet; the line printable()
 
 //! The candidate closest to \p name by edit distance (dashes aside), or "" when none is within a slip
 //! of it (a third of its letters, at least one and at most three).

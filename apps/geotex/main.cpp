@@ -22,21 +22,7 @@ namespace {
 // An error message as one printable line: messages may quote bytes from a broken file (binary garbage,
 // terminal escape sequences, a newline in a token); those are shown as \xNN, and very long messages
 // are cut, so the error stays one line that cannot disturb the terminal.
-std::string one_line(const char* what) {
-  std::string out;
-  for (const char* p = what; *p && out.size() < 1000; ++p) {
-    const unsigned char c = static_cast<unsigned char>(*p);
-    if (c < 0x20 || c == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  if (out.size() >= 1000) out += "...";
-  return out;
-}
+std::string one_line(const char* what) { return geotex::cli::printable(what, 1000); }
 }  // namespace
 
 namespace {

@@ -94,20 +94,12 @@ Eigen::VectorXd ring_average(const Neighborhoods& N, Eigen::VectorXd x, int roun
 // cube and woody at σ 0.1–0.5); on an organic one it turns curvature into facets of a few edges, whose
 // angles stay (0.73–1.1 on spot, cheburashka, the teapot and the cow). Components under kMinComponent
 // vertices take the whole mesh's. \return one value per vertex.
-Eigen::VectorXd component_look(const Neighborhoods& N, const MatrixX3d& Ns, const MatrixX3d& Nm) {
+Eigen::VectorXd component_look(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& Ns, const MatrixX3d& Nm) {
   const Eigen::Index n = N.size();
-  std::vector<int> comp(n, -1);
-  std::vector<std::vector<int>> members;
-  for (Eigen::Index s = 0; s < n; ++s) {
-    if (comp[s] >= 0) continue;
-    members.emplace_back();
-    std::vector<int>& m = members.back();
-    comp[s] = static_cast<int>(members.size()) - 1;
-    m.push_back(static_cast<int>(s));
-    for (size_t head = 0; head < m.size(); ++head)
-      for (int k = N.offsets[m[head]]; k < N.offsets[m[head] + 1]; ++k)
-        if (const int j = N.indices[k]; comp[j] < 0) comp[j] = comp[s], m.push_back(j);
-  }
+  int n_components = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &n_components);
+  std::vector<std::vector<int>> members(n_components);
+  for (Eigen::Index v = 0; v < n; ++v) members[comp[v]].push_back(static_cast<int>(v));
   const auto angle = [](const MatrixX3d& Nv, int i, int j) {
     const Vec3 p = Nv.row(i), q = Nv.row(j);
     return std::atan2(p.cross(q).norm(), p.dot(q));
@@ -154,7 +146,7 @@ Eigen::VectorXd creased_reading(const Mesh& mesh, const Neighborhoods& N, const 
   rs = ring_average(N, rs, kResidualRings);
   rm = ring_average(N, rm, kResidualRings);
   const double eps = 1e-12 * (rm.mean() + rs.mean()) + std::numeric_limits<double>::min();
-  const Eigen::VectorXd ratio = component_look(N, Ns, Nv);
+  const Eigen::VectorXd ratio = component_look(mesh, N, Ns, Nv);
   Eigen::VectorXd sharp_here(n);
   for (Eigen::Index v = 0; v < n; ++v) {
     const double u = std::clamp(std::log(std::max(ratio[v], 1e-9) / kRatioCreased) / std::log(kRatioSmooth / kRatioCreased),
@@ -308,7 +300,9 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
     return r;
   }
 
-  // 2. The mild pass, and the reading of the surface.
+  // A reading that is forced away is not computed (--creased skips the mild pass, --no-creased the sharp).
+  const bool want_sharp = o.creased.value_or(true), want_mild = !o.creased.value_or(false);
+  // 2. The mild pass: the smooth reading.
   const Neighborhoods N = one_ring_neighborhoods(mesh);
   const Surfels S0 = initial_surfels(mesh);
   const double m0 = median_neighbor_angle_deg(S0, N);
@@ -322,23 +316,24 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   mild.t_end_deg = kMildEnd;
   mild.t_start_deg = std::clamp(kMildFactor * m0, kMildEnd, 60.0);
   mild.progress = [&](double f, std::string_view) { report(o.progress, 0.1 * f, "auto: mild pass"); };
-  SurfelResult sr = optimize_surfels(X, N, S0, mild);
+  SurfelResult sr;
+  if (want_mild) sr = optimize_surfels(X, N, S0, mild);
   stage("mild surfel pass");
-  // 3. The sharp pass, which also reads the surface: it flattens the faces of a creased surface until
-  // neighbouring surfels are parallel, where on a smooth one they keep the angle of its curvature.
+  // 3. The sharp pass: the creased reading. It flattens the faces of a creased surface until neighbouring
+  // surfels are parallel, where on a smooth one they keep the angle of its curvature.
   SurfelOptions sharp = base;
   sharp.iterations = o.sharp_iterations;
   sharp.t_end_deg = kSharpEnd;
   sharp.t_start_deg = std::clamp(kSharpFactor * m0, kSharpEnd, 60.0);
   sharp.cluster_moves = true;
   sharp.progress = [&](double f, std::string_view) { report(o.progress, 0.1 + 0.8 * f, "auto: sharp pass"); };
-  SurfelResult sharp_result = optimize_surfels(X, N, S0, sharp);
+  SurfelResult sharp_result;
+  if (want_sharp) sharp_result = optimize_surfels(X, N, S0, sharp);
   stage("sharp surfel pass");
 
   // 4. Target face normals of each reading: the sharp pass's (each face the plane of its own side of a
   // crease) and the mean of the three corners' mild surfels (picking one corner makes creases; measured
   // on the smooth synthetic models: 5.82° against 6.59°); positions fitted to each.
-  const bool want_sharp = o.creased.value_or(true), want_mild = !o.creased.value_or(false);
   MatrixX3d FNs, FNm, Xs, Xm;
   if (want_sharp) {
     FNs = surfel_face_normals(mesh, X, sharp_result.surfels);

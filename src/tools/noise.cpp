@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include <fmt/format.h>
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/random.h"
+#include "geotex/toolkit/laplace.h"
 
 namespace geotex {
 
@@ -52,19 +52,9 @@ namespace {
 // ~wavelength edges), then rescaled to unit variance.
 Eigen::VectorXd smooth_field(const Mesh& mesh, Eigen::VectorXd x, double wavelength) {
   const int rounds = std::max(1, static_cast<int>(std::lround(0.25 * wavelength * wavelength)));
-  std::vector<std::vector<int>> nb(mesh.n_vertices());
-  for (auto v : mesh.vertices())
-    for (auto w : mesh.vv_range(v)) nb[v.idx()].push_back(w.idx());
-  for (int r = 0; r < rounds; ++r) {
-    Eigen::VectorXd next(x.size());
-#pragma omp parallel for schedule(static)
-    for (Eigen::Index i = 0; i < x.size(); ++i) {
-      double sum = x[i];
-      for (int j : nb[i]) sum += x[j];
-      next[i] = sum / double(1 + nb[i].size());
-    }
-    x.swap(next);
-  }
+  const SparseMatrix A = adjacency_matrix(mesh);
+  const Eigen::VectorXd inv_size = (1.0 + (A * Eigen::VectorXd::Ones(x.size())).array()).inverse().matrix();  // 1 / (1 + valence)
+  for (int r = 0; r < rounds; ++r) x = (A * x + x).cwiseProduct(inv_size);
   x.array() -= x.mean();
   const double sd = std::sqrt(x.squaredNorm() / std::max<Eigen::Index>(1, x.size()));
   if (sd > 0) x /= sd;
@@ -75,10 +65,7 @@ Eigen::VectorXd smooth_field(const Mesh& mesh, Eigen::VectorXd x, double wavelen
 
 MatrixX3d add_noise(const Mesh& mesh, const NoiseOptions& opt) {
   require_valid(mesh, "noise: input mesh");
-  NoiseOptions::table().check(opt);
-  if (!(opt.sigma >= 0) || !std::isfinite(opt.sigma)) throw InvalidInput("noise: sigma must be >= 0");
-  if (!(opt.impulsive_fraction >= 0 && opt.impulsive_fraction <= 1))
-    throw InvalidInput("noise: impulsive fraction must be in [0, 1]");
+  NoiseOptions::table().check(opt);  // sigma >= 0 and finite, the fraction in [0, 1], the wavelength, …
   const bool fixed_axis = opt.direction == NoiseDirection::Depth || opt.pattern == NoisePattern::Striped;
   if (fixed_axis && !(opt.axis.norm() > 0)) throw InvalidOption("noise: axis must not be zero");
   const Vec3 axis = fixed_axis ? Vec3(opt.axis.normalized()) : Vec3::UnitZ();
