@@ -270,15 +270,59 @@ TEST(ViewerPage, IsCompact) {
   EXPECT_LT(page.size(), 0.25 * raw) << page.size() << " bytes";
 }
 
+//! The 8 corners of the box lo .. hi (as points).
+MatrixX3d box_corners(const Vec3& lo, const Vec3& hi) {
+  MatrixX3d P(8, 3);
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k) P(i, k) = (i >> k) & 1 ? hi[k] : lo[k];
+  return P;
+}
+
 TEST(ViewerPage, AutoUpFollowsTheBoundingBox) {
   const Vec3 o = Vec3::Zero();
-  EXPECT_EQ(up_vector(UpAxis::Auto, o, Vec3(2, 2, 0.5)), Vec3::UnitZ());         // flat: the thin axis
-  EXPECT_EQ(up_vector(UpAxis::Auto, Vec3(-1, -0.1, -1), Vec3(1, 0.1, 1)), Vec3::UnitY());
-  EXPECT_EQ(up_vector(UpAxis::Auto, Vec3(-3, 0, -2), Vec3(3.4, 3.2, 2)), Vec3::UnitY());  // rests on y = 0
-  EXPECT_EQ(up_vector(UpAxis::Auto, Vec3(-1, -1, 0), Vec3(1, 1, 1.5)), Vec3::UnitZ());    // rests on z = 0
-  EXPECT_EQ(up_vector(UpAxis::Auto, Vec3(-1, -1, -1), Vec3(1, 1, 1)), Vec3::UnitY());     // scans: y
-  EXPECT_EQ(up_vector(UpAxis::NegZ, o, o), -Vec3::UnitZ());
+  EXPECT_EQ(up_vector(UpAxis::Auto, box_corners(o, Vec3(2, 2, 0.5))), Vec3::UnitZ());  // flat: the thin axis
+  EXPECT_EQ(up_vector(UpAxis::Auto, box_corners(Vec3(-1, -0.1, -1), Vec3(1, 0.1, 1))), Vec3::UnitY());
+  EXPECT_EQ(up_vector(UpAxis::Auto, box_corners(Vec3(-3, 0, -2), Vec3(3.4, 3.2, 2))), Vec3::UnitY());  // rests on y = 0
+  EXPECT_EQ(up_vector(UpAxis::Auto, box_corners(Vec3(-1, -1, 0), Vec3(1, 1, 1.5))), Vec3::UnitZ());    // rests on z = 0
+  EXPECT_EQ(up_vector(UpAxis::Auto, box_corners(Vec3(-1, -1, -1), Vec3(1, 1, 1))), Vec3::UnitY());     // a tie: y
+  EXPECT_EQ(up_vector(UpAxis::NegZ, box_corners(o, o)), -Vec3::UnitZ());
   EXPECT_EQ(parse_enum(up_axis_names(), "-x", "up"), UpAxis::NegX);
+}
+
+//! A cone standing on its base disk, apex along \p up: the footprint rule must find the disk on
+//! whichever axis the cone stands, and y when it could stand on nothing better.
+MatrixX3d cone_points(const Vec3& up, const Vec3& offset) {
+  const Vec3 a = up.cross(std::abs(up.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).normalized(), b = up.cross(a);
+  const int n = 64;
+  MatrixX3d P(n + 1, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n;
+    P.row(i) = (offset + std::cos(t) * a + std::sin(t) * b).transpose();
+  }
+  P.row(n) = (offset + 1.5 * up).transpose();
+  return P;
+}
+
+TEST(ViewerPage, AutoUpIsTheSideTheModelStandsOn) {
+  const Vec3 off(0.3, -2.7, 5.1);  // off-centre, so no side rests at 0
+  for (const Vec3& up : {Vec3(Vec3::UnitZ()), Vec3(-Vec3::UnitZ()), Vec3(Vec3::UnitX()), Vec3(-Vec3::UnitY()),
+                         Vec3(Vec3::UnitY())})
+    EXPECT_EQ(up_vector(UpAxis::Auto, cone_points(up, off)), up) << up.transpose();
+  // A sphere stands on a point along every axis: y.
+  const MatrixX3d S = positions(icosphere(3, 1.0)).rowwise() + off.transpose();
+  EXPECT_EQ(up_vector(UpAxis::Auto, S), Vec3::UnitY());
+}
+
+TEST(ViewerPage, AutoUpOfRealModelsAsGivenAndTurnedZUp) {
+  GEOTEX_REQUIRE_DATA();
+  // y-up models as published; turned z-up ((x, y, z) -> (x, -z, y)) the same rule must say z.
+  for (const char* name : {"stanford-bunny.obj", "spot.obj", "cow.obj", "beetle.obj", "teapot.obj"}) {
+    const MatrixX3d P = face_vertices(read_mesh(test::data_dir() / name));
+    EXPECT_EQ(up_vector(UpAxis::Auto, P), Vec3::UnitY()) << name;
+    MatrixX3d Q(P.rows(), 3);
+    Q << P.col(0), -P.col(2), P.col(1);
+    EXPECT_EQ(up_vector(UpAxis::Auto, Q), Vec3::UnitZ()) << name << " turned z-up";
+  }
 }
 
 TEST(ViewerPage, BadLayersThrow) {

@@ -124,7 +124,7 @@ const OptionTable<RenderOptions>& RenderOptions::table() {
       .add("height", &O::height, "picture height in pixels", between(1, 16384))
       .choice("view", &O::view, view_direction_names(), "camera direction: iso, front (from -y for up z) or top")
       .choice("up", &O::up, up_axis_names(),
-              "the model's up axis; auto: the thin axis of a flat model, else the axis it rests on at 0, else y")
+              up_axis_help)
       .choice("frame", &O::frame, framing_names(),
               "tight: fit the mesh as seen; sphere: fit its bounding sphere (same scale from every direction)")
       .add("zoom", &O::zoom, "magnification of the fitted camera (2: twice as large)", positive())
@@ -142,26 +142,6 @@ const OptionTable<RenderOptions>& RenderOptions::table() {
       .add("line_width", &O::line_width, "edge-line width in pixels", positive())
       .add("legend", &O::legend, "draw a colour bar with the field's range when a field is shown");
   return t;
-}
-
-Vec3 up_vector(UpAxis up, const Vec3& lo, const Vec3& hi) {
-  switch (up) {
-    case UpAxis::X: return Vec3::UnitX();
-    case UpAxis::Y: return Vec3::UnitY();
-    case UpAxis::Z: return Vec3::UnitZ();
-    case UpAxis::NegX: return -Vec3::UnitX();
-    case UpAxis::NegY: return -Vec3::UnitY();
-    case UpAxis::NegZ: return -Vec3::UnitZ();
-    case UpAxis::Auto: break;
-  }
-  const Vec3 e = (hi - lo).cwiseMax(0.0);
-  int axis[3] = {0, 1, 2};  // by extent, thinnest first
-  std::sort(axis, axis + 3, [&](int a, int b) { return e[a] < e[b]; });
-  if (e[axis[0]] < 0.3 * e[axis[1]]) return Vec3::Unit(axis[0]);
-  const double tol = 1e-6 * e.norm();
-  const bool rests_y = std::abs(lo.y()) <= tol, rests_z = std::abs(lo.z()) <= tol;
-  if (rests_z && !rests_y) return Vec3::UnitZ();
-  return Vec3::UnitY();
 }
 
 int legend_width(int width) { return std::min(110, width / 4); }
@@ -187,7 +167,7 @@ Camera fit_camera(const MatrixX3d& V, const RenderOptions& o, int reserved_right
   if (!(o.zoom > 0) || !std::isfinite(o.zoom)) throw InvalidInput(fmt::format("zoom {} is not positive", o.zoom));
   Camera c;
   const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
-  view_axes(o.view, up_vector(o.up, lo, hi), c.right, c.up, c.forward);
+  view_axes(o.view, up_vector(o.up, V), c.right, c.up, c.forward);
   const Vec3 c0 = 0.5 * (lo + hi);
   double extent_r = 0, extent_u = 0;
   if (o.frame == Framing::Sphere) {

@@ -230,7 +230,7 @@ const OptionTable<ViewerOptions>& ViewerOptions::table() {
       .add("flat", &O::flat, "start in flat shading")
       .add("wireframe", &O::wireframe, "start with the wireframe shown")
       .choice("up", &O::up, up_axis_names(),
-              "the models' up axis; auto: the thin axis of a flat model, else the axis it rests on at 0, else y")
+              up_axis_help)
       .add("position_bits", &O::position_bits,
            "bits per coordinate over each mesh's box: error at most extent / 2^(bits+1)", between(8, 24))
       .add("script_src", &O::script_src, "load the viewer script from this URL instead of inlining it");
@@ -370,9 +370,7 @@ std::string viewer_page(const std::vector<ViewerMesh>& meshes, const ViewerOptio
   data["wireframe"] = options.wireframe;
   data["meshes"] = nlohmann::json::array();
   for (const ViewerMesh& m : meshes) data["meshes"].push_back(mesh_data(m, options.position_bits));
-  const auto& box = data["meshes"][0]["box"];
-  const Vec3 up = up_vector(options.up, Vec3(box["lo"][0], box["lo"][1], box["lo"][2]),
-                            Vec3(box["hi"][0], box["hi"][1], box["hi"][2]));
+  const Vec3 up = up_vector(options.up, face_vertices(meshes[0].mesh));
   data["up"] = {up.x(), up.y(), up.z()};
   // "</" inside the JSON would end the <script> element: escape it ("<\/" is the same JSON string).
   std::string json = data.dump();

@@ -5,7 +5,7 @@
 //!
 //! The camera is orthographic and fitted to the faces of the mesh, so that pictures of different
 //! results of the same input line up when rendered with the same camera (pass the first rendering's
-//! camera on). The up axis is chosen from the bounding box unless given (UpAxis).
+//! camera on). The up axis is read from the model unless given (UpAxis).
 
 #include <cstdint>
 #include <filesystem>
@@ -36,18 +36,26 @@ const EnumNames<ViewDirection>& view_direction_names();
 //! \throw InvalidInput (InvalidOption) for a name other than iso, front, top.
 ViewDirection view_direction_from_name(const std::string& name);
 
-//! The model's up axis. Auto decides from the bounding box of the faces' vertices, in this order:
+//! The model's up axis. Auto decides from the points (the vertices of the faces), in this order:
 //!  1. flat: when the thinnest extent is below 0.3 of the middle one, up is the thin axis (plates,
 //!     terrains, tori, planar meshes: the camera looks onto the flat side);
 //!  2. resting on a ground plane: when the lowest z is 0 and the lowest y is not, z (and the reverse,
 //!     y), as exporters place models on their floor;
-//!  3. otherwise y: scans (Stanford, Cyberware) and most exchange files are y-up.
+//!  3. the side it stands on: for each of ±x, ±y, ±z the footprint of the points within 1% of the
+//!     lowest (the convex hull of four hooves, a plinth, the rim of an open bottom) as a share of the
+//!     box's cross section, halved when the centroid is outside it; the best side is up when its
+//!     share is at least 0.05 and twice y's (a z-up bust on its plinth, a CAD part on its base);
+//!  4. otherwise y: scans (Stanford, Cyberware) and most exchange files are y-up.
 //! geotex's own generated shapes are z-up: pass Z for an exact picture of them.
 enum class UpAxis { Auto, X, Y, Z, NegX, NegY, NegZ };
 //! "auto", "x", "y", "z", "-x", "-y", "-z".
 const EnumNames<UpAxis>& up_axis_names();
-//! The unit vector \p up names; Auto decides from the box \p lo .. \p hi by the rule of UpAxis.
-Vec3 up_vector(UpAxis up, const Vec3& lo, const Vec3& hi);
+//! The help line of an `up` option (render, view).
+inline constexpr const char* up_axis_help =
+    "the model's up axis; auto: the thin axis of a flat model, else the axis it rests on at 0, else the side it "
+    "stands on (its footprint) when clearly better than y's, else y";
+//! The unit vector \p up names; Auto decides from \p points (#P by 3) by the rule of UpAxis.
+Vec3 up_vector(UpAxis up, const MatrixX3d& points);
 
 //! What the fitted camera keeps in the picture.
 enum class Framing {
