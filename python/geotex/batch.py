@@ -176,8 +176,12 @@ def check_options(operation: str, options: Dict[str, Any]) -> Operation:
         if key in fixed:
             problems.append(f"{key}: set by the batch (the input file{' and its output' if key == 'path' else ''})")
         elif key not in params and not forwards:
+            from geotex._options import closest_name
+
+            options_of = [p for p in params if p not in fixed]
             close = [p for p in params if p.rstrip("_") == key.rstrip("_").replace("-", "_")]
-            hint = f" (did you mean {close[0]}?)" if close else ""
+            best = close[0] if close else closest_name(key.replace("-", "_"), options_of)
+            hint = f" (did you mean {best}?)" if best else ""
             problems.append(f"{key}: not an option of {op.name}{hint}; its options: "
                             + ", ".join(p for p in params if p not in fixed))
     for name in op.required:
@@ -496,6 +500,10 @@ def parse_value(text: str) -> Any:
         return text
 
 
+#: seconds the command line waits for a Dask scheduler before it gives up
+SCHEDULER_TIMEOUT = 3.0
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     ap = argparse.ArgumentParser(prog="python3 -m geotex.batch", description=__doc__.split("\n\n")[0])
     ap.add_argument("operation", help="a geotex function taking a mesh (e.g. smooth, denoise, noise, resize, render)")
@@ -532,7 +540,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         except ImportError:
             print("error: --scheduler needs dask.distributed (pip install distributed)", file=sys.stderr)
             return 2
-        client = Client(args.scheduler)
+        try:
+            # One line within seconds for a scheduler that is not there (Dask's default waits 30 s
+            # and prints its traceback).
+            import dask  # type: ignore[import-not-found]
+
+            with dask.config.set({"distributed.comm.timeouts.connect": f"{SCHEDULER_TIMEOUT}s"}):
+                client = Client(args.scheduler, timeout=SCHEDULER_TIMEOUT)
+        except Exception as e:  # noqa: BLE001 - OSError, TimeoutError, CommClosedError: all say the same
+            print(f"error: cannot reach the Dask scheduler at {args.scheduler} within {SCHEDULER_TIMEOUT:g} s "
+                  f"({type(e).__name__}: {str(e).splitlines()[0] if str(e) else 'no answer'})", file=sys.stderr)
+            return 1
         executor = client.get_executor()
     try:
         result = run(args.operation, args.inputs, args.output_dir, executor=executor, workers=args.workers, **options)

@@ -162,10 +162,27 @@ def test_cli_reports_a_bad_set_once_with_exit_2(folder, tmp_path):
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("error:") == 1
     assert "steps" in proc.stderr and "stepz" in proc.stderr
+    assert "stepz: not an option of smooth (did you mean steps?)" in proc.stderr
     assert "[1/" not in proc.stderr and not out.exists()  # no file was touched
     proc = subprocess.run([sys.executable, "-m", "geotex.batch", "teleport", str(folder)], capture_output=True,
                           text=True, timeout=120)
     assert proc.returncode == 2 and "unknown operation" in proc.stderr
+
+
+def test_an_unreachable_scheduler_is_one_line_within_seconds(folder, tmp_path):
+    pytest.importorskip("distributed")
+    import socket
+
+    with socket.socket() as s:  # a port nobody listens on: bound, never listening
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+        proc = subprocess.run([sys.executable, "-m", "geotex.batch", "smooth", str(folder), "-o", str(tmp_path / "o"),
+                               "--scheduler", f"tcp://127.0.0.1:{port}"], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 1, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "cannot reach the Dask scheduler" in lines[0], proc.stderr
+    assert f"within {batch.SCHEDULER_TIMEOUT:g} s" in lines[0]
+    assert not (tmp_path / "o").exists()
 
 
 # ---------------------------------------------------------------------------------------------
