@@ -42,6 +42,11 @@ class CMakeBuild(build_ext):
             shutil.copyfile(built / extra, target.parent / extra)
         (target.parent / "bin").mkdir(exist_ok=True)
         shutil.copy2(build / "geotex", target.parent / "bin" / "geotex")  # keeps the executable bit
+        # The shipped real models (spot.obj, CC0, with its licence): the installed `geotex demo` finds them
+        # at geotex/data beside geotex/bin.
+        (target.parent / "data").mkdir(exist_ok=True)
+        for name in ("spot.obj", "README.md"):
+            shutil.copyfile(ROOT / "data" / name, target.parent / "data" / name)
 
 
 setup(ext_modules=[Extension("geotex._geotex", sources=[])], cmdclass={"build_ext": CMakeBuild})

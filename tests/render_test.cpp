@@ -484,7 +484,7 @@ TEST(RenderFraming, TheMeshIsCentredBesideTheLegend) {
   RenderOptions o{.width = 400, .height = 200, .up = UpAxis::Z};
   o.supersampling = 1;
   const Rendering r = render_mesh(m, o, l);
-  const int room = 400 - legend_width(400);
+  const int room = 400 - legend_width(400, 200);
   const PixelBox b = covered_box(r.image, room - 4);  // the legend's bar starts 8 pixels into its column
   EXPECT_NEAR(b.cx(), room / 2.0, 1.0);
   EXPECT_NEAR(b.cy(), 100, 1.0);
@@ -586,6 +586,34 @@ TEST(DemoReport, QuickDemoFollowsThePipelineWithCaptionedPictures) {
   for (const char* m : {"denoise-cube-default", "denoise-cube-mrf-thesis", "denoise-cube-surfel-thesis"})
     EXPECT_NE(index.find(std::string("pictures/") + m + ".png"), std::string::npos) << m;
   EXPECT_NE(index.find("real model skipped"), std::string::npos);
+}
+
+// Without the shared data (a fresh clone), the real-model rows show the shipped spot (CC0), upright,
+// full-size pictures behind half-size thumbnails.
+TEST(DemoReport, AFreshCloneShowsTheShippedRealModel) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "no-shared-data");
+  const auto r = run_cli("-q demo --only denoising --only report --data " + (dir / "no-shared-data") + " -o " +
+                         (dir / "demo"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string index = geotex::test::read_file(dir / "demo/index.html");
+  EXPECT_NE(index.find("pictures/denoise-spot-default.png"), std::string::npos);
+  EXPECT_EQ(index.find("skipped"), std::string::npos);
+  const std::string png = geotex::test::read_file(dir / "demo/pictures/denoise-spot-default.png");
+  ASSERT_GT(png.size(), 24u);
+  auto be32 = [&](size_t at) {
+    return (uint32_t(uint8_t(png[at])) << 24) | (uint32_t(uint8_t(png[at + 1])) << 16) |
+           (uint32_t(uint8_t(png[at + 2])) << 8) | uint32_t(uint8_t(png[at + 3]));
+  };
+  const uint32_t width = be32(16), height = be32(20);  // the IHDR chunk
+  EXPECT_GE(width, 800u);
+  EXPECT_NE(index.find(fmt::format("width=\"{}\" height=\"{}\"", width / 2, height / 2)), std::string::npos);
+  const auto report = nlohmann::json::parse(geotex::test::read_file(dir / "demo/report.json"));
+  bool upright = false;
+  for (const auto& step : report["steps"])
+    for (const auto& f : step.value("figures", nlohmann::json::array()))
+      if (f["mesh"] == "denoise-spot-default.ply") upright = f["up"] == "auto";
+  EXPECT_TRUE(upright) << "the real model's up axis is read from it, not the generated shapes' z";
 }
 
 TEST(DemoReport, IndexShowsEveryMeshWithItsPicture) {

@@ -38,7 +38,7 @@ std::string demo_section(int order) {
 }
 
 void add_figure(const DemoContext& ctx, const DemoFigure& f) {
-  nlohmann::json j = {{"mesh", f.mesh}, {"caption", f.caption}, {"view", f.view}};
+  nlohmann::json j = {{"mesh", f.mesh}, {"caption", f.caption}, {"view", f.view}, {"up", f.up}};
   if (!f.compare.empty()) j["compare"] = f.compare;
   if (!f.field.empty()) j["field"] = f.field;
   if (!f.truth.empty()) j["truth"] = f.truth;

@@ -45,7 +45,15 @@ struct DemoContext {
   const nlohmann::json* steps = nullptr;  // the sections of the steps run before (the report reads them)
   bool quick = false;         // --quick: coarse shapes and no real model (tests)
   std::filesystem::path data; // the shared data folder ("" or absent: generated shapes only)
+  std::filesystem::path shipped;  // the project's own small real models (data/: spot, CC0); "" with --quick
 };
+
+// A real model by file name: from the shared data when it is there, else from the shipped models;
+// empty when neither has it (and always with --quick).
+std::filesystem::path demo_model(const DemoContext& ctx, const std::string& name);
+// The shipped models' folder: installed beside the executable (share/geotex/data; data/ in the
+// Python package), else the source tree's data/.
+std::filesystem::path shipped_data_dir();
 
 // The part of the report page a step belongs to, from its order: the pipeline's order (input,
 // toolkit, denoising, texture, resizing; then the report itself).
@@ -63,6 +71,7 @@ struct DemoFigure {
   bool checker = false;  // draw the mesh's "param_u", "param_v" vertex properties as a checkerboard
   bool sets_range = true;  // false: its colours may saturate (a noisy input beside its results)
   std::string view = "iso";  // iso, front, top
+  std::string up = "z";      // the model's up axis: generated shapes are z-up; real models "auto"
 };
 void add_figure(const DemoContext& ctx, const DemoFigure& figure);
 struct DemoStep {

@@ -144,7 +144,13 @@ const OptionTable<RenderOptions>& RenderOptions::table() {
   return t;
 }
 
-int legend_width(int width) { return std::min(110, width / 4); }
+int legend_text_scale(int height) { return std::max(1, height / 200); }
+
+int legend_width(int width, int height) {
+  // 8 pixels of margin, the bar (8 font pixels wide), 4 pixels of gap, labels of up to 8 characters.
+  const int px = legend_text_scale(height);
+  return std::min(width / 4, std::max(110, 8 + 8 * px + 4 + 8 * 6 * px + 2));
+}
 
 MatrixX3d face_vertices(const Mesh& mesh) {
   std::vector<char> used(mesh.n_vertices(), 0);
@@ -243,7 +249,7 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
 
   Rendering out;
   const bool show_legend = has_field && !has_uv && o.legend;
-  out.camera = o.camera ? *o.camera : fit_camera(mesh, o, show_legend ? legend_width(o.width) : 0);
+  out.camera = o.camera ? *o.camera : fit_camera(mesh, o, show_legend ? legend_width(o.width, o.height) : 0);
   const Camera& cam = out.camera;
 
   // Colour-map range.
@@ -395,8 +401,8 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
 
   // Legend: a vertical colour bar with the range's ends.
   if (show_legend) {
-    const int legend_w = legend_width(o.width);
-    const int bar_w = std::max(8, legend_w / 7);
+    const int legend_w = legend_width(o.width, o.height), text_px = legend_text_scale(o.height);
+    const int bar_w = std::max(8, 8 * text_px);
     const int bx = o.width - legend_w + 8, by0 = o.height / 8, by1 = o.height - o.height / 8;
     for (int y = by0; y <= by1; ++y) {
       const Vec3 c = colour_map(1.0 - static_cast<double>(y - by0) / std::max(1, by1 - by0));
@@ -418,8 +424,11 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
     const int room = o.width - (bx + bar_w + 4) - 2;
     for (const auto& [value, y] : {std::pair{hi, by0}, std::pair{lo, by1}}) {
       const std::string s = label(value);
-      const int px = o.height >= 400 && 12 * static_cast<int>(s.size()) <= room ? 2 : 1;
-      draw_text(img, bx + bar_w + 4, px == 2 ? y - (y == by1 ? 14 : 0) : y - (y == by1 ? 7 : 0), s, px, ink);
+      // The font's pixels scale with the picture (7 rows of text_px pixels), narrower when the label
+      // would not fit beside the bar.
+      int px = text_px;
+      while (px > 1 && 6 * px * static_cast<int>(s.size()) > room) --px;
+      draw_text(img, bx + bar_w + 4, y - (y == by1 ? 7 * px : 0), s, px, ink);
     }
   }
   return out;

@@ -23,6 +23,31 @@ struct Args {
 #endif
 };
 
+}  // namespace cmd_demo
+
+std::filesystem::path shipped_data_dir() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> candidates;
+  if (!ec) candidates = {exe.parent_path().parent_path() / "share" / "geotex" / "data", exe.parent_path().parent_path() / "data"};
+#ifdef GEOTEX_SHIPPED_DATA
+  candidates.emplace_back(GEOTEX_SHIPPED_DATA);
+#endif
+  for (const fs::path& c : candidates)
+    if (fs::is_regular_file(c / "spot.obj", ec)) return c;
+  return {};
+}
+
+std::filesystem::path demo_model(const DemoContext& ctx, const std::string& name) {
+  std::error_code ec;
+  for (const auto& dir : {ctx.data, ctx.shipped})
+    if (!dir.empty() && std::filesystem::is_regular_file(dir / name, ec)) return dir / name;
+  return {};
+}
+
+namespace cmd_demo {
+
 void run(const Args& a) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -40,7 +65,8 @@ void run(const Args& a) {
     info(fmt::format("[{}/{}] {}", k, steps.size(), s.name));
     const auto t0 = std::chrono::steady_clock::now();
     nlohmann::json section;
-    s.run({fs::path(a.dir), &section, &report["steps"], a.quick, a.quick ? fs::path() : fs::path(a.data)});
+    s.run({fs::path(a.dir), &section, &report["steps"], a.quick, a.quick ? fs::path() : fs::path(a.data),
+           a.quick ? fs::path() : shipped_data_dir()});
     section["section"] = demo_section(s.order);
     section["name"] = s.name;
     section["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -65,7 +91,8 @@ Registrar reg{1000, "demo", "Run the whole pipeline on generated shapes, writing
   app.add_option("-o,--output", a->dir, "output folder (created)")->capture_default_str();
   app.add_option("--only", a->only, "run only the named steps");
   app.add_flag("--quick", a->quick, "coarse shapes and no real model (a quick check of the whole pipeline)");
-  app.add_option("--data", a->data, "folder of the shared meshes (denoise/Fandisk0.3 is shown when present)")
+  app.add_option("--data", a->data, "folder of the shared meshes (denoise/Fandisk0.3 and cow.obj are shown when present; the shipped "
+                 "spot.obj always)")
       ->capture_default_str();
   app.callback([a] { run(*a); });
 }};

@@ -121,14 +121,14 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
   }
   // A real model (shared data, not with --quick): spot ×2 along x, automatic features; the aspect of
   // each feature region (principal extents of its vertices) before and after.
-  if (!ctx.data.empty() && std::filesystem::exists(ctx.data / "spot.obj")) {
-    const Mesh spot = read_mesh(ctx.data / "spot.obj");
+  if (const auto spot_file = demo_model(ctx, "spot.obj"); !spot_file.empty()) {
+    const Mesh spot = read_mesh(spot_file);
     const MatrixX3d P = positions(spot);
     const FeatureMap pf = feature_map(spot);
     save_with_features(spot, P, pf.weights, ctx.dir / "spot-features.ply");
     add_figure(ctx, {.mesh = "spot-features.ply",
-                     .caption = fmt::format("spot.obj (shared data): the automatic feature map, {}.", pf.summary.describe()),
-                     .compare = "spot", .field = "feature"});
+                     .caption = fmt::format("spot.obj (K. Crane, CC0): the automatic feature map, {}.", pf.summary.describe()),
+                     .compare = "spot", .field = "feature", .up = "auto"});
     SpaceMapOptions sx;
     sx.scale = Vec3(2, 1, 1);
     const auto before = region_extents(spot, P, pf.weights);
@@ -145,7 +145,7 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
                        .caption = fmt::format("spot &times;2 along x, <b>{}</b>: worst change of a feature's aspect "
                                               "(horns, ears, legs, tail) {:.1f}%.",
                                               method_label(name), 100 * worst),
-                       .compare = "spot", .field = "feature"});
+                       .compare = "spot", .field = "feature", .up = "auto"});
     }
   }
 }};

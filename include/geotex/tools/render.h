@@ -97,8 +97,9 @@ struct RenderOptions {
   static const OptionTable<RenderOptions>& table();
 };
 
-//! Width in pixels of the legend column at the right of a picture \p width pixels wide.
-int legend_width(int width);
+//! Width in pixels of the legend column at the right of a picture \p width by \p height pixels
+//! (its labels' font grows with the height: legible at any size).
+int legend_width(int width, int height);
 
 //! The camera that frames \p points (#P by 3) as \p options say (view, up, frame, zoom, centre,
 //! margin) in the left options.width − \p reserved_right pixels of the picture (the rest is kept for
