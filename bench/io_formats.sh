@@ -16,7 +16,7 @@ done
 echo "pipe generate | noise | info: $( { /usr/bin/time -f '%e s wall' bash -c "$g -q generate sphere --level 5 -o - | $g -q noise - -o - --sigma 0.3 | $g -q info - >/dev/null"; } 2>&1 | tail -1)"
 # A growing OBJ: an appender adds vertex lines as fast as it can while info reads.
 $g -q generate sphere --level 3 -o "$d/grow.obj"
-yes "v 1 2 3" | head -c 16777216 > "$d/chunk"
+head -c 16777216 < <(yes "v 1 2 3") > "$d/chunk" || true
 for bin in "$g" $old; do
   cp "$d/grow.obj" "$d/g.obj"
   ( while :; do cat "$d/chunk" >> "$d/g.obj"; s=$(stat -c %s "$d/g.obj"); [ "$s" -lt 4000000000 ] || break; done ) &
