@@ -49,8 +49,9 @@ void add_figure(const DemoContext& ctx, const DemoFigure& f) {
 }
 
 MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
-  app.add_option("IN", input, "input mesh")->required()->check(ExistingMeshFile);
-  app.add_option("-o,--output", output, output_help)->required()->check(MeshOutputFile);
+  app.add_option("IN", input, "input mesh (- reads standard input)")->required()->check(ExistingMeshFile);
+  app.add_option("-o,--output", output, output_help + " (- writes standard output, in the format of --format)")
+      ->required()->check(MeshOutputFile);
   app.add_flag("--ascii", ascii, "ascii PLY/STL output");
 }
 
