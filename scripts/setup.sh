@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git ccache
   libopenmesh-dev libeigen3-dev libsuitesparse-dev libspectra-dev libnanoflann-dev
-  libcli11-dev libfmt-dev nlohmann-json3-dev libpng-dev zlib1g-dev
+  libcli11-dev libfmt-dev nlohmann-json3-dev libpng-dev zlib1g-dev libtinygltf-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libopenblas0-pthread libopenblas-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-distributed

@@ -113,17 +113,17 @@ TEST(CliHints, BadOutputNamesAreRefusedBeforeAnyWork) {
     std::string args, says;
   };
   const Case cases[] = {
-      {"denoise " + in + " -o " + (tmp / "x.glb"), "x.glb: unknown mesh format '.glb'"},
+      {"denoise " + in + " -o " + (tmp / "x.ply.gz"), "x.ply.gz: geotex reads gzipped meshes but does not write them"},
       {"denoise " + in + " -o " + (tmp / "d.ply") + " --edges " + (tmp / "e.obj"), "--edges-obj"},
       {"denoise " + in + " -o " + (tmp / "d.ply") + " --edges-obj " + (tmp / "e.ply"), "--edges-obj writes OBJ"},
       {"denoise " + in + " -o " + (tmp / "d.ply") + " --method surfel --polygons " + (tmp / "p.ply"), "--polygons writes OBJ"},
-      {"smooth " + in + " -o " + (tmp / "x.gltf"), "unknown mesh format '.gltf'"},
-      {"generate cube -o " + (tmp / "x.glb"), "unknown mesh format '.glb'"},
-      {"generate spiky-plane -o " + (tmp / "g.ply") + " --base-output " + (tmp / "b.glb"), "unknown mesh format '.glb'"},
+      {"smooth " + in + " -o " + (tmp / "x.3mf"), "unknown mesh format '.3mf'"},
+      {"generate cube -o " + (tmp / "x.dae"), "unknown mesh format '.dae'"},
+      {"generate spiky-plane -o " + (tmp / "g.ply") + " --base-output " + (tmp / "b.fbx"), "unknown mesh format '.fbx'"},
       {"texture extract " + (tmp / "sp.ply") + " --base " + (tmp / "spb.ply") + " -o " + (tmp / "t.obj"), "a texture file is a PLY"},
       {"texture extract " + (tmp / "sp.ply") + " --base " + (tmp / "spb.ply") + " -o " + (tmp / "t.ply") + " --reconstructed " +
-           (tmp / "r.glb"),
-       "unknown mesh format '.glb'"},
+           (tmp / "r.usdz"),
+       "unknown mesh format '.usdz'"},
       {"project " + in + " " + in + " -o " + (tmp / "x.fbx"), "unknown mesh format '.fbx'"},
   };
   for (const auto& c : cases) {
@@ -133,7 +133,7 @@ TEST(CliHints, BadOutputNamesAreRefusedBeforeAnyWork) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;  // no warning: IN is not read
     EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
   }
-  for (const char* f : {"d.ply", "e.obj", "e.ply", "p.ply", "x.glb", "g.ply", "t.obj", "t.ply"})
+  for (const char* f : {"d.ply", "e.obj", "e.ply", "p.ply", "x.ply.gz", "g.ply", "t.obj", "t.ply"})
     EXPECT_FALSE(std::filesystem::exists(tmp / f)) << f;
 }
 

@@ -49,8 +49,9 @@ void add_figure(const DemoContext& ctx, const DemoFigure& f) {
 }
 
 MeshIo::MeshIo(CLI::App& app, const std::string& output_help) {
-  app.add_option("IN", input, "input mesh")->required()->check(ExistingMeshFile);
-  app.add_option("-o,--output", output, output_help)->required()->check(MeshOutputFile);
+  app.add_option("IN", input, "input mesh (- reads standard input)")->required()->check(ExistingMeshFile);
+  app.add_option("-o,--output", output, output_help + " (- writes standard output, in the format of --format)")
+      ->required()->check(MeshOutputFile);
   app.add_flag("--ascii", ascii, "ascii PLY/STL output");
 }
 
@@ -88,8 +89,11 @@ Mesh load_mesh(const std::string& path, ReadReport* report, bool strict) {
 void save_mesh(const Mesh& mesh, const std::string& path, bool binary) {
   WriteOptions opt;
   opt.binary = binary;
+  const bool to_stdout = path == kStdioPath;
+  if (to_stdout) opt.format = format_from_name(globals().stdout_format);
   write_mesh(mesh, path, opt);
-  info(fmt::format("wrote {} ({} vertices, {} faces)", path, mesh.n_vertices(), mesh.n_faces()));
+  const std::string where = to_stdout ? fmt::format("standard output ({})", globals().stdout_format) : path;
+  info(fmt::format("wrote {} ({} vertices, {} faces)", where, mesh.n_vertices(), mesh.n_faces()));
 }
 
 Outputs::Outputs(std::initializer_list<std::string> inputs,
@@ -99,7 +103,7 @@ Outputs::Outputs(std::initializer_list<std::string> inputs,
 }
 
 void Outputs::input(const std::string& path) {
-  if (!path.empty()) tx_.declare_input(path);
+  if (!path.empty() && path != kStdioPath) tx_.declare_input(path);
 }
 
 void Outputs::output(const std::string& path, const std::string& what) {
@@ -139,19 +143,16 @@ ProgressFn progress_printer(const std::string& label) {
 // these validators throw IoError, which CLI11 lets through its parser (it catches ValidationError only).
 const CLI::Validator ExistingMeshFile(
     [](std::string& path) -> std::string {
-      std::error_code ec;
-      if (!std::filesystem::exists(path, ec)) throw IoError(fmt::format("{}: no such file", path));
-      if (std::filesystem::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path));
-      format_from_path(path);  // an unknown extension: IoError naming the formats
+      if (path == kStdioPath) return {};  // standard input
+      require_input_file(path);  // names a loop of links, a directory, a FIFO or a device as such
+      format_from_path(path);    // an unknown extension: IoError naming the formats
       return {};
     },
     "MESH", "ExistingMeshFile");
 
 const CLI::Validator ExistingFile(
     [](std::string& path) -> std::string {
-      std::error_code ec;
-      if (!std::filesystem::exists(path, ec)) throw IoError(fmt::format("{}: no such file", path));
-      if (std::filesystem::is_directory(path, ec)) throw IoError(fmt::format("{}: is a directory", path));
+      require_input_file(path);
       return {};
     },
     "FILE", "ExistingFile");
@@ -159,7 +160,8 @@ const CLI::Validator ExistingFile(
 // Outputs are checked by their flags, while parsing: a name no writer takes fails before the input is read.
 const CLI::Validator MeshOutputFile(
     [](std::string& path) -> std::string {
-      format_from_path(path);  // an unknown extension: IoError naming the formats
+      if (path == kStdioPath) return {};  // standard output, in the format of --format
+      output_format_from_path(path);      // an unknown extension (or .gz): IoError naming the formats
       return {};
     },
     "MESH", "MeshOutputFile");

@@ -22,6 +22,7 @@ namespace geotex::cli {
 
 struct GlobalOptions {
   bool quiet = false;  // no progress or warnings on stderr
+  std::string stdout_format = "ply";  // --format: the format of a mesh written to standard output (-o -)
 };
 GlobalOptions& globals();
 
@@ -94,8 +95,10 @@ struct MeshIo {
 };
 
 // Read a mesh, printing the reader's warnings (what was dropped, strips decoded, …) unless quiet.
+// "-" is standard input.
 Mesh load_mesh(const std::string& path, ReadReport* report = nullptr, bool strict = false);
-// Write a mesh (atomically) and say where it went unless quiet.
+// Write a mesh (atomically) and say where it went unless quiet (on stderr). "-" is standard output,
+// in the format of --format.
 void save_mesh(const Mesh& mesh, const std::string& path, bool binary = true);
 
 // The files of one run (geotex/core/output.h): inputs and outputs are declared, and every output is
@@ -132,12 +135,14 @@ std::string closest_name(std::string_view name, const std::vector<std::string>& 
 std::optional<std::string> unknown_argument_message(const CLI::App& app);
 
 // Validators for CLI11.
+//! An input mesh: "-" (standard input), or an existing regular file with a mesh extension; IoError
+//! (exit 1) naming what it is otherwise (missing, a loop of links, a directory, a FIFO, a device).
 extern const CLI::Validator ExistingMeshFile;
 //! An existing file that is not a folder (texture, deform handles, point files); IoError (exit 1) otherwise.
 extern const CLI::Validator ExistingFile;
 extern const CLI::Validator FiniteNumber;  // refuses nan and inf (hand-written numeric flags)
-//! An output mesh name with a format geotex writes (.obj, .ply, .off, .stl); IoError (exit 1) otherwise,
-//! while parsing, so before any work.
+//! An output mesh name with a format geotex writes (.obj, .ply, .off, .stl, .gltf, .glb, or "-" for
+//! standard output); IoError (exit 1) otherwise, while parsing, so before any work.
 extern const CLI::Validator MeshOutputFile;
 //! An output name ending in \p extension (".ply"); IoError "PATH: explanation" otherwise, while parsing.
 CLI::Validator OutputWithExtension(const std::string& extension, const std::string& explanation);

@@ -90,6 +90,10 @@ int run(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "geotex 0.1.0");
   app.add_flag("-q,--quiet", globals().quiet, "no progress or warnings on stderr");
+  app.add_option("--format", globals().stdout_format,
+                 "format of a mesh written to standard output (-o -): ply, obj, off, stl, glb or gltf "
+                 "(default ply; binary unless --ascii). An input - is standard input, its format read from its bytes")
+      ->check(CLI::IsMember({"ply", "obj", "off", "stl", "glb", "gltf"}, CLI::ignore_case));
   int threads = 0;
   app.add_option("--threads", threads, "number of threads (default: all cores)")
       ->check(CLI::Validator(

@@ -103,7 +103,8 @@ def _path(p: Union[str, os.PathLike]) -> str:
 
 
 def read_mesh(path: Union[str, os.PathLike], strict: bool = False) -> Tuple[np.ndarray, np.ndarray]:
-    """Read a mesh file (.obj, .ply, .off, .stl). Returns (V, F): V float64 #V×3, F int32 #F×3.
+    """Read a mesh file (.obj, .ply, .off, .stl, .glb, .gltf; gzipped too, e.g. .ply.gz).
+    Returns (V, F): V float64 #V×3, F int32 #F×3.
 
     Polygons are split into fans and PLY triangle strips decoded. Faces that are degenerate,
     duplicated or non-manifold are dropped with a UserWarning (strict=True raises InvalidInput
@@ -113,7 +114,8 @@ def read_mesh(path: Union[str, os.PathLike], strict: bool = False) -> Tuple[np.n
 
 
 def write_mesh(path: Union[str, os.PathLike], mesh: MeshLike, F: Any = None, binary: bool = True) -> None:
-    """Write a mesh atomically (format from the extension; binary PLY/STL unless binary=False).
+    """Write a mesh atomically (format from the extension: .obj, .ply, .off, .stl, .glb, .gltf;
+    binary PLY/STL unless binary=False; glTF stores float32 positions).
     An existing file is replaced only once the new one is complete, and keeps its permissions."""
     V, F = _arrays(mesh, F)
     _geotex.write_mesh(_path(path), V, F, binary)

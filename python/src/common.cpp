@@ -62,24 +62,26 @@ MatrixX3i to_faces(py::handle a, Eigen::Index n_vertices, const char* what) {
                                    std::string(py::str(arr.dtype()))));
   // Read as int64 (or uint64) first, so that an index that does not fit an int is seen, not wrapped.
   MatrixX3i F(arr.shape(0), 3);
-  auto check = [&](py::ssize_t i, long double v) {
-    if (v < 0 || v >= static_cast<long double>(n_vertices))
-      throw InvalidInput(fmt::format("{}: row {} has vertex index {} out of range [0, {})", what, i,
-                                     static_cast<long long>(std::min<long double>(v, 9.2e18)), n_vertices));
+  // The index is printed as the integer it is (2^64 - 1 stays 18446744073709551615): no floating
+  // point on the way.
+  auto out_of_range = [&](py::ssize_t i, const std::string& v) {
+    throw InvalidInput(fmt::format("{}: row {} has vertex index {} out of range [0, {})", what, i, v, n_vertices));
   };
   if (kind == 'u') {
     const auto d = py::array_t<uint64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
     for (py::ssize_t i = 0; i < d.shape(0); ++i)
       for (int k = 0; k < 3; ++k) {
-        check(i, static_cast<long double>(d.data()[3 * i + k]));
-        F(i, k) = static_cast<int>(d.data()[3 * i + k]);
+        const uint64_t v = d.data()[3 * i + k];
+        if (v >= static_cast<uint64_t>(n_vertices)) out_of_range(i, std::to_string(v));
+        F(i, k) = static_cast<int>(v);
       }
   } else {
     const auto d = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
     for (py::ssize_t i = 0; i < d.shape(0); ++i)
       for (int k = 0; k < 3; ++k) {
-        check(i, static_cast<long double>(d.data()[3 * i + k]));
-        F(i, k) = static_cast<int>(d.data()[3 * i + k]);
+        const int64_t v = d.data()[3 * i + k];
+        if (v < 0 || v >= static_cast<int64_t>(n_vertices)) out_of_range(i, std::to_string(v));
+        F(i, k) = static_cast<int>(v);
       }
   }
   return F;

@@ -427,3 +427,68 @@ def test_class8_out_of_memory_is_a_memory_error():
     """, timeout=600, memory_bytes=1200 << 20)
     assert_clean_exit(p)
     assert "MemoryError" in p.stdout and "alive" in p.stdout, p.stdout + p.stderr
+
+
+# ---- issue 30, items 2 and 3: error lines that name the cause; growing inputs -----------------------
+
+def test_issue30_error_lines_name_the_real_cause(tmp_path):
+    # a NUL byte inside a number is shown escaped, not cut
+    (tmp_path / "nul.obj").write_bytes(b"v 0 0 0\nv 1\x00.5 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(geotex.IoError, match=r"'1\\x00\.5'"):
+        geotex.read_mesh(str(tmp_path / "nul.obj"))
+    # a symlink loop, a device, a FIFO and a folder say what they are
+    os.symlink(tmp_path / "b.obj", tmp_path / "a.obj")
+    os.symlink(tmp_path / "a.obj", tmp_path / "b.obj")
+    os.symlink("/dev/null", tmp_path / "null.ply")
+    os.mkfifo(tmp_path / "fifo.ply")
+    (tmp_path / "dir.obj").mkdir()
+    for name, says in (("a.obj", "loop of symbolic links"), ("null.ply", "a device"), ("fifo.ply", "a FIFO"),
+                       ("dir.obj", "is a directory")):
+        with pytest.raises(geotex.IoError, match=says):
+            geotex.read_mesh(str(tmp_path / name))
+    # an ascii STL with indented lines is ascii
+    facet = "  facet normal 0 0 1\n   outer loop\n    vertex 0 0 {0}\n    vertex 1 0 {0}\n    vertex 0 1 {0}\n" \
+            "   endloop\n  endfacet\n"
+    (tmp_path / "i.stl").write_text("  solid x\n" + facet.format(0) + facet.format(1) + "  endsolid x\n")
+    V, F = geotex.read_mesh(str(tmp_path / "i.stl"))
+    assert len(F) == 2
+    # an index is printed as the exact integer it is
+    V, F = geotex.generate("sphere", level=0)
+    for dtype, value in ((np.uint64, 2**64 - 1), (np.int64, 2**63 - 1), (np.int64, -2**63)):
+        bad = F.astype(dtype)
+        bad[0, 0] = value
+        with pytest.raises(geotex.InvalidInput, match=f"vertex index {value} out of range"):
+            geotex.info(V, bad)
+
+
+def test_issue30_a_growing_file_is_read_as_it_was_opened(tmp_path):
+    import threading
+    V, F = geotex.generate("sphere", level=1)
+    for ext in ("obj", "ply"):
+        path = tmp_path / f"g.{ext}"
+        geotex.write_mesh(str(path), V, F, binary=False)
+        stop = threading.Event()
+        started = threading.Event()
+
+        def append():
+            chunk = b"v 1 2 3\n" * 512  # 4 KiB appends, whole lines
+            written = 0
+            with open(path, "ab", buffering=0) as f:
+                while not stop.is_set() and written < 256 << 20:
+                    f.write(chunk)
+                    written += len(chunk)
+                    started.set()
+
+        t = threading.Thread(target=append)
+        t.start()
+        started.wait()
+        try:
+            V2, F2 = geotex.read_mesh(str(path))
+        except geotex.IoError as e:  # the size at open ended inside an appended line: said as such
+            assert ext == "obj" and "truncated" in str(e), str(e)
+            continue
+        finally:
+            stop.set()
+            t.join()
+        assert np.array_equal(F2, F)
+        assert len(V2) < len(V) + (64 << 20) // 8

@@ -107,3 +107,24 @@ def test_geometry_helpers():
 def test_shared_data_reads(data_dir):
     V, F = geotex.read_mesh(str(data_dir / "igea.ply"))  # triangle strips
     assert len(V) == 134345 and len(F) > 260000
+
+
+def test_gltf_round_trip_is_exact_and_gzip_is_read(tmp_path):
+    import gzip
+    V, F = geotex.generate("sphere", level=0)
+    V = V.astype(np.float32).astype(np.float64)  # glTF stores float32
+    for ext in ("glb", "gltf"):
+        p = str(tmp_path / f"s.{ext}")
+        geotex.write_mesh(p, V, F)
+        V2, F2 = geotex.read_mesh(p)
+        assert np.array_equal(V, V2) and np.array_equal(F, F2)
+    geotex.write_mesh(str(tmp_path / "s.ply"), V, F)
+    (tmp_path / "s.ply.gz").write_bytes(gzip.compress((tmp_path / "s.ply").read_bytes()))
+    V3, F3 = geotex.read_mesh(str(tmp_path / "s.ply.gz"))
+    assert np.array_equal(V, V3) and np.array_equal(F, F3)
+    (tmp_path / "bad.gltf").write_text('{"asset": {"version": "2.0"}, "meshes": [')
+    with pytest.raises(geotex.IoError, match="glTF"):
+        geotex.read_mesh(str(tmp_path / "bad.gltf"))
+    (tmp_path / "cut.ply.gz").write_bytes((tmp_path / "s.ply.gz").read_bytes()[:200])
+    with pytest.raises(geotex.IoError, match="truncated gzip"):
+        geotex.read_mesh(str(tmp_path / "cut.ply.gz"))

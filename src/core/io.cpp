@@ -23,6 +23,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/output.h"
+#include "io_detail.h"
 
 namespace geotex {
 
@@ -371,12 +372,13 @@ Soup stl_from_corners(const std::vector<float>& corners, ReadReport& rep) {
 
 Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
   // Binary STL: 80-byte header, uint32 count, 50 bytes per triangle. Some binary files start with
-  // "solid" too, so the size decides first.
+  // "solid" too, so the size decides first. Ascii lines may be indented, the first one too.
+  const bool starts_solid = detail::starts_ascii_stl(data);
   if (data.size() >= 84) {
     uint32_t n;
     std::memcpy(&n, data.data() + 80, 4);
     const uint64_t expect = 84ull + 50ull * n;
-    const bool looks_ascii = without_bom(data).substr(0, 5) == "solid" && data.find("facet") != std::string_view::npos;
+    const bool looks_ascii = starts_solid && data.find("facet") != std::string_view::npos;
     if (expect == data.size() || !looks_ascii) {
       if (data.size() < expect)
         throw IoError(fmt::format("{}: truncated binary STL: {} triangles declared, room for {}",
@@ -388,7 +390,7 @@ Soup parse_stl(const fs::path& path, std::string_view data, ReadReport& rep) {
       rep.file_polygons = n;
       return stl_from_corners(corners, rep);
     }
-  } else if (without_bom(data).substr(0, 5) != "solid") {
+  } else if (!starts_solid) {
     throw IoError(fmt::format("{}: not an STL file (too short for binary, no 'solid' header)", path.string()));
   }
   std::vector<float> corners;
@@ -979,33 +981,57 @@ std::string ply_bytes(const Mesh& mesh, const PlyExtras& extras, bool binary, co
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+// What a file of mode \p m is, when it is not a regular file.
+const char* kind_of_special(mode_t m) {
+  if (S_ISDIR(m)) return "a directory";
+  if (S_ISFIFO(m)) return "a FIFO (named pipe)";
+  if (S_ISSOCK(m)) return "a socket";
+  if (S_ISCHR(m) || S_ISBLK(m)) return "a device";
+  return "not a regular file";
+}
+
+[[noreturn]] void refuse_input(const std::string& name, int e) {
+  if (e == ENOENT) throw IoError(fmt::format("{}: no such file", name));
+  if (e == ELOOP) throw IoError(fmt::format("{}: is a loop of symbolic links (they never reach a file)", name));
+  if (e == ENOTDIR) throw IoError(fmt::format("{}: no such file (a part of the path is not a folder)", name));
+  throw IoError(fmt::format("{}: cannot read ({})", name, std::strerror(e)));
+}
+
+void require_regular(const std::string& name, mode_t m) {
+  if (S_ISREG(m)) return;
+  if (S_ISDIR(m)) throw IoError(fmt::format("{}: is a directory", name));
+  throw IoError(fmt::format("{}: is {}; geotex reads only regular files", name, kind_of_special(m)));
+}
+}  // namespace
+
+void require_input_file(const fs::path& path, const std::string& what) {
+  const std::string name = what.empty() ? path.string() : what + " " + path.string();
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) refuse_input(name, errno);
+  require_regular(name, st.st_mode);
+}
+
 std::string read_regular_file(const fs::path& path, size_t max_bytes, const std::string& what) {
   const std::string name = path.string();
   const std::string limit_of = what.empty() ? "this input" : what;
   // stat first: opening a FIFO or a tape device can block or have effects.
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    const int e = errno;
-    if (e == ENOENT) throw IoError(fmt::format("{}: no such file", name));
-    throw IoError(fmt::format("{}: cannot read ({})", name, std::strerror(e)));
-  }
-  auto require_regular = [&](mode_t m) {
-    if (S_ISREG(m)) return;
-    if (S_ISDIR(m)) throw IoError(fmt::format("{}: is a directory", name));
-    const char* kind = S_ISFIFO(m) ? "a FIFO (named pipe)" : S_ISSOCK(m) ? "a socket"
-                       : (S_ISCHR(m) || S_ISBLK(m)) ? "a device" : "not a regular file";
-    throw IoError(fmt::format("{}: is {}; geotex reads only regular files", name, kind));
-  };
-  require_regular(st.st_mode);
+  if (::stat(path.c_str(), &st) != 0) refuse_input(name, errno);
+  require_regular(name, st.st_mode);
   // O_NONBLOCK: if a FIFO took the file's place since the stat, open and read return at once.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) throw IoError(fmt::format("{}: cannot open for reading ({})", name, std::strerror(errno)));
+  if (fd < 0) {
+    const int e = errno;
+    if (e == ENOENT || e == ELOOP) refuse_input(name, e);
+    throw IoError(fmt::format("{}: cannot open for reading ({})", name, std::strerror(e)));
+  }
   struct Closer {
     int fd;
     ~Closer() { ::close(fd); }
   } closer{fd};
   if (::fstat(fd, &st) != 0) throw IoError(fmt::format("{}: cannot read ({})", name, std::strerror(errno)));
-  require_regular(st.st_mode);
+  require_regular(name, st.st_mode);
   auto too_large = [&]() {
     return IoError(fmt::format("{}: larger than {}, the limit for {}", name, human_bytes(max_bytes), limit_of));
   };
@@ -1017,9 +1043,13 @@ std::string read_regular_file(const fs::path& path, size_t max_bytes, const std:
       const int e = errno;
       if (e == EINTR) continue;
       if (e == EAGAIN) throw IoError(fmt::format("{}: reading would block; geotex reads only regular files", name));
+      if (e == EISDIR) throw IoError(fmt::format("{}: is a directory", name));
       throw IoError(fmt::format("{}: read failed ({})", name, std::strerror(e)));
     }
   };
+  // The file as it was when opened: bytes another process appends meanwhile are not read, so a file
+  // that keeps growing cannot keep a reader busy (issue 30). Every format geotex reads is complete
+  // at the size it had; a writer still busy shows as a truncated file.
   std::string data(static_cast<size_t>(st.st_size), '\0');
   size_t got = 0;
   while (got < data.size()) {
@@ -1028,7 +1058,10 @@ std::string read_regular_file(const fs::path& path, size_t max_bytes, const std:
     got += n;
   }
   data.resize(got);
-  // The file grew since the stat, or has no size (/proc): read on, up to the limit.
+  if (st.st_size > 0) return data;
+  // No size (/proc and similar, or an empty file being written): read to the end, up to the limit
+  // (for meshes, which have none of their own, that of a stream).
+  max_bytes = std::min(max_bytes, kMaxStreamBytes);
   std::vector<char> chunk(65536);
   for (size_t n; (n = read_some(chunk.data(), chunk.size())) > 0;) {
     if (data.size() + n > max_bytes) throw too_large();
@@ -1044,13 +1077,23 @@ const PlyElement* PlyData::find(const std::string& name) const {
 }
 
 MeshFormat format_from_path(const fs::path& path) {
-  const std::string ext = lower(path.extension().string());
+  const fs::path inner = is_gzip_path(path) ? path.stem() : path;
+  const std::string ext = lower(inner.extension().string());
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".ply") return MeshFormat::Ply;
   if (ext == ".off") return MeshFormat::Off;
   if (ext == ".stl") return MeshFormat::Stl;
-  throw IoError(fmt::format("{}: unknown mesh format '{}' (use .obj, .ply, .off or .stl)", path.string(),
-                            ext.empty() ? "no extension" : ext));
+  if (ext == ".gltf") return MeshFormat::Gltf;
+  if (ext == ".glb") return MeshFormat::Glb;
+  throw IoError(fmt::format("{}: unknown mesh format '{}' (use .obj, .ply, .off, .stl, .gltf or .glb, "
+                            "optionally gzipped as .ply.gz)", path.string(), ext.empty() ? "no extension" : ext));
+}
+
+MeshFormat output_format_from_path(const fs::path& path) {
+  if (is_gzip_path(path))
+    throw IoError(fmt::format("{}: geotex reads gzipped meshes but does not write them; name the output "
+                              "without .gz (and compress it afterwards)", path.string()));
+  return format_from_path(path);
 }
 
 PlyData read_ply_data(const fs::path& path) {
@@ -1069,6 +1112,16 @@ Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOp
     case MeshFormat::Off: soup = parse_off(path, data, rep); break;
     case MeshFormat::Stl: soup = parse_stl(path, data, rep); break;
     case MeshFormat::Ply: soup = soup_from_ply(path, parse_ply(path, data), rep); break;
+    case MeshFormat::Gltf:
+    case MeshFormat::Glb: {
+      detail::GltfSoup g = detail::read_gltf(data, format == MeshFormat::Glb, path);
+      soup.xyz = std::move(g.xyz);
+      for (size_t t = 0; t + 2 < g.triangles.size(); t += 3) soup.add_polygon(g.triangles.data() + t, 3);
+      rep.format = g.format;
+      rep.warnings = std::move(g.warnings);
+      rep.notes = std::move(g.notes);
+      break;
+    }
   }
   rep.file_vertices = soup.n_vertices();
   if (rep.file_polygons == 0) rep.file_polygons = soup.n_polygons();
@@ -1089,17 +1142,30 @@ Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOp
 }
 
 Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* report) {
+  if (path == kStdioPath) {
+    const std::string data = detail::read_stdin(kMaxStreamBytes);
+    if (data.empty()) throw IoError("standard input (-): nothing was read (an empty pipe)");
+    std::string_view content = data;
+    std::string unpacked;
+    if (detail::is_gzip_magic(content)) content = unpacked = gunzip(content, "standard input (-)");
+    return read_mesh_from_bytes(content, sniff_format(content), options, report, "-");
+  }
   const MeshFormat format = format_from_path(path);
   const std::string data = read_file_bytes(path);
-  return read_mesh_from_bytes(data, format, options, report, path.string());
+  if (!is_gzip_path(path)) return read_mesh_from_bytes(data, format, options, report, path.string());
+  // The content of a gzip file is limited like a stream's; its name keeps the .gz (messages name the file).
+  const std::string content = gunzip(data, path.string());
+  return read_mesh_from_bytes(content, format, options, report, path.string());
 }
 
 PlyData parse_ply_bytes(std::string_view data, const std::string& name) { return parse_ply(fs::path(name), data); }
 
 void write_mesh(const Mesh& mesh, const fs::path& path, const WriteOptions& options) {
-  const MeshFormat f = format_from_path(path);
+  const MeshFormat f = path == kStdioPath ? options.format : output_format_from_path(path);
   require_finite_points(mesh, path);
   switch (f) {
+    case MeshFormat::Gltf:
+    case MeshFormat::Glb: write_bytes_atomic(path, detail::gltf_bytes(mesh, f == MeshFormat::Glb, path)); break;
     case MeshFormat::Obj: write_bytes_atomic(path, obj_text(mesh)); break;
     case MeshFormat::Off: write_bytes_atomic(path, off_text(mesh)); break;
     case MeshFormat::Stl: write_bytes_atomic(path, stl_bytes(mesh, options.binary, path)); break;

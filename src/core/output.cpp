@@ -395,10 +395,28 @@ InputFile describe_input(const fs::path& path) {
 
 // ---------------------------------------------------------------------------------------------
 
+// Standard output (the path "-"): written whole, after a command's files are in place.
+static void write_stdout(std::string_view bytes) {
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(STDOUT_FILENO, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(fmt::format("standard output (-): write failed ({})", errno_text(errno)));
+    }
+    done += static_cast<size_t>(n);
+  }
+}
+
+static bool is_stdout(const fs::path& path) { return path == "-"; }
+
 struct OutputTransaction::Impl {
   std::vector<Output> outputs;
   std::vector<InputFile> inputs;
   bool done = false;
+  std::string stdout_what;     // non-empty: standard output is declared (by this flag)
+  bool stdout_written = false;
+  std::string stdout_bytes;
 
   void check_against_inputs(const Output& o, const InputFile& in) const {
     const Target& t = o.target;
@@ -440,6 +458,7 @@ OutputTransaction* OutputTransaction::active() { return t_active; }
 
 void OutputTransaction::declare_input(const fs::path& path) {
   if (impl_->done) throw IoError("declare_input() after commit()");
+  if (is_stdout(path)) return;  // standard input: no file an output could be
   InputFile in = describe_input(path);
   for (const auto& o : impl_->outputs) impl_->check_against_inputs(o, in);
   impl_->inputs.push_back(std::move(in));
@@ -447,6 +466,12 @@ void OutputTransaction::declare_input(const fs::path& path) {
 
 void OutputTransaction::declare(const fs::path& path, const std::string& what) {
   if (impl_->done) throw IoError("declare() after commit()");
+  if (is_stdout(path)) {
+    if (!impl_->stdout_what.empty())
+      refuse(what, path, fmt::format("is standard output, as {} is; one output can go there", impl_->stdout_what));
+    impl_->stdout_what = what.empty() ? "output" : what;
+    return;
+  }
   Output o;
   o.what = what;
   o.target = check_output(path, what);
@@ -461,13 +486,17 @@ void OutputTransaction::declare(const fs::path& path, const std::string& what) {
   impl_->outputs.push_back(std::move(o));
 }
 
-bool OutputTransaction::is_declared(const fs::path& path) const { return impl_->find(path) != nullptr; }
+bool OutputTransaction::is_declared(const fs::path& path) const {
+  if (is_stdout(path)) return !impl_->stdout_what.empty();
+  return impl_->find(path) != nullptr;
+}
 
 void OutputTransaction::commit() {
   if (impl_->done) throw IoError("commit() called twice");
   std::vector<std::string> missing;
   for (const auto& o : impl_->outputs)
     if (!o.written) missing.push_back(fmt::format("{} {}", o.what, o.target.given.string()));
+  if (!impl_->stdout_what.empty() && !impl_->stdout_written) missing.push_back(impl_->stdout_what + " -");
   if (!missing.empty())
     throw IoError(fmt::format("declared but never written: {} (nothing was replaced)", fmt::join(missing, ", ")));
   for (auto& o : impl_->outputs) o.recheck();
@@ -482,6 +511,8 @@ void OutputTransaction::commit() {
     placed.push_back(o.target.given.string());
     o.discard();
   }
+  // Standard output last: a pipe reader sees a result only when every file is in place.
+  if (impl_->stdout_written) write_stdout(impl_->stdout_bytes);
   impl_->done = true;
   if (t_active == this) t_active = previous_;
 }
@@ -489,6 +520,15 @@ void OutputTransaction::commit() {
 void write_file_atomic(const fs::path& path, std::string_view bytes) {
   install_signal_handlers();
   if (OutputTransaction* tx = OutputTransaction::active()) {
+    if (is_stdout(path)) {
+      if (tx->impl_->stdout_what.empty())
+        throw IoError("standard output (-): not declared as an output (internal error: every output of a command "
+                      "is declared before its work starts)");
+      if (tx->impl_->stdout_written) throw IoError("standard output (-): written twice");
+      tx->impl_->stdout_bytes.assign(bytes);
+      tx->impl_->stdout_written = true;
+      return;
+    }
     Output* o = tx->impl_->find(path);
     if (!o) {
       (void)check_output(path, "");  // the path's own problem first, if it has one
@@ -498,6 +538,7 @@ void write_file_atomic(const fs::path& path, std::string_view bytes) {
     o->write(bytes);
     return;
   }
+  if (is_stdout(path)) return write_stdout(bytes);
   Output o;
   o.what = "output";
   o.target = check_output(path, o.what);

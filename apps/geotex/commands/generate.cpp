@@ -26,7 +26,8 @@ Registrar reg{20, "generate", "Write a procedural test shape (see SHAPE for the 
               [](CLI::App& app) {
                 auto a = std::make_shared<Args>();
                 app.add_option("SHAPE", a->shape, "shape name")->required()->check(CLI::IsMember(shape_names()));
-                app.add_option("-o,--output", a->output, "output mesh file")->required()->check(MeshOutputFile);
+                app.add_option("-o,--output", a->output, "output mesh file (- writes standard output, in the format of --format)")
+                    ->required()->check(MeshOutputFile);
                 app.add_option("--level", a->level, "resolution level: 0 coarse, 1 default, each level ~4x the faces")
                     ->check(CLI::Range(0, 8))->capture_default_str();
                 app.add_option("--seed", a->seed, "seed for the spiky shapes")->capture_default_str();

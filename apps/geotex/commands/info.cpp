@@ -82,7 +82,7 @@ void run(const Args& a) {
 Registrar reg{10, "info", "Print counts, bounds, boundary loops, genus and manifoldness of a mesh",
               [](CLI::App& app) {
                 auto a = std::make_shared<Args>();
-                app.add_option("MESH", a->input, "mesh file (.obj .ply .off .stl)")->required()->check(ExistingMeshFile);
+                app.add_option("MESH", a->input, "mesh file (.obj .ply .off .stl .glb .gltf, or gzipped: .ply.gz …; - reads standard input)")->required()->check(ExistingMeshFile);
                 app.add_flag("--json", a->json, "print JSON");
                 app.add_flag("--strict", a->strict, "fail instead of dropping bad faces");
                 app.callback([a] { run(*a); });

@@ -79,8 +79,7 @@ inline std::vector<std::string> bind_to_meshes(const std::vector<std::string>& v
     if (!bound[mesh].empty())
       throw InvalidInput(fmt::format("{}: mesh {} ({}) is given two files, {} and {}", flag, mesh + 1, meshes[mesh],
                                      bound[mesh], file));
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) throw IoError(fmt::format("{} {}: no such file", flag, file));
+    require_input_file(file, flag);  // missing, a loop of links, a directory, a FIFO or a device, said as such
     bound[mesh] = file;
   }
   return bound;

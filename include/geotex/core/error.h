@@ -4,13 +4,29 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace geotex {
+
+namespace detail {
+//! \p message with each NUL byte written as `\x00`: what() is a C string, so a NUL from a file's
+//! bytes (quoted in a message) would cut the line there and hide the cause.
+inline std::string without_nul(std::string_view message) {
+  std::string out;
+  out.reserve(message.size());
+  for (const char c : message) {
+    if (c == '\0') out += "\\x00";
+    else out += c;
+  }
+  return out;
+}
+}  // namespace detail
 
 //! Base of every geotex error.
 class Error : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& message) : std::runtime_error(detail::without_nul(message)) {}
+  explicit Error(const char* message) : std::runtime_error(message) {}
 };
 
 //! The caller's data or parameters cannot be used (empty mesh, NaN coordinates, not a disk, …).
