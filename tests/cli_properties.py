@@ -20,7 +20,12 @@ them slower here).
 `project` projects each mesh onto itself and onto the unit sphere (the off-centre mesh lies 1e7 away:
 near-linear since the normal-cone pruning, bench/bad-input.md).
 
-Usage: cli_properties.py GEOTEX [--seed N] [--jobs N] [--verbose]
+With --hard the zoo is instead the valid but hard meshes of issue 30 at 10^5 faces (bench/hard_meshes.py:
+a fan around one vertex, disjoint triangles, a needle soup), each run under a CPU cap of 20 s (RLIMIT_CPU in
+the child: a run past it dies of SIGXCPU and fails as a signal). KNOWN_OVER_CAP lists the runs still past it
+(bench/bad-input.md); they are reported, not failed, and one that comes within the cap is reported too.
+
+Usage: cli_properties.py GEOTEX [--seed N] [--jobs N] [--hard] [--verbose]
 """
 
 import argparse
@@ -41,6 +46,18 @@ TIME_CAP_S = 60           # a hang guard, far above any run here (they take well
 if os.environ.get("GEOTEX_SANITIZE"):
     TIME_CAP_S = 300      # AddressSanitizer runs are 5-20x slower (scripts/sanitize.sh)
 MEMORY_CAP = 3 << 30      # address space of each run (OpenMP and BLAS reserve some without using it)
+CPU_CAP_S = None          # --hard: RLIMIT_CPU of each run (issue 30)
+HARD_FACES = 100000
+KEEPS_CONNECTIVITY = {"noise", "smooth", "denoise", "deform", "project", "resize"}
+# (mesh, command) runs of the hard zoo still past the CPU cap (bench/bad-input.md, "left undone").
+KNOWN_OVER_CAP = {
+    ("hard-fan", "texture extract+apply"), ("hard-fan", "texture extract+edit"),
+    ("hard-fan", "texture extract+animate"), ("hard-fan", "resize x2 adf"), ("hard-fan", "resize thesis"),
+    ("hard-disjoint", "resize x2 adf"), ("hard-disjoint", "resize thesis"), ("hard-disjoint", "texture atlas"),
+    ("hard-disjoint", "texture synthesize"),
+    ("hard-needles", "surfels"), ("hard-needles", "project"), ("hard-needles", "project onto sphere"),
+    ("hard-needles", "compare"),
+}
 
 
 # ---- the zoo --------------------------------------------------------------------------------------
@@ -90,6 +107,18 @@ def soup(rng, n, thin=False):
     for f in F[: n // 2]:
         f[2] = rng.randrange(len(V))
     return V, F
+
+
+def make_hard_zoo(folder, seed):
+    """The hard meshes of issue 30 at HARD_FACES faces, as binary PLY (bench/hard_meshes.py)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench"))
+    import hard_meshes
+    zoo = {}
+    for kind in ("fan", "disjoint", "needles"):
+        path = os.path.join(folder, f"hard-{kind}.ply")
+        hard_meshes.write_ply(path, *hard_meshes.mesh(kind, HARD_FACES, seed))
+        zoo["hard-" + kind] = path
+    return zoo
 
 
 def make_zoo(geotex, folder, seed):
@@ -195,6 +224,8 @@ def limits():
     if not os.environ.get("GEOTEX_SANITIZE"):
         resource.setrlimit(resource.RLIMIT_AS, (MEMORY_CAP, MEMORY_CAP))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    if CPU_CAP_S:
+        resource.setrlimit(resource.RLIMIT_CPU, (CPU_CAP_S, CPU_CAP_S + 1))
 
 
 def run(geotex, args, env):
@@ -290,6 +321,14 @@ def one_case(geotex, work, case_id, mesh_name, mesh, cmd, env):
     if digest(inputs) != before:
         problems.append("an input file changed")
     left = sorted(os.listdir(out))
+    if code == 0 and CPU_CAP_S and args[0] in KEEPS_CONNECTIVITY:
+        # The hard zoo's commands that move vertices keep them all (a vertex count from the PLY header).
+        with open(mesh, "rb") as f:
+            header = f.read(400).split(b"end_header")[0].decode()
+        n = int(header.split("element vertex ")[1].split()[0])
+        for o in outputs:
+            if o.endswith(".obj") and os.path.isfile(o) and len(read_obj(o)[0]) != n:
+                problems.append(f"{os.path.basename(o)}: {len(read_obj(o)[0])} vertices, the input has {n}")
     if code == 0:
         extra = [f for f in left if os.path.join(out, f) not in outputs]
         if extra:
@@ -310,8 +349,13 @@ def main():
     ap.add_argument("--seed", type=int, default=14)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default="", help="run only commands whose name contains this")
+    ap.add_argument("--hard", action="store_true", help="the hard meshes of issue 30 under a 20 s CPU cap")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
+    global CPU_CAP_S, TIME_CAP_S
+    if a.hard:
+        CPU_CAP_S = 20 * (5 if os.environ.get("GEOTEX_SANITIZE") else 1)
+        TIME_CAP_S = max(TIME_CAP_S, 10 * CPU_CAP_S)  # the CPU cap decides; wall time waits on a shared machine
     geotex = os.path.abspath(a.geotex)
     env = dict(os.environ, OMP_NUM_THREADS="1", OMP_WAIT_POLICY="passive", OPENBLAS_NUM_THREADS="1")
     work = tempfile.mkdtemp(prefix="geotex-properties-")
@@ -320,7 +364,10 @@ def main():
         os.makedirs(inp)
         os.makedirs(os.path.join(work, "out"))
         zoo = make_zoo(geotex, inp, a.seed)
-        aux = {"handles": os.path.join(inp, "handles.json"), "base": zoo["sphere"],
+        base = zoo["sphere"]
+        if a.hard:
+            zoo = make_hard_zoo(inp, a.seed)
+        aux = {"handles": os.path.join(inp, "handles.json"), "base": base,
                "texture": os.path.join(inp, "spiky-texture.ply")}
         spiky_plane = os.path.join(work, "spiky-plane.obj")
         subprocess.run([geotex, "-q", "generate", "spiky-plane", "--level", "0", "-o", spiky_plane], check=True)
@@ -339,6 +386,12 @@ def main():
             for fut in concurrent.futures.as_completed(futures):
                 case_id, mesh_name, name, code, problems, err = fut.result()
                 counts[code] = counts.get(code, 0) + 1
+                known = (mesh_name, name) in KNOWN_OVER_CAP
+                if known and code in (-signal.SIGXCPU, "timeout"):
+                    print(f"known over the cap: {name} on {mesh_name}")
+                    continue
+                if known and not problems:
+                    print(f"now within the cap (remove from KNOWN_OVER_CAP): {name} on {mesh_name}")
                 if problems:
                     failures += 1
                     print(f"FAIL {name} on {mesh_name}: exit {code}: " + "; ".join(problems))

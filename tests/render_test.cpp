@@ -633,3 +633,30 @@ TEST(DemoReport, IndexShowsEveryMeshWithItsPicture) {
     EXPECT_NE(index.find("views/sphere.html"), std::string::npos);
   }
 }
+
+// A flat fan of slivers around one vertex (issue 30): each sliver spans half the picture's bounding box
+// but few pixels; the rows are scanned over their spans only. The fan is a 2000-gon: its pixels are
+// those of the disk, and a coarse fan (its triangles wide) covers the same disk.
+TEST(Render, FanOfSliversCoversItsDisk) {
+  auto fan = [](int k) {
+    MatrixX3d V(k + 1, 3);
+    MatrixX3i F(k, 3);
+    V.row(0) << 0, 0, 0;
+    for (int i = 0; i < k; ++i) {
+      V.row(1 + i) << std::cos(2 * M_PI * i / k), std::sin(2 * M_PI * i / k), 0;
+      F.row(i) << 0, 1 + i, 1 + (i + 1) % k;
+    }
+    return make_mesh(V, F);
+  };
+  RenderOptions o;
+  o.width = 400;
+  o.height = 400;
+  o.view = ViewDirection::Top;
+  o.supersampling = 1;
+  const Rendering fine = render_mesh(fan(2000), o);
+  const double disk = M_PI * fine.camera.scale * fine.camera.scale;
+  EXPECT_NEAR(fine.covered_pixels / disk, 1.0, 0.01);
+  o.camera = fine.camera;
+  const Rendering coarse = render_mesh(fan(400), o);
+  EXPECT_NEAR(double(coarse.covered_pixels) / fine.covered_pixels, 1.0, 0.002);
+}

@@ -130,3 +130,29 @@ TEST(TextureBaseData, ScanDisplacementsFollowTheBaseNormal) {
   EXPECT_LT(robust.median_off_normal_deg, 2.0);
   EXPECT_LT(robust.median_off_normal_deg, 0.2 * smoothed.median_off_normal_deg);
 }
+
+// Components are fitted independently (issue 30: 10^5 disjoint triangles took minutes to set up): the
+// base of 300 translated copies of a bumpy patch is the copies of the patch's base, translated.
+TEST(BaseShape, CopiesOfAPatchGiveCopiesOfItsBase) {
+  SpikeOptions spikes;
+  spikes.count = 3;
+  const Mesh patch = spiky(plane(10, 1.0), spikes).textured;
+  const MatrixX3d P = positions(patch);
+  const MatrixX3i Fp = faces(patch);
+  const int copies = 300;
+  const Eigen::Index n = P.rows(), m = Fp.rows();
+  MatrixX3d V(copies * n, 3);
+  MatrixX3i F(copies * m, 3);
+  for (int k = 0; k < copies; ++k) {
+    V.middleRows(k * n, n) = P.rowwise() + Eigen::RowVector3d(3.0 * (k % 20), 3.0 * (k / 20), 0.0);
+    F.middleRows(k * m, m) = Fp.array() + static_cast<int>(k * n);
+  }
+  const MatrixX3d B1 = extract_base_shape(patch);
+  const MatrixX3d B = extract_base_shape(make_mesh(V, F));
+  double worst = 0;
+  for (int k = 0; k < copies; ++k) {
+    const MatrixX3d Bk = B.middleRows(k * n, n).rowwise() - Eigen::RowVector3d(3.0 * (k % 20), 3.0 * (k / 20), 0.0);
+    worst = std::max(worst, (Bk - B1).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-9);
+}

@@ -74,8 +74,11 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
   // The system μ Kᵀ D⁻¹ K + W = GᵀG + W with G = √μ D^{-1/2} K, one row per vertex. The row of a vertex
   // of valence k couples its k neighbours in GᵀG (k² entries: 1 GB for a fan of 8,000); the solver
   // keeps such rows out of the factor (Woodbury), so memory stays linear in the valence.
-  const SparseMatrix G =
-      d.unaryExpr([mu](double x) { return x > 0 ? std::sqrt(mu / x) : 0.0; }).asDiagonal() * K;
+  // Rows scaled in place: Eigen's diagonal × sparse product took 21 s for 60,000 disjoint triangles.
+  SparseMatrix G = K;
+  for (int c = 0; c < G.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(G, c); it; ++it)
+      it.valueRef() *= d[it.row()] > 0 ? std::sqrt(mu / d[it.row()]) : 0.0;
   w = Eigen::VectorXd::Ones(n);
   LeastSquaresSolver solver;
   MatrixX3d B;

@@ -294,7 +294,21 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
       const double inv = 1.0 / area;
       for (int y = y0; y <= y1; ++y) {
         const double py = y + 0.5;
-        for (int x = x0; x <= x1; ++x) {
+        // The row's span inside the triangle: each barycentric coordinate is linear in px, w = i + s px.
+        // Scanning only the span (one pixel wider against rounding; the test below decides) keeps a
+        // sliver's cost at its pixels, not its bounding box's (a 10^6 fan: 30 s before).
+        double lo = x0, hi = x1 + 1.0;
+        const double i0 = (bb.x * (c.y - py) - (bb.y - py) * c.x) * inv, s0 = (bb.y - c.y) * inv;
+        const double i1 = (c.x * (a.y - py) - (c.y - py) * a.x) * inv, s1 = (c.y - a.y) * inv;
+        const double is[3] = {i0, i1, 1.0 - i0 - i1}, ss[3] = {s0, s1, -s0 - s1};
+        for (int m = 0; m < 3; ++m) {
+          if (ss[m] > 0) lo = std::max(lo, -is[m] / ss[m]);
+          else if (ss[m] < 0) hi = std::min(hi, -is[m] / ss[m]);
+        }
+        lo = std::min(lo, x1 + 1.0), hi = std::max(hi, double(x0));
+        const int xa = std::max(x0, static_cast<int>(std::ceil(lo - 0.5)) - 1);
+        const int xb = std::min(x1, static_cast<int>(std::floor(hi - 0.5)) + 1);
+        for (int x = xa; x <= xb; ++x) {
           const double px = x + 0.5;
           // Barycentric coordinates from edge functions; both orientations are drawn (two-sided).
           const double w0 = ((bb.x - px) * (c.y - py) - (bb.y - py) * (c.x - px)) * inv;
