@@ -2,7 +2,8 @@
 
 A mesh is given as two numpy arrays, V (#V×3 positions) and F (#F×3 integer triangles), or as one
 object with vertices and faces (trimesh.Trimesh, open3d.geometry.TriangleMesh, anything with
-`vertices` and `faces` or `triangles`). Every function takes keyword-only options with the names,
+`vertices` and `faces` or `triangles`), or as a result that holds one (`write_mesh("o.ply",
+denoise(V, F))`; `render(r, edges=r.edge_labels)` draws its labelled edges). Every function takes keyword-only options with the names,
 defaults and ranges of the command line (`geotex <command> --help`); `help(geotex.smooth)` lists
 them, and `inspect.signature` shows them. Errors raise geotex.InvalidInput (a ValueError),
 geotex.IoError (an OSError) or geotex.SolverError (a RuntimeError); running out of memory raises
@@ -36,7 +37,8 @@ __all__ = [
     "umbrella_laplacian", "cotan_matrix", "mass_matrix", "cotan_laplacian", "mean_curvature_normals",
     "smooth", "deform", "parametrize", "phong_project", "one_form_fit", "one_form_to_vertices",
     "auto_diffusion_function",
-    "denoise", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
+    "MeshResult", "DenoiseResult", "AutoDenoiseResult", "MrfResult", "SurfelDenoiseResult",
+    "denoise", "denoise_auto", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
     "texture_extract", "texture_apply", "texture_edit", "texture_animate", "texture_transfer", "texture_atlas",
     "texture_synthesize", "read_texture", "write_texture",
     "resize", "feature_map", "render", "view",
@@ -78,20 +80,61 @@ class Result:
 MeshLike = Any
 
 
+_RESULT_TABLES: dict = _geotex._result_tables()
+
+
+class MeshResult(Result):
+    """A result that holds a mesh, V (#V×3) and F (#F×3): accepted wherever a mesh is."""
+
+
+class DenoiseResult(MeshResult):
+    """A denoising result: V, F, edges (#E×2), edge_labels (#E, in edges() order), parameters (the options
+    used), method and seconds, then the fields of its method (the keys of `geotex denoise --report`)."""
+
+
+def _result_class(name: str, base: type) -> type:
+    """A result class whose docstring lists the fields of the C++ result table `name` (the same table
+    the CLI's --report is written from)."""
+    lines = [base.__doc__ or "", "", "Fields of the method (as `--report` has them, except those marked Python only):"]
+    for f in _RESULT_TABLES[name]:
+        unit = f" [{f['unit']}]" if f["unit"] else ""
+        only = "" if f["in_report"] else " (Python only)"
+        lines.append(f"    {f['name']}: {f['help']}{unit}{only}")
+    return type(name, (base,), {"__doc__": "\n".join(lines) + "\n", "__module__": __name__})
+
+
+AutoDenoiseResult = _result_class("AutoDenoiseResult", DenoiseResult)
+MrfResult = _result_class("MrfResult", DenoiseResult)
+SurfelDenoiseResult = _result_class("SurfelDenoiseResult", DenoiseResult)
+
+
+
+def _is_mesh(obj: Any) -> bool:
+    """Whether obj is one mesh object: a (V, F) tuple, a result that holds a mesh (V and F), or an object
+    with vertices and faces/triangles (trimesh, Open3D)."""
+    return ((isinstance(obj, tuple) and len(obj) == 2) or (isinstance(obj, Result) and "V" in obj and "F" in obj)
+            or hasattr(obj, "vertices"))
+
+
 def _arrays(mesh: MeshLike, F: Any = None) -> Tuple[Any, Any]:
-    """(V, F) of a mesh given as arrays or as an object with vertices and faces/triangles."""
+    """(V, F) of a mesh given as arrays, a (V, F) tuple, a result that holds a mesh (r.V, r.F: what
+    denoise(), texture_apply() … return), or an object with vertices and faces/triangles. Every function
+    that takes a mesh converts it here, and only here."""
     if F is not None:
         return mesh, F
     if isinstance(mesh, tuple) and len(mesh) == 2:
         return mesh
+    if isinstance(mesh, Result) and "V" in mesh and "F" in mesh:
+        return mesh["V"], mesh["F"]
     if hasattr(mesh, "vertices"):
         faces = getattr(mesh, "faces", None)
         if faces is None:
             faces = getattr(mesh, "triangles", None)  # open3d.geometry.TriangleMesh
         if faces is not None:
             return np.asarray(mesh.vertices), np.asarray(faces)
-    raise TypeError("expected a mesh: arrays V and F, a (V, F) tuple, or an object with vertices and faces "
-                    f"(trimesh, Open3D), not {type(mesh).__name__}")
+    what = "a result without a mesh (no V and F)" if isinstance(mesh, Result) else type(mesh).__name__
+    raise TypeError("expected a mesh: arrays V and F, a (V, F) tuple, a result with V and F, or an object with "
+                    f"vertices and faces (trimesh, Open3D), not {what}")
 
 
 def _path(p: Union[str, os.PathLike]) -> str:
@@ -289,41 +332,39 @@ def auto_diffusion_function(mesh: MeshLike, F: Any = None, t: float = 0.1, eigen
 # Denoising (thesis ch. 6–7)
 
 
-def _denoise_result(d: dict) -> Result:
-    return Result(**d)
 
 
 @with_options("AutoDenoiseOptions")
-def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> AutoDenoiseResult:
     """The default denoiser (`geotex denoise`, --method auto): estimates the noise, reads whether the
     surface is creased or smooth, then surfels, positions fitted to them and edge labels, with every
     parameter derived from the input (auto_denoise.h). Returns a Result: V, F (same connectivity),
     edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), creased (#F: how
     each face was read, 1 creased, 0 smooth, between: a transition), creased_share (of the area),
     parameters."""
-    return _denoise_result(_geotex.denoise_auto(*_arrays(mesh, F), options))
+    return AutoDenoiseResult(**_geotex.denoise_auto(*_arrays(mesh, F), options))
 
 
 @with_options("MrfOptions")
-def denoise_mrf(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+def denoise_mrf(mesh: MeshLike, F: Any = None, **options: Any) -> MrfResult:
     """MRF denoising with a vertex process and an edge-labelling process (thesis ch. 6; `geotex denoise
     --method mrf`). Returns a Result: V, F, edge_labels (per edges()), edges, energies, parameters."""
-    return _denoise_result(_geotex.denoise_mrf(*_arrays(mesh, F), options))
+    return MrfResult(**_geotex.denoise_mrf(*_arrays(mesh, F), options))
 
 
 @with_options("MrfNormalOptions")
-def denoise_mrf_normal(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+def denoise_mrf_normal(mesh: MeshLike, F: Any = None, **options: Any) -> MrfResult:
     """Face-normal MRF with edge labelling, then vertices fitted to the normals (Sec. 6.5; `geotex
     denoise --method mrf-normal`). Returns a Result like denoise_mrf()."""
-    return _denoise_result(_geotex.denoise_mrf_normal(*_arrays(mesh, F), options))
+    return MrfResult(**_geotex.denoise_mrf_normal(*_arrays(mesh, F), options))
 
 
 @with_options("SurfelDenoiseOptions")
-def denoise_surfel(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+def denoise_surfel(mesh: MeshLike, F: Any = None, **options: Any) -> SurfelDenoiseResult:
     """Surfel reconstruction of a piecewise-smooth surface (thesis ch. 7; `geotex denoise --method
     surfel`). Returns a Result: V, F (new connectivity with retrieval='dual'), edge_labels, normals,
     offsets, energy, parameters."""
-    return _denoise_result(_geotex.denoise_surfel(*_arrays(mesh, F), options))
+    return SurfelDenoiseResult(**_geotex.denoise_surfel(*_arrays(mesh, F), options))
 
 
 _DENOISERS = {"auto": denoise_auto, "mrf": denoise_mrf, "mrf-normal": denoise_mrf_normal, "surfel": denoise_surfel}
@@ -334,7 +375,7 @@ def denoise_methods() -> List[str]:
     return list(_DENOISERS)
 
 
-def denoise(mesh: MeshLike, F: Any = None, *, method: str = "auto", **options: Any) -> Result:
+def denoise(mesh: MeshLike, F: Any = None, *, method: str = "auto", **options: Any) -> DenoiseResult:
     """Denoise a mesh and find its sharp edges (`geotex denoise`). `method` chooses the function
     called with the same options: 'auto' (the default) → denoise_auto(), 'mrf' → denoise_mrf(), 'mrf-normal' → denoise_mrf_normal(),
     'surfel' → denoise_surfel() (see each for its options and defaults; an option of another method
@@ -391,7 +432,7 @@ def _base_arrays(base: Any, F: Any) -> Tuple[Any, Any]:
     (None for the latter's faces when F is None)."""
     if base is None:
         return None, None
-    if (isinstance(base, tuple) and len(base) == 2) or hasattr(base, "vertices"):
+    if _is_mesh(base):
         return _arrays(base)
     return base, F
 
@@ -421,7 +462,7 @@ def texture_apply(texture: TextureLike, base: Any = None, **options: Any) -> Res
     Vb, F, h, t, lean = _texture(texture)
     Vn, Fn = _base_arrays(base, None)
     V = _geotex.texture_apply(Vb, F, h, t, lean, Vn, Fn, options)
-    return Result(V=V, F=np.asarray(F if Fn is None else Fn))
+    return MeshResult(V=V, F=np.asarray(F if Fn is None else Fn))
 
 
 @with_options("TextureEditOptions")
@@ -534,7 +575,8 @@ def render(mesh: MeshLike, F: Any = None, path: Optional[Union[str, os.PathLike]
            edges: Any = None, **options: Any) -> np.ndarray:
     """A software-rendered picture (`geotex render`): returns the image as an H×W×3 uint8 array, and
     writes it as PNG when `path` is given. field: #V values shown through a colour map; edges: #S×2
-    vertex pairs drawn as lines."""
+    vertex pairs drawn as lines, or #E edge labels in edges() order (a result's edge_labels: the edges
+    labelled above 0.5 are drawn)."""
     V, F = _arrays(mesh, F)
     return _geotex.render(V, F, None if path is None else _path(path), field, edges, options)
 
@@ -543,7 +585,9 @@ def render(mesh: MeshLike, F: Any = None, path: Optional[Union[str, os.PathLike]
 def view(meshes: Any, path: Union[str, os.PathLike] = "geotex-view.html", **options: Any) -> str:
     """Write a self-contained HTML page showing meshes side by side in 3D (`geotex view`).
     meshes: one mesh or a list; each a mesh (arrays, (V, F), trimesh, Open3D) or a dict with
-    "mesh" (or "V" and "F") and optional "name", "field" (#V values), "edges" (#S×2). Returns the path."""
+    "mesh" (or "V" and "F") and optional "name", "field" (#V values), "edges" (#S×2 vertex pairs, or #E
+    edge labels in edges() order as a result's edge_labels). Results that hold a mesh are meshes.
+    Returns the path."""
     if not isinstance(meshes, list):
         meshes = [meshes]
     items = []

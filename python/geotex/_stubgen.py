@@ -30,7 +30,31 @@ class Result:
     def keys(self) -> List[str]: ...
     def __getattr__(self, name: str) -> Any: ...
 
+class MeshResult(Result):
+    V: np.ndarray
+    F: np.ndarray
+
+class DenoiseResult(MeshResult):
+    edges: np.ndarray
+    edge_labels: np.ndarray
+    parameters: Dict[str, Any]
 '''
+
+# Python's type of a result field of each kind (geotex/core/results.h).
+_RESULT_TYPES = {"bool": "bool", "int": "int", "float": "float", "str": "str", "texts": "List[str]",
+                 "reals": "List[float]", "ints": "List[int]", "array": "np.ndarray", "record": "Dict[str, Any]"}
+
+
+def result_classes() -> str:
+    """The typed result classes, from the C++ result tables (the ones the CLI's --report is written from)."""
+    from . import _geotex
+    tables = _geotex._result_tables()
+    run = "".join(f"    {f['name']}: {_RESULT_TYPES[f['kind']]}\n" for f in tables["DenoiseRun"])
+    out = []
+    for name in ("AutoDenoiseResult", "MrfResult", "SurfelDenoiseResult"):
+        fields = "".join(f"    {f['name']}: {_RESULT_TYPES[f['kind']]}\n" for f in tables[name])
+        out.append(f"\nclass {name}(DenoiseResult):\n{run}{fields}")
+    return "".join(out) + "\n"
 
 
 # The compiled module: its errors, and everything else reached through the package's wrappers.
@@ -90,7 +114,7 @@ def stub_for(name: str, fn: object) -> str:
 def generate() -> str:
     import geotex
 
-    out = [HEADER]
+    out = [HEADER, result_classes()]
     for name in geotex.__all__:
         obj = getattr(geotex, name)
         if inspect.isclass(obj):

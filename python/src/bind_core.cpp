@@ -46,6 +46,11 @@ const EnumNames<NormalWeighting>& weighting_names() {
 
 void bind_core(py::module_& m) {
   register_table<NoiseOptions>("NoiseOptions");
+  m.def("_result_tables", [] {
+    py::dict d;
+    for (const auto& [name, describe] : result_tables()) d[py::str(name)] = describe();
+    return d;
+  });
   m.def("_option_tables", [] {
     py::dict d;
     for (const auto& [name, describe] : option_tables()) d[py::str(name)] = describe();

@@ -2,32 +2,50 @@
 
 #include "common.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 
 #include "geotex/denoise/auto_denoise.h"
 #include "geotex/denoise/mrf.h"
 #include "geotex/denoise/point_surfels.h"
+#include "geotex/denoise/results.h"
 #include "geotex/denoise/surfel.h"
 
 namespace geotex::python {
 
 namespace {
 
-template <class O>
-py::dict mrf_result(const Mesh& input, const MrfResult& r, const O& used) {
-  Mesh out = input;
-  set_positions(out, r.positions);
+// A denoising result: the mesh (V, F, its edges and their labels), then the fields of the run's and the
+// method's result tables (the keys of `geotex denoise --report`), then the parameters used.
+template <class R, class O>
+py::dict denoise_result(const Mesh& mesh, const Eigen::VectorXd& edge_labels, const DenoiseRun& run, const R& r,
+                        const ResultTable<R>& table, const O& used) {
   py::dict d;
-  d["V"] = VArray(r.positions);
-  d["F"] = FArray(faces(out));
-  d["edge_labels"] = r.edge_labels;
-  d["edges"] = MatrixX2i(edges(out));
-  d["vertex_energy"] = r.vertex_energy;
-  d["edge_energy"] = r.edge_energy;
-  d["iterations"] = r.iterations;
-  d["converged"] = r.converged;
+  d["V"] = VArray(positions(mesh));
+  d["F"] = FArray(faces(mesh));
+  d["edge_labels"] = edge_labels;
+  d["edges"] = MatrixX2i(edges(mesh));
+  put_results(d, run, denoise_run_results());
+  put_results(d, r, table);
   d["parameters"] = options_dict(used);
   return d;
+}
+
+// run() of a denoiser, timed as the CLI times it.
+template <class F>
+auto timed(const CallOptions& call, double& seconds, F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = run(call, std::forward<F>(f));
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+template <class O>
+py::dict mrf_result(const Mesh& input, const MrfResult& r, const O& used, const DenoiseRun& run) {
+  Mesh out = input;
+  set_positions(out, r.positions);
+  return denoise_result(out, r.edge_labels, run, r, mrf_results(), used);
 }
 
 }  // namespace
@@ -38,61 +56,51 @@ void bind_denoise(py::module_& m) {
   register_table<MrfNormalOptions>("MrfNormalOptions");
   register_table<SurfelDenoiseOptions>("SurfelDenoiseOptions");
   register_table<PointSurfelOptions>("PointSurfelOptions");
+  register_results("DenoiseRun", &denoise_run_results);
+  register_results("AutoDenoiseResult", &auto_denoise_results);
+  register_results("MrfResult", &mrf_results);
+  register_results("SurfelDenoiseResult", &surfel_denoise_results);
 
   m.def("denoise_auto", [](py::handle V, py::handle F, py::dict kw) {
     CallOptions call = call_options(kw);
     AutoDenoiseOptions o = to_options<AutoDenoiseOptions>(kw, call);
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
-    const AutoDenoiseResult r = run(call, [&] { return auto_denoise(mesh, o); });
+    DenoiseRun info{"auto"};
+    const AutoDenoiseResult r = timed(call, info.seconds, [&] { return auto_denoise(mesh, o); });
     if (r.turned_over > 0) warn(fmt::format("geotex: {} faces are left turned over", r.turned_over));
-    py::dict d;
-    d["V"] = VArray(r.positions);
-    d["F"] = FArray(faces(mesh));
-    d["edge_labels"] = r.edge_labels;
-    d["edges"] = MatrixX2i(edges(mesh));
-    d["noise_sigma"] = r.noise.sigma;
-    d["noise_normal_sigma"] = r.noise.normal_sigma;
-    d["choices"] = r.choices;
-    d["turned_over"] = r.turned_over;
-    d["creased"] = r.creased;
-    d["creased_share"] = r.creased_share;
-    d["parameters"] = options_dict(r.resolved);
-    return d;
+    Mesh out = mesh;
+    set_positions(out, r.positions);
+    return denoise_result(out, r.edge_labels, info, r, auto_denoise_results(), r.resolved);
   });
   m.def("denoise_mrf", [](py::handle V, py::handle F, py::dict kw) {
     CallOptions call = call_options(kw);
     MrfOptions o = to_options<MrfOptions>(kw, call);
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
-    return mrf_result(mesh, run(call, [&] { return mrf_denoise(mesh, o); }), o);
+    DenoiseRun info{"mrf"};
+    const MrfResult r = timed(call, info.seconds, [&] { return mrf_denoise(mesh, o); });
+    return mrf_result(mesh, r, o, info);
   });
   m.def("denoise_mrf_normal", [](py::handle V, py::handle F, py::dict kw) {
     CallOptions call = call_options(kw);
     MrfNormalOptions o = to_options<MrfNormalOptions>(kw, call);
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
-    return mrf_result(mesh, run(call, [&] { return mrf_normal_denoise(mesh, o); }), o);
+    DenoiseRun info{"mrf-normal"};
+    const MrfResult r = timed(call, info.seconds, [&] { return mrf_normal_denoise(mesh, o); });
+    return mrf_result(mesh, r, o, info);
   });
   m.def("denoise_surfel", [](py::handle V, py::handle F, py::dict kw) {
     CallOptions call = call_options(kw);
     SurfelDenoiseOptions o = to_options<SurfelDenoiseOptions>(kw, call);
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
-    const SurfelDenoiseResult r = run(call, [&] { return surfel_denoise(mesh, o); });
+    DenoiseRun info{"surfel"};
+    const SurfelDenoiseResult r = timed(call, info.seconds, [&] { return surfel_denoise(mesh, o); });
     SurfelDenoiseOptions used = o;
     used.t_start_deg = r.t_start_deg;
-    py::dict d;
-    d["V"] = VArray(positions(r.mesh));
-    d["F"] = FArray(faces(r.mesh));
-    d["edge_labels"] = r.edge_labels;
-    d["edges"] = MatrixX2i(edges(r.mesh));
-    d["normals"] = VArray(r.surfels.surfels.normals);
-    d["offsets"] = r.surfels.surfels.offsets;
-    d["energy"] = r.surfels.energy;
-    d["median_angle_deg"] = r.median_angle_deg;
-    d["parameters"] = options_dict(used);
-    return d;
+    return denoise_result(r.mesh, r.edge_labels, info, r, surfel_denoise_results(), used);
   });
   m.def("point_surfels", [](py::handle P, py::dict kw) {
     CallOptions call = call_options(kw);

@@ -3,6 +3,9 @@
 #include "common.h"
 
 #include <filesystem>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
@@ -13,19 +16,33 @@ namespace geotex::python {
 
 namespace {
 
-// Optional per-mesh layers: a field (#V values) and labelled edges (#S × 2 vertex pairs).
+// Optional per-mesh layers: a field (#V values) and labelled edges, given as #S × 2 vertex pairs or as
+// #E labels in edges(mesh) order (a result's edge_labels; an edge labelled above ½ is drawn, as the
+// viewer reads a PLY edge element's labels).
 MeshLayers layers_of(const Mesh& mesh, py::handle field, py::handle edges, const std::string& field_name) {
   MeshLayers l;
   if (!field.is_none()) l.fields[field_name] = to_vector(field, mesh.n_vertices(), "field");
-  if (!edges.is_none()) {
-    const py::array a = py::array::ensure(edges);
+  if (edges.is_none()) return l;
+  const py::array a = py::array::ensure(edges);
+  if (a && a.ndim() == 1) {
+    const Eigen::VectorXd labels = to_vector(a, -1, "edges");
+    const MatrixX2i E = geotex::edges(mesh);
+    if (labels.size() != E.rows())
+      throw InvalidInput(fmt::format("edges: {} labels given, but the mesh has {} edges (labels are per edge, in "
+                                     "edges() order)", labels.size(), E.rows()));
+    std::vector<int> keep;
+    for (Eigen::Index e = 0; e < labels.size(); ++e)
+      if (labels[e] > 0.5) keep.push_back(static_cast<int>(e));
+    l.segments.resize(static_cast<Eigen::Index>(keep.size()), 2);
+    for (size_t k = 0; k < keep.size(); ++k) l.segments.row(static_cast<Eigen::Index>(k)) = E.row(keep[k]);
+  } else {
     if (!a || a.ndim() != 2 || a.shape(1) != 2 || (a.dtype().kind() != 'i' && a.dtype().kind() != 'u'))
-      throw InvalidInput("edges: expected an N x 2 array of vertex indices");
+      throw InvalidInput("edges: expected an N x 2 array of vertex indices or one label per edge");
     l.segments = py::cast<MatrixX2i>(a);
     if (l.segments.size() && (l.segments.minCoeff() < 0 || l.segments.maxCoeff() >= static_cast<int>(mesh.n_vertices())))
       throw InvalidInput("edges: a vertex index is out of range");
-    l.labels = Eigen::VectorXi::Ones(l.segments.rows());
   }
+  l.labels = Eigen::VectorXi::Ones(l.segments.rows());
   return l;
 }
 

@@ -1,7 +1,10 @@
 #include "common.h"
 
+#include <csignal>
 #include <cmath>
 #include <limits>
+
+#include <signal.h>
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -241,6 +244,68 @@ CallOptions call_options(py::dict& kw) {
   return c;
 }
 
+namespace {
+
+// Python's own SIGINT action, called first by ours (it records the signal and wakes the interpreter).
+struct sigaction g_python_sigint {};
+int g_guard_depth = 0;  // guards alive in the main thread (nested calls from progress callbacks); GIL held
+
+extern "C" void geotex_python_sigint(int sig, siginfo_t* info, void* context) {
+  InterruptGuard::set_flag();
+  if (g_python_sigint.sa_flags & SA_SIGINFO) {
+    g_python_sigint.sa_sigaction(sig, info, context);
+  } else if (g_python_sigint.sa_handler != SIG_DFL && g_python_sigint.sa_handler != SIG_IGN) {
+    g_python_sigint.sa_handler(sig);
+  }
+}
+
+// Whether a Ctrl-C now would raise KeyboardInterrupt in this thread: the main thread, with SIGINT
+// handled by signal.default_int_handler.
+bool default_interrupt_in_main_thread() {
+  const py::module_ threading = py::module_::import("threading");
+  if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return false;
+  const py::module_ signal = py::module_::import("signal");
+  return signal.attr("getsignal")(signal.attr("SIGINT")).is(signal.attr("default_int_handler"));
+}
+
+}  // namespace
+
+std::atomic<bool> InterruptGuard::flag_{false};
+
+void InterruptGuard::set_flag() noexcept { flag_.store(true, std::memory_order_relaxed); }
+
+InterruptGuard::InterruptGuard() {
+  if (!default_interrupt_in_main_thread()) return;
+  if (g_guard_depth == 0) {
+    struct sigaction current {};
+    if (::sigaction(SIGINT, nullptr, &current) != 0) return;
+    struct sigaction ours {};
+    ours.sa_sigaction = geotex_python_sigint;
+    ours.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
+    sigemptyset(&ours.sa_mask);
+    g_python_sigint = current;
+    flag_.store(false, std::memory_order_relaxed);  // a SIGINT before this call was raised by Python already
+    if (::sigaction(SIGINT, &ours, nullptr) != 0) return;
+  }
+  ++g_guard_depth;
+  active_ = true;
+}
+
+InterruptGuard::~InterruptGuard() {
+  if (!active_ || --g_guard_depth > 0) return;
+  // Put Python's action back, unless the program replaced ours meanwhile (signal.signal in a callback).
+  struct sigaction current {};
+  if (::sigaction(SIGINT, nullptr, &current) == 0 && (current.sa_flags & SA_SIGINFO) &&
+      current.sa_sigaction == geotex_python_sigint)
+    ::sigaction(SIGINT, &g_python_sigint, nullptr);
+}
+
+void raise_interrupt() {
+  raise_pending_signals();  // Python's handler saw the SIGINT: KeyboardInterrupt
+  PyErr_SetNone(PyExc_KeyboardInterrupt);
+  throw py::error_already_set();
+}
+
 void raise_pending_signals() {
   // Handlers run only in the main thread; elsewhere this is a no-op and the signal waits for it.
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
@@ -255,6 +320,33 @@ ThreadScope::ThreadScope(std::optional<int> threads) {
 
 ThreadScope::~ThreadScope() {
   if (set_) omp_set_num_threads(previous_);
+}
+
+py::object from_json(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::null: return py::none();
+    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.get<int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<uint64_t>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
+    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
+    case nlohmann::json::value_t::array: {
+      py::list l;
+      for (const auto& x : j) l.append(from_json(x));
+      return std::move(l);
+    }
+    case nlohmann::json::value_t::object: {
+      py::dict d;
+      for (const auto& [k, v] : j.items()) d[py::str(k)] = from_json(v);
+      return std::move(d);
+    }
+    default: throw py::type_error("a result value of an unexpected JSON type");
+  }
+}
+
+std::map<std::string, std::function<py::list()>>& result_tables() {
+  static std::map<std::string, std::function<py::list()>> t;
+  return t;
 }
 
 std::map<std::string, std::function<py::dict()>>& option_tables() {

@@ -6,6 +6,7 @@
 // from real keyword arguments whose names and defaults come from the same tables) and converts
 // its inputs while holding the GIL; only the computation runs without it.
 
+#include <atomic>
 #include <functional>
 #include <map>
 #include <optional>
@@ -20,6 +21,7 @@
 #include "geotex/core/mesh.h"
 #include "geotex/core/options.h"
 #include "geotex/core/progress.h"
+#include "geotex/core/results.h"
 
 namespace py = pybind11;
 
@@ -136,6 +138,50 @@ void register_table(const std::string& name) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Results (geotex/core/results.h): the fields of a result table, the same the CLI's --report writes
+
+//! A JSON value as Python objects (objects as dicts, arrays as lists).
+py::object from_json(const nlohmann::json& j);
+
+//! Every field of \p table for \p r into \p d: Array fields as numpy arrays, the others from their JSON.
+template <class R>
+void put_results(py::dict& d, const R& r, const ResultTable<R>& table) {
+  for (const auto& f : table.fields()) {
+    if (f.info.kind == ResultKind::Array) {
+      const Eigen::MatrixXd a = f.array(r);
+      if (a.cols() == 1) {
+        d[py::str(f.info.name)] = Eigen::VectorXd(a.col(0));
+      } else {
+        d[py::str(f.info.name)] = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>(a);
+      }
+    } else {
+      d[py::str(f.info.name)] = from_json(f.json(r));
+    }
+  }
+}
+
+//! The result tables the Python side sees (for its typed result classes and stubs), by name:
+//! [{name, kind, help, unit, in_report}].
+std::map<std::string, std::function<py::list()>>& result_tables();
+template <class R>
+void register_results(const std::string& name, const ResultTable<R>& (*table)()) {
+  result_tables()[name] = [table] {
+    static const char* kinds[] = {"bool", "int", "float", "str", "texts", "reals", "ints", "array", "record"};
+    py::list fields;
+    for (const auto& f : table().fields()) {
+      py::dict d;
+      d["name"] = f.info.name;
+      d["kind"] = kinds[static_cast<int>(f.info.kind)];
+      d["help"] = f.info.help;
+      d["unit"] = f.info.unit;
+      d["in_report"] = f.info.in_report;
+      fields.append(d);
+    }
+    return fields;
+  };
+}
+
+// ---------------------------------------------------------------------------------------------
 // Running
 
 //! The OpenMP thread count for one call (restored afterwards).
@@ -153,24 +199,61 @@ class ThreadScope {
 //! a SIGINT raised at or after the last progress report, or in a call that reports none, is not lost.
 void raise_pending_signals();
 
+//! Ctrl-C during a call from the main thread (issue 30): while alive, a SIGINT still reaches Python's own
+//! handler and also sets a flag that the library's cancellation points (check_interrupt()) read, so the
+//! computation stops within a few milliseconds instead of at its next progress report or its end. Only
+//! while SIGINT is Python's default_int_handler (which raises KeyboardInterrupt); other threads and other
+//! handlers keep the old behaviour (the signal is raised once the call returns). Construct with the GIL.
+class InterruptGuard {
+ public:
+  InterruptGuard();
+  ~InterruptGuard();
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  //! The flag to watch, or null when this call cannot be interrupted early.
+  const std::atomic<bool>* flag() const { return active_ ? &flag_ : nullptr; }
+  //! What the signal handler does (async-signal-safe).
+  static void set_flag() noexcept;
+
+ private:
+  bool active_ = false;
+  static std::atomic<bool> flag_;
+};
+
+//! Without the GIL: f() inside the guard's InterruptScope, if any.
+template <class F>
+auto interruptible(const InterruptGuard& guard, F&& f) -> decltype(f()) {
+  if (!guard.flag()) return f();
+  InterruptScope scope(*guard.flag());
+  return f();
+}
+
+//! After an Interrupted (GIL held): the KeyboardInterrupt of the SIGINT that caused it.
+[[noreturn]] void raise_interrupt();
+
 //! Run \p f without the GIL and with the requested thread count; exceptions propagate, and a signal that
 //! arrived during the call is raised before any result is returned.
 template <class F>
 auto run(const CallOptions& call, F&& f) -> decltype(f()) {
   ThreadScope threads(call.threads);
-  if constexpr (std::is_void_v<decltype(f())>) {
-    {
-      py::gil_scoped_release release;
-      f();
+  InterruptGuard guard;
+  try {
+    if constexpr (std::is_void_v<decltype(f())>) {
+      {
+        py::gil_scoped_release release;
+        interruptible(guard, f);
+      }
+      raise_pending_signals();
+    } else {
+      auto result = [&] {
+        py::gil_scoped_release release;
+        return interruptible(guard, f);
+      }();
+      raise_pending_signals();
+      return result;
     }
-    raise_pending_signals();
-  } else {
-    auto result = [&] {
-      py::gil_scoped_release release;
-      return f();
-    }();
-    raise_pending_signals();
-    return result;
+  } catch (const Interrupted&) {
+    raise_interrupt();
   }
 }
 

@@ -4,6 +4,7 @@
 #include "common.h"
 
 #include "geotex/core/error.h"
+#include "geotex/core/progress.h"
 
 PYBIND11_MODULE(_geotex, m) {
   m.doc() = "geotex: 3D shape modeling with high-level descriptors (compiled core)";
@@ -22,6 +23,8 @@ PYBIND11_MODULE(_geotex, m) {
       io(e.what());
     } catch (const geotex::SolverError& e) {
       solver(e.what());
+    } catch (const geotex::Interrupted&) {  // run() turns it into the SIGINT's KeyboardInterrupt; this is a fallback
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
     } catch (const geotex::Error& e) {
       error(e.what());
     }

@@ -14,6 +14,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/progress.h"
 #include "geotex/denoise/mrf.h"
 #include "geotex/denoise/normal_fit.h"
 #include "geotex/denoise/surfel.h"
@@ -219,6 +220,7 @@ int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d
   std::vector<char> move(X.rows()), grown;
   int bad = 0;
   for (int round = 0;; ++round) {
+    check_interrupt();
     std::fill(move.begin(), move.end(), 0);
     bad = 0;
     for (Eigen::Index f = 0; f < F.rows(); ++f)

@@ -14,6 +14,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/progress.h"
 #include "mrf_internal.h"
 
 namespace geotex {
@@ -104,6 +105,7 @@ void relabel(SiteProcess& P, EdgeField& field, double phi0_deg, LabelState& L) {
   field.initial_labels(L.eps.data());
   std::vector<double> prev;
   for (int s = 0; s < 50; ++s) {
+    check_interrupt();
     prev = L.eps;
     field.icm(L.eps.data());
     if (prev == L.eps) break;

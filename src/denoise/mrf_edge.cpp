@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "geotex/core/error.h"
+#include "geotex/core/progress.h"
 #include "geotex/core/random.h"
 #include "mrf_internal.h"
 
@@ -20,7 +21,10 @@ double edge_step(EdgeField& field, const EdgeProcessOptions& o, int it, int iter
   const MrfOptimizer optimizer = last && o.quench ? MrfOptimizer::Icm : o.optimizer;
   quenched = quenched || optimizer == MrfOptimizer::Icm;
   double Ue = 0;
-  for (int s = 0; s < o.sweeps; ++s) Ue = field.sweep(eps, optimizer, temperature, seed, sweep_counter++);
+  for (int s = 0; s < o.sweeps; ++s) {
+    check_interrupt();
+    Ue = field.sweep(eps, optimizer, temperature, seed, sweep_counter++);
+  }
   return Ue;
 }
 

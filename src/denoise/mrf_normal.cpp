@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geotex/core/progress.h"
 #include "geotex/core/random.h"
 #include "geotex/denoise/normal_fit.h"
 #include "mrf_internal.h"
@@ -132,6 +133,7 @@ double NormalProcess::run(int sweeps, double temperature, bool adapt, int& sweep
   const NormalProblem P{T_, n0_.data(), labels_.w.data(), o_.alpha, o_.potential};
   double U = 0;
   for (int s = 0; s < sweeps; ++s) {
+    check_interrupt();
     if (o_.optimizer == MrfOptimizer::Icm) {
       U = normal_icm(P, n_);
     } else {

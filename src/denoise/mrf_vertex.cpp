@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geotex/core/error.h"
+#include "geotex/core/progress.h"
 #include "geotex/core/random.h"
 #include "geotex/toolkit/numerics.h"
 #include "mrf_internal.h"
@@ -126,6 +127,7 @@ double vertex_sweeps(const VertexProblem& P, Vec& x, MrfOptimizer optimizer, int
   switch (optimizer) {
     case MrfOptimizer::Metropolis:
       for (int s = 0; s < sweeps; ++s) {
+        check_interrupt();
         double acceptance = 0;
         U = vertex_metropolis(P, x, temperature, step, seed, sweep_counter++, &acceptance);
         if (adapt) {  // keep the acceptance rate near ¼ by adapting the proposal size
@@ -135,7 +137,10 @@ double vertex_sweeps(const VertexProblem& P, Vec& x, MrfOptimizer optimizer, int
       }
       break;
     case MrfOptimizer::Icm:
-      for (int s = 0; s < sweeps; ++s) U = vertex_icm(P, x, 5);
+      for (int s = 0; s < sweeps; ++s) {
+        check_interrupt();
+        U = vertex_icm(P, x, 5);
+      }
       break;
     case MrfOptimizer::Cg: U = vertex_cg(P, x, sweeps, rel_tol); break;
     case MrfOptimizer::Lbfgs: U = vertex_lbfgs(P, x, sweeps, rel_tol); break;

@@ -11,6 +11,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/progress.h"
 
 namespace geotex {
 
@@ -418,6 +419,7 @@ int cluster_moves(const std::vector<Vec3>& X, const Neighborhoods& N, Config& s,
   int moves = 0;
   std::vector<int> parent(P), mark(P, -1);
   for (int pass = 0; pass < passes; ++pass) {
+    check_interrupt();
     for (Eigen::Index i = 0; i < P; ++i) parent[i] = static_cast<int>(i);
     for (Eigen::Index i = 0; i < P; ++i)
       for (int q = N.offsets[i]; q < N.offsets[i + 1]; ++q)

@@ -69,7 +69,7 @@ double weighted_median(const Eigen::VectorXd& v, const Eigen::VectorXd& w) {
 }
 
 // Share of the surface per vertex: a third of the adjacent triangles' areas (0 for isolated vertices).
-Eigen::VectorXd vertex_areas(const Mesh& mesh) {
+Eigen::VectorXd feature_vertex_areas(const Mesh& mesh) {
   const Eigen::VectorXd fa = face_areas(mesh);
   Eigen::VectorXd a = Eigen::VectorXd::Zero(mesh.n_vertices());
   for (auto f : mesh.faces())
@@ -113,7 +113,7 @@ Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& g, d
   const int n = static_cast<int>(mesh.n_vertices());
   if (g.size() != n) throw InvalidInput(fmt::format("{} field values for {} vertices", g.size(), n));
   if (!g.allFinite()) throw InvalidInput("feature field must be finite");
-  const Eigen::VectorXd z = robust_z(g, vertex_areas(mesh));
+  const Eigen::VectorXd z = robust_z(g, feature_vertex_areas(mesh));
   // Steepest ascent: each vertex points at its highest neighbour, if higher than itself.
   std::vector<int> up(n);
 #pragma omp parallel for schedule(static)
@@ -258,7 +258,7 @@ FeatureSummary summarize_features(const Mesh& mesh, const Eigen::VectorXd& f) {
   const int n = static_cast<int>(mesh.n_vertices());
   if (f.size() != n) throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", f.size(), n));
   FeatureSummary s;
-  const Eigen::VectorXd area = vertex_areas(mesh);
+  const Eigen::VectorXd area = feature_vertex_areas(mesh);
   const double total = area.sum();
   std::vector<int> region(n, -1), stack;
   for (int i = 0; i < n; ++i) {

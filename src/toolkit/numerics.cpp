@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "geotex/core/progress.h"
+
 namespace geotex {
 
 using Vec = Eigen::VectorXd;
@@ -35,6 +37,7 @@ double lbfgs_minimize(const ValueGradient& f, Vec& x, const DescentOptions& o) {
   std::vector<double> rho;
   double t = 1.0;
   for (int it = 0; it < o.iterations; ++it) {
+    check_interrupt();
     // Two-loop recursion: q = −H g.
     Vec q = -g;
     std::vector<double> al(S.size());
@@ -82,6 +85,7 @@ double cg_minimize(const ValueGradient& f, Vec& x, const DescentOptions& o) {
   Vec d = -g;
   double t = o.first_step;
   for (int it = 0; it < o.iterations; ++it) {
+    check_interrupt();
     if (g.dot(d) >= 0) d = -g;
     const Vec g_old = g;
     const double U_old = U;

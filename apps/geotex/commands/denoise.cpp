@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "denoise_methods.h"
+#include "geotex/denoise/results.h"
 
 namespace geotex::cli {
 
@@ -85,9 +86,8 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
       info(fmt::format("wrote {} ({} sharp edges)", a->edges_obj, rows.size()));
     }
     if (!a->report.empty()) {
-      r.report["method"] = a->method;
-      r.report["input"] = io->input;
-      r.report["seconds"] = sec;
+      r.report.update(denoise_run_results().report(geotex::DenoiseRun{a->method, sec}));
+      r.report["input"] = io->input;  // the CLI's own: the input file
       write_text_atomic(a->report, r.report.dump(2) + "\n");
       info(fmt::format("wrote {}", a->report));
     }

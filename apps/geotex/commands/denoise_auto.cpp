@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "denoise_methods.h"
 #include "geotex/denoise/auto_denoise.h"
+#include "geotex/denoise/results.h"
 
 namespace geotex::cli {
 namespace cmd_denoise_auto {  // named, not anonymous: a unity build compiles several commands in one unit
@@ -25,21 +26,8 @@ DenoiseRegistrar reg{
         out.mesh = mesh;
         set_positions(out.mesh, r.positions);
         out.edge_labels = r.edge_labels;
-        nlohmann::json& j = out.report;
-        j["parameters"] = options_json(r.resolved);
-        j["noise"] = {{"sigma", r.noise.sigma},
-                      {"normal_sigma", r.noise.normal_sigma},
-                      {"rms_normal_sigma", r.noise.rms_normal_sigma},
-                      {"outliers", r.noise.outliers},
-                      {"mean_edge", r.noise.mean_edge},
-                      {"clean_edge", r.noise.clean_edge},
-                      {"samples", r.noise.samples}};
-        j["choices"] = r.choices;
-        j["turned_over"] = r.turned_over;
-        // The reading per face (1 creased, 0 smooth), in face order, and its share of the area.
-        j["creased_share"] = r.creased_share;
-        j["creased"] = std::vector<double>(r.creased.data(), r.creased.data() + r.creased.size());
-        for (const auto& [stage, sec] : r.seconds) j["seconds_per_stage"][stage] = sec;
+        out.report = auto_denoise_results().report(r);  // the fields Python's result has too
+        out.report["parameters"] = options_json(r.resolved);
         return out;
       };
     }};

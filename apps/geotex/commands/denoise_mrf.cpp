@@ -5,6 +5,7 @@
 #include "cli.h"
 #include "denoise_methods.h"
 #include "geotex/denoise/mrf.h"
+#include "geotex/denoise/results.h"
 
 namespace geotex::cli {
 namespace cmd_denoise_mrf {  // named, not anonymous: a unity build compiles several commands in one unit
@@ -15,19 +16,10 @@ DenoiseOutput to_output(const Mesh& input, const MrfResult& r, const O& o) {
   out.mesh = input;
   set_positions(out.mesh, r.positions);
   out.edge_labels = r.edge_labels;
-  nlohmann::json& j = out.report;
-  j["parameters"] = options_json(o);
-  j["iterations"] = r.iterations;
-  j["converged"] = r.converged;
-  j["energy_per_iteration"] = {{"vertex_or_normal_process", r.vertex_energy}, {"edge_process", r.edge_energy}};
-  j["labelled_per_iteration"] = r.labelled;
-  j["seconds_per_iteration"] = r.seconds;
-  j["seconds_optimizing"] = r.seconds.empty() ? 0.0 : r.seconds.back();
-  int labelled = 0;
-  for (Eigen::Index e = 0; e < r.edge_labels.size(); ++e) labelled += r.edge_labels[e] > 0.5;
-  j["labelled_edges"] = labelled;
+  out.report = mrf_results().report(r);  // the fields Python's result has too
+  out.report["parameters"] = options_json(o);
   info(fmt::format("{} outer iterations{}, {} edges labelled sharp", r.iterations, r.converged ? " (converged)" : "",
-                   labelled));
+                   out.report["labelled_edges"].get<int>()));
   return out;
 }
 

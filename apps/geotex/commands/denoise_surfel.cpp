@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "denoise_methods.h"
+#include "geotex/denoise/results.h"
 #include "geotex/denoise/surfel.h"
 
 namespace geotex::cli {
@@ -38,12 +39,8 @@ DenoiseRegistrar reg{
         out.edge_labels = r.edge_labels;
         SurfelDenoiseOptions used = o;
         used.t_start_deg = r.t_start_deg;
+        out.report = surfel_denoise_results().report(r);  // the fields Python's result has too
         out.report["parameters"] = options_json(used);
-        out.report["cluster_moves"] = r.surfels.cluster_moves;
-        out.report["unit_length"] = r.surfels.unit_length;
-        out.report["initial_energy"] = r.surfels.initial_energy;
-        out.report["energy"] = r.surfels.energy;
-        out.report["thresholds_deg"] = r.surfels.thresholds_deg;
         return out;
       };
     },

@@ -1,0 +1,101 @@
+#pragma once
+//! \file results.h One description per result struct, as options.h gives one per options struct (issue 29).
+//!
+//! A ResultTable lists the fields a front end shows of a result: name, kind, one-line help, unit. From it
+//!  - the CLI writes its `--report` JSON (report(): every field marked for the report),
+//!  - the Python module fills its result objects (every field; arrays as numpy arrays),
+//!  - the Python stubs declare typed result classes (geotex._stubgen).
+//! So a report key and a Python attribute are one name for one thing, declared once. The tables live
+//! beside the functions that return the results (e.g. denoise/results.h).
+//!
+//!   const ResultTable<MrfResult>& mrf_results() {
+//!     static const auto t = ResultTable<MrfResult>()
+//!         .add("iterations", [](const MrfResult& r) { return r.iterations; }, "outer iterations run")
+//!         .add("vertex_energy", …, "U_V after each outer iteration", "", /*in_report=*/false);
+//!     return t;
+//!   }
+
+#include <functional>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+namespace geotex {
+
+//! How a field is shown: Python's type of it (Array: a numpy array; Record: a dict of named values).
+enum class ResultKind { Bool, Int, Real, Text, Texts, Reals, Ints, Array, Record };
+
+//! The description of one result field.
+struct ResultFieldInfo {
+  std::string name;        //!< the report key and the Python attribute
+  ResultKind kind = ResultKind::Real;
+  std::string help;        //!< one line
+  std::string unit;        //!< e.g. "s", "deg", "mean edge lengths"; empty when dimensionless or obvious
+  bool in_report = true;   //!< false: Python only (per-vertex arrays the CLI writes as files, old spellings)
+};
+
+//! A #rows by #cols numeric array as JSON: a flat list for one column, else a list of rows.
+nlohmann::json array_json(const Eigen::MatrixXd& a);
+
+template <class R>
+class ResultTable {
+ public:
+  struct Field {
+    ResultFieldInfo info;
+    std::function<nlohmann::json(const R&)> json;   //!< the value (for an Array: array_json of array())
+    std::function<Eigen::MatrixXd(const R&)> array;  //!< Array fields only: the values as a matrix
+  };
+  //! A field of a plain type, its kind from the getter's return type: bool, an integer, double,
+  //! std::string, std::vector of double, int or std::string; or nlohmann::json (a Record).
+  template <class G>
+  ResultTable& add(std::string name, G get, std::string help, std::string unit = {}, bool in_report = true) {
+    using T = std::decay_t<std::invoke_result_t<G, const R&>>;
+    Field f;
+    f.info = {std::move(name), kind_of<T>(), std::move(help), std::move(unit), in_report};
+    f.json = [get](const R& r) { return nlohmann::json(get(r)); };
+    fields_.push_back(std::move(f));
+    return *this;
+  }
+  //! A numeric array field (a vector or a matrix; converted to doubles).
+  template <class G>
+  ResultTable& array(std::string name, G get, std::string help, std::string unit = {}, bool in_report = true) {
+    Field f;
+    f.info = {std::move(name), ResultKind::Array, std::move(help), std::move(unit), in_report};
+    f.array = [get](const R& r) -> Eigen::MatrixXd { return get(r).template cast<double>(); };
+    f.json = [a = f.array](const R& r) { return array_json(a(r)); };
+    fields_.push_back(std::move(f));
+    return *this;
+  }
+
+  const std::vector<Field>& fields() const { return fields_; }
+
+  //! The fields of the CLI's report, as a JSON object.
+  nlohmann::json report(const R& r) const {
+    nlohmann::json j = nlohmann::json::object();
+    for (const Field& f : fields_)
+      if (f.info.in_report) j[f.info.name] = f.json(r);
+    return j;
+  }
+
+ private:
+  template <class T>
+  static constexpr ResultKind kind_of() {
+    if constexpr (std::is_same_v<T, bool>) return ResultKind::Bool;
+    else if constexpr (std::is_integral_v<T>) return ResultKind::Int;
+    else if constexpr (std::is_floating_point_v<T>) return ResultKind::Real;
+    else if constexpr (std::is_same_v<T, std::string>) return ResultKind::Text;
+    else if constexpr (std::is_same_v<T, std::vector<std::string>>) return ResultKind::Texts;
+    else if constexpr (std::is_same_v<T, std::vector<double>>) return ResultKind::Reals;
+    else if constexpr (std::is_same_v<T, std::vector<int>>) return ResultKind::Ints;
+    else if constexpr (std::is_same_v<T, nlohmann::json>) return ResultKind::Record;
+    else static_assert(sizeof(T) == 0, "a result field of an unsupported type (use array() for Eigen types)");
+  }
+
+  std::vector<Field> fields_;
+};
+
+}  // namespace geotex

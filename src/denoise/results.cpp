@@ -1,0 +1,85 @@
+// The denoising results as the front ends show them (denoise/results.h). The report keys are those the
+// CLI wrote by hand before the tables; Python-only fields are the old Python spellings and per-surfel arrays.
+
+#include "geotex/denoise/results.h"
+
+namespace geotex {
+
+namespace {
+constexpr bool kPythonOnly = false;  // the in_report argument of a field the CLI report leaves out
+}  // namespace
+
+const ResultTable<DenoiseRun>& denoise_run_results() {
+  static const auto t = ResultTable<DenoiseRun>()
+      .add("method", [](const DenoiseRun& r) { return r.method; }, "the denoising method run")
+      .add("seconds", [](const DenoiseRun& r) { return r.seconds; }, "wall time of the denoising call", "s");
+  return t;
+}
+
+const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
+  using R = AutoDenoiseResult;
+  static const auto t = ResultTable<R>()
+      .add("noise", [](const R& r) {
+             const NoiseEstimate& n = r.noise;
+             return nlohmann::json{{"sigma", n.sigma}, {"normal_sigma", n.normal_sigma},
+                                   {"rms_normal_sigma", n.rms_normal_sigma}, {"outliers", n.outliers},
+                                   {"mean_edge", n.mean_edge}, {"clean_edge", n.clean_edge}, {"samples", n.samples}};
+           }, "the noise estimate: sigma, normal_sigma, rms_normal_sigma (mean edge lengths), outliers (a fraction), "
+              "mean_edge, clean_edge (absolute), samples")
+      .add("choices", [](const R& r) { return r.choices; }, "what was chosen and why, one short line each")
+      .add("turned_over", [](const R& r) { return r.turned_over; }, "faces left turned over (normally 0)")
+      .add("creased_share", [](const R& r) { return r.creased_share; }, "the share of the area read creased")
+      .array("creased", [](const R& r) { return r.creased; },
+             "#F: how each face was read, 1 creased, 0 smooth, between: a transition")
+      .add("seconds_per_stage", [](const R& r) {
+             nlohmann::json j = nlohmann::json::object();
+             for (const auto& [stage, sec] : r.seconds) j[stage] = sec;
+             return j;
+           }, "wall time of each stage", "s")
+      .add("noise_sigma", [](const R& r) { return r.noise.sigma; }, "noise.sigma (the older Python name)",
+           "mean edge lengths", kPythonOnly)
+      .add("noise_normal_sigma", [](const R& r) { return r.noise.normal_sigma; },
+           "noise.normal_sigma (the older Python name)", "mean edge lengths", kPythonOnly);
+  return t;
+}
+
+const ResultTable<MrfResult>& mrf_results() {
+  using R = MrfResult;
+  static const auto t = ResultTable<R>()
+      .add("iterations", [](const R& r) { return r.iterations; }, "outer iterations run")
+      .add("converged", [](const R& r) { return r.converged; }, "stopped by the tolerance")
+      .add("energy_per_iteration", [](const R& r) {
+             return nlohmann::json{{"vertex_or_normal_process", r.vertex_energy}, {"edge_process", r.edge_energy}};
+           }, "U_V (or U_N) and U_E after each outer iteration, Eq. (6.12), (6.15)")
+      .add("labelled_per_iteration", [](const R& r) { return r.labelled; }, "edges labelled (> 1/2) after each outer iteration")
+      .add("seconds_per_iteration", [](const R& r) { return r.seconds; }, "wall time since the start after each outer iteration", "s")
+      .add("seconds_optimizing", [](const R& r) { return r.seconds.empty() ? 0.0 : r.seconds.back(); },
+           "wall time of the optimization", "s")
+      .add("labelled_edges", [](const R& r) { return int((r.edge_labels.array() > 0.5).count()); },
+           "edges labelled sharp (> 1/2) at the end")
+      .add("vertex_energy", [](const R& r) { return r.vertex_energy; },
+           "energy_per_iteration's vertex_or_normal_process (the older Python name)", "", kPythonOnly)
+      .add("edge_energy", [](const R& r) { return r.edge_energy; },
+           "energy_per_iteration's edge_process (the older Python name)", "", kPythonOnly);
+  return t;
+}
+
+const ResultTable<SurfelDenoiseResult>& surfel_denoise_results() {
+  using R = SurfelDenoiseResult;
+  static const auto t = ResultTable<R>()
+      .add("cluster_moves", [](const R& r) { return r.surfels.cluster_moves; }, "cluster moves made")
+      .add("unit_length", [](const R& r) { return r.surfels.unit_length; }, "the unit length used (absolute)")
+      .add("initial_energy", [](const R& r) { return r.surfels.initial_energy; },
+           "sum of U_i of the initial surfels at the first threshold", "unit lengths")
+      .add("energy", [](const R& r) { return r.surfels.energy; }, "sum of U_i after each ICM sweep", "unit lengths")
+      .add("thresholds_deg", [](const R& r) { return r.surfels.thresholds_deg; }, "the threshold t of each sweep", "deg")
+      .add("median_angle_deg", [](const R& r) { return r.median_angle_deg; },
+           "median angle between neighbouring initial surfels (the noise measure)", "deg")
+      .array("normals", [](const R& r) { return r.surfels.surfels.normals; }, "#V by 3 surfel normals", "",
+             kPythonOnly)
+      .array("offsets", [](const R& r) { return r.surfels.surfels.offsets; }, "#V surfel plane offsets", "",
+             kPythonOnly);
+  return t;
+}
+
+}  // namespace geotex
