@@ -25,12 +25,22 @@ void bind_synthesis(py::module_& m) {
         if (!weight.is_none()) g.weight = to_vector(weight, target.n_vertices(), "weight");
         if (!guide.is_none()) g.direction = to_points(guide, "direction_guide");
         const SynthesisResult r = run(call, [&] { return synthesize_texture(base, ex, target, o, g); });
+        py::dict stages;
+        for (const auto& [name, sec] : r.stage_seconds) stages[py::str(name)] = sec;
         return py::dict(py::arg("V") = VArray(r.textured), py::arg("F") = FArray(faces(r.target)),
                         py::arg("V_base") = VArray(positions(r.target)), py::arg("height") = r.texture.height,
                         py::arg("tilt") = r.texture.tilt, py::arg("lean") = r.texture.lean,
                         py::arg("field") = VArray(r.field), py::arg("owner") = r.owner,
                         py::arg("centers") = r.centers, py::arg("scale") = r.scale,
                         py::arg("patch_radius") = r.patch_radius, py::arg("added_vertices") = r.added_vertices,
+                        py::arg("unfolded_vertices") = r.unfolded_vertices,
+                        py::arg("self_intersecting") = r.self_intersecting,
+                        py::arg("base_self_intersecting") = r.base_self_intersecting,
+                        py::arg("excess_self_intersecting") = r.excess_self_intersecting,
+                        py::arg("shrunk_share") = r.shrunk_share, py::arg("refined_share") = r.refined_share,
+                        py::arg("exemplar_share") = r.estimate.exemplar_share,
+                        py::arg("estimated_vertices") = r.estimate.vertices,
+                        py::arg("estimated_seconds") = r.estimate.seconds, py::arg("stage_seconds") = stages,
                         py::arg("warnings") = r.warnings);
       });
 }

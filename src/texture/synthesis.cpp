@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/random.h"
 #include "geotex/texture/measures.h"
+#include "geotex/tools/metrics.h"
 #include "transfer_internal.h"
 
 namespace geotex {
@@ -38,8 +40,10 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("exemplar_direction", &O::exemplar_direction,
            "the exemplar's anchor: its tangent part at the exemplar centre is turned onto the target's field")
       .add("scale", &O::scale, "target length per exemplar length (0: automatic from exemplar_share)", between(0, 1e9))
-      .add("exemplar_share", &O::exemplar_share, "automatic scale: the exemplar disk's share of the target's area",
-           {0, 1, true, false})
+      .add("exemplar_share", &O::exemplar_share,
+           "automatic scale: the exemplar disk's share of the target's area (0: 0.05, or more, at most 0.5, where "
+           "the refined target would exceed vertex_budget)",
+           between(0, 1))
       .add("height_scale", &O::height_scale, "multiply the displacements by this, on top of the scale", between(0, 1e6))
       .add("patch_radius", &O::patch_radius, "patch radius as a share of the exemplar disk's radius",
            {0, 0.9, true, false})
@@ -67,6 +71,10 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("seed", &O::seed, "random seed: same seed, same result")
       .add("refine_ratio", &O::refine_ratio,
            "refine the target where its edges exceed this times the exemplar's scaled to it (0: never)", non_negative())
+      .add("vertex_budget", &O::vertex_budget,
+           "automatic exemplar_share: the output vertex count (after refinement) it aims at", at_least(1000))
+      .add("max_vertices", &O::max_vertices,
+           "refuse, before any work, when the estimated output vertex count exceeds this", at_least(1000))
       .nest(&O::geodesic, HeatGeodesicOptions::table())
       .nest(&O::texture, TextureOptions::table());
   return t;
@@ -510,7 +518,8 @@ void commit(const ExpMap& m, const std::vector<double>& b, const Paste& p, int p
 // folds (folded_faces()'s test) and the base X does not, smoothly: each round multiplies them by
 // 1 − 0.25 exp(−d² / ρ²), d the distance from the folded face's centroid (within 2ρ), until none folds (at
 // most 40 rounds; a step cut would fold the surface at its rim). \return the vertices shrunk by over 1 %.
-size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double rho, MatrixX3d& local) {
+size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double rho, MatrixX3d& local,
+              const ProgressFn& progress) {
   const MatrixX3i Fi = faces(T);
   const Eigen::Index nf = Fi.rows();
   std::vector<std::array<int, 3>> next(nf, {-1, -1, -1});
@@ -538,6 +547,7 @@ size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const Matri
   std::vector<int> seen(X.rows(), -1), queue;
   int visit = 0;
   for (int round = 0; round < 40; ++round) {
+    report(progress, 0.85 + 0.05 * round / 40.0, "unfold");
     MatrixX3d P = X;
     for (Eigen::Index i = 0; i < X.rows(); ++i) {
       const Vec3 n = N.row(i).transpose(), f = F.row(i).transpose();
@@ -565,8 +575,8 @@ size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const Matri
   }
   size_t shrunk = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    shrunk += alpha[i] < 0.99 && local.row(i).norm() > 0;  // a zero displacement is not reduced
     local.row(i) *= alpha[i];
-    shrunk += alpha[i] < 0.99;
   }
   return shrunk;
 }
@@ -595,6 +605,72 @@ Eigen::VectorXd spread_weight(const Mesh& mesh, const Eigen::VectorXd& w0) {
   return w;
 }
 
+
+// The textured area: faces with a vertex of weight > 0 (what exemplar_share is a share of).
+double textured_area(const Mesh& target, const Eigen::VectorXd& weight) {
+  const Eigen::VectorXd fa = face_areas(target);
+  double area = 0;
+  for (auto f : target.faces()) {
+    bool any = false;
+    for (auto v : target.fv_range(f)) any |= weight[v.idx()] > 0;
+    if (any) area += fa[f.idx()];
+  }
+  return area;
+}
+
+std::vector<char> growth_region(const Eigen::VectorXd& weight) {
+  std::vector<char> region(weight.size());
+  for (Eigen::Index i = 0; i < weight.size(); ++i) region[i] = weight[i] > 0;
+  return region;
+}
+
+// Calibration of the estimate (bench/synthesis.md, "Estimate"): refinement adds about kAddedPerNeeded ×
+// refine_need().needed − the region's vertices (tentacle plate onto a generated sphere: 243,200 added
+// where needed was 188,000), and the whole run costs about kSecondsPerVertex CPU seconds per output
+// vertex with the default options (288 s for 245,762 on the shared machine; 2.3e-4 when it was idle).
+constexpr double kAddedPerNeeded = 1.3;
+constexpr double kSecondsPerVertex = 1.2e-3;
+
+// The estimate at a given share (or the given scale).
+SynthesisEstimate estimate_at(const Exemplar& ex, const Mesh& target, const std::vector<char>& region, double area,
+                              double share, const SynthesisOptions& o) {
+  SynthesisEstimate e;
+  const double disk = M_PI * ex.extent * ex.extent;
+  e.scale = o.scale > 0 ? o.scale : std::sqrt(share * area / disk);
+  e.exemplar_share = o.scale > 0 ? disk * o.scale * o.scale / area : share;
+  const detail::RefineNeed need = detail::refine_need(target, region, e.scale * ex.mean_edge, o.refine_ratio);
+  e.refine = need.refine;
+  const double added =
+      need.refine ? std::max(0.0, kAddedPerNeeded * need.needed - static_cast<double>(need.region_vertices)) : 0.0;
+  e.vertices = target.n_vertices() + static_cast<size_t>(std::min(added, 1e15));
+  e.seconds = kSecondsPerVertex * static_cast<double>(e.vertices);
+  return e;
+}
+
+// The estimate with the share given, or chosen: 0.05 unless the refined target would exceed the vertex
+// budget, then the smallest share (at most 0.5) that keeps within it (the vertices fall as 1 / share).
+SynthesisEstimate estimate_for(const Exemplar& ex, const Mesh& target, const Eigen::VectorXd& weight,
+                               const SynthesisOptions& o) {
+  const double area = textured_area(target, weight);
+  if (!(area > 0)) throw InvalidInput("texture synthesis: the weight is zero everywhere");
+  const std::vector<char> region = growth_region(weight);
+  if (o.scale > 0 || o.exemplar_share > 0) return estimate_at(ex, target, region, area, o.exemplar_share, o);
+  constexpr double kShare = 0.05, kMaxShare = 0.5;
+  const auto budget = static_cast<size_t>(std::max<size_t>(o.vertex_budget, target.n_vertices()));
+  SynthesisEstimate e = estimate_at(ex, target, region, area, kShare, o);
+  if (e.vertices <= budget) return e;
+  SynthesisEstimate hi = estimate_at(ex, target, region, area, kMaxShare, o);
+  if (hi.vertices > budget) return hi;
+  double lo_s = kShare, hi_s = kMaxShare;
+  for (int i = 0; i < 12; ++i) {  // bisection on the share (geometric), to within ~3 %
+    const double mid = std::sqrt(lo_s * hi_s);
+    SynthesisEstimate m = estimate_at(ex, target, region, area, mid, o);
+    if (m.vertices <= budget) hi_s = mid, hi = m;
+    else lo_s = mid;
+  }
+  return hi;
+}
+
 }  // namespace
 
 SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
@@ -608,40 +684,45 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
     throw InvalidInput("texture synthesis: weights must lie in [0, 1]");
   if (guides.direction.rows() && guides.direction.rows() != n0)
     throw InvalidInput(fmt::format("texture synthesis: expected one guide direction per target vertex ({})", n0));
+  // Stages: progress fractions and wall seconds per stage.
+  using Clock = std::chrono::steady_clock;
+  SynthesisResult res;
+  auto stage_start = Clock::now();
+  auto stage_done = [&](const char* name) {
+    const auto now = Clock::now();
+    res.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - stage_start).count());
+    stage_start = now;
+  };
   report(o.progress, 0, "exemplar");
   const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
-
-  SynthesisResult res;
   res.exemplar_center = ex.center;
   res.exemplar_radius = ex.radius;
   res.exemplar_extent = ex.extent;
-  Eigen::VectorXd weight = guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0);
-  {
-    const Eigen::VectorXd fa = face_areas(target);
-    double area = 0;
-    for (auto f : target.faces()) {
-      bool any = false;
-      for (auto v : target.fv_range(f)) any |= weight[v.idx()] > 0;
-      if (any) area += fa[f.idx()];
-    }
-    if (!(area > 0)) throw InvalidInput("texture synthesis: the weight is zero everywhere");
-    res.scale = o.scale > 0 ? o.scale : std::sqrt(o.exemplar_share * area / (M_PI * ex.extent * ex.extent));
-  }
+  const Eigen::VectorXd weight = guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0);
+  res.estimate = estimate_for(ex, target, weight, o);
+  if (res.estimate.vertices > static_cast<size_t>(o.max_vertices))
+    throw InvalidInput(fmt::format(
+        "texture synthesis: about {} output vertices estimated (about {:.0f} s), beyond max_vertices {}: choose a "
+        "larger exemplar_share (now {:.3g}) or scale, refine_ratio 0, or a larger max_vertices",
+        res.estimate.vertices, res.estimate.seconds, o.max_vertices, res.estimate.exemplar_share));
+  if (o.on_estimate) o.on_estimate(res.estimate);
+  res.scale = res.estimate.scale;
   res.height_factor = res.scale * o.height_scale;
+  stage_done("exemplar");
 
   // Refine where the target is coarser than the exemplar scaled to it.
   res.target = target;
   {
-    std::vector<char> region(n0);
-    for (Eigen::Index i = 0; i < n0; ++i) region[i] = weight[i] > 0;
-    const std::string line =
-        detail::refine_for(res.target, region, res.scale * ex.mean_edge, o.refine_ratio, &res.added_vertices);
+    const ProgressFn refine_progress = [&](double f, std::string_view) { report(o.progress, 0.02 + 0.2 * f, "refine"); };
+    const std::string line = detail::refine_for(res.target, growth_region(weight), res.scale * ex.mean_edge,
+                                                o.refine_ratio, &res.added_vertices, refine_progress);
     if (!line.empty()) res.warnings.push_back(line);
   }
+  stage_done("refine");
   const Mesh& T = res.target;
   const Eigen::Index n = T.n_vertices();
   res.weight = n > n0 ? spread_weight(T, weight) : weight;
-  report(o.progress, 0.05, "direction field");
+  report(o.progress, 0.22, "direction field");
   const MatrixX3d X = positions(T);
   const MatrixX3d N = vertex_normals(T, o.texture.normals);
   if (guides.direction.rows()) {
@@ -653,6 +734,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
     res.field = direction_field(T, o.direction.transpose(), o.field);
   }
   const MatrixX3d& F = res.field;
+  stage_done("field");
 
   // Patches in a growing front.
   const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
@@ -806,28 +888,55 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
       commit(m, b, best, patch, cv);
       for (int v : m.vertices) cv.slot[v] = -1;
     }
-    report(o.progress, 0.1 + 0.8 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
+    report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
   }
   if (covered < to_cover)
     res.warnings.push_back(fmt::format("{} of {} vertices were not reached by any patch (disconnected from the "
                                        "rest and too small for a patch?)",
                                        to_cover - covered, to_cover));
 
-  report(o.progress, 0.9, "encode");
+  stage_done("patches");
+  report(o.progress, 0.85, "unfold");
   res.local = MatrixX3d::Zero(n, 3);
   for (Eigen::Index i = 0; i < n; ++i)
     if (written(static_cast<int>(i))) res.local.row(i) = detail::fade(old_at(static_cast<int>(i)), res.weight[i]).transpose();
   if (o.unfold) {
-    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * rp, res.local);
+    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * rp, res.local, o.progress);
     if (res.unfolded_vertices)
       res.warnings.push_back(fmt::format("displacements shrunk at {} vertices where they folded the surface",
                                          res.unfolded_vertices));
   }
+  stage_done("unfold");
+  report(o.progress, 0.9, "encode");
   TextureCodec codec(T, o.texture);
   res.texture = texture_from_local(codec, res.local, F);
   res.textured = codec.apply(res.texture);
+  stage_done("encode");
+  report(o.progress, 0.95, "self-intersections");
+  {
+    const MatrixX3i Fi = faces(T);
+    const std::vector<char> hit = self_intersecting_faces(res.textured, Fi), base = self_intersecting_faces(X, Fi);
+    res.self_intersecting = std::count(hit.begin(), hit.end(), 1);
+    res.base_self_intersecting = std::count(base.begin(), base.end(), 1);
+    res.excess_self_intersecting =
+        res.self_intersecting > res.base_self_intersecting ? res.self_intersecting - res.base_self_intersecting : 0;
+  }
+  res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
+  res.refined_share = n ? double(res.added_vertices) / n : 0.0;
+  stage_done("count");
   report(o.progress, 1, "done");
   return res;
+}
+
+SynthesisEstimate estimate_synthesis(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
+                                     const SynthesisOptions& o, const SynthesisGuides& guides) {
+  SynthesisOptions::table().check(o);
+  require_valid(target, "texture synthesis: target");
+  const Eigen::Index n0 = target.n_vertices();
+  if (guides.weight.size() && guides.weight.size() != n0)
+    throw InvalidInput(fmt::format("texture synthesis: expected one weight per target vertex ({})", n0));
+  const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
+  return estimate_for(ex, target, guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0), o);
 }
 
 // ---------------------------------------------------------------------------------------------

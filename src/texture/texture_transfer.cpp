@@ -292,10 +292,10 @@ Vec3 SourceDisk::mean_local() const {
   return va.sum() > 0 ? Vec3(sum / va.sum()) : Vec3::Zero();
 }
 
-std::string refine_for(Mesh& target, const std::vector<char>& region, double required_edge, double ratio,
-                       size_t* added) {
-  *added = 0;
-  if (!(ratio > 0) || !(required_edge > 0)) return {};
+RefineNeed refine_need(const Mesh& target, const std::vector<char>& region, double required_edge, double ratio) {
+  RefineNeed r;
+  for (size_t i = 0; i < region.size(); ++i) r.region_vertices += region[i] != 0;
+  if (!(ratio > 0) || !(required_edge > 0)) return r;
   double sum = 0;
   size_t count = 0;
   for (auto e : target.edges()) {
@@ -304,12 +304,12 @@ std::string refine_for(Mesh& target, const std::vector<char>& region, double req
     sum += target.calc_edge_length(e);
     ++count;
   }
-  const double mean = count ? sum / count : 0;
-  if (!(mean > ratio * required_edge)) return {};
-  RefineOptions ro;
-  // Refuse a refinement that could not finish (a source radius far larger than the target's scales the
-  // source's edges down to nothing): about area / (edge² √3/4) vertices are needed, and at least
-  // length / edge − 1 on every edge (slivers: a fan of 8,000 has little area but 8,000 long spokes).
+  r.mean_edge = count ? sum / count : 0;
+  if (!(r.mean_edge > ratio * required_edge)) return r;
+  r.refine = true;
+  // A refinement that could not finish (a source radius far larger than the target's scales the source's
+  // edges down to nothing) is refused by the caller: about area / (edge² √3/4) vertices are needed, and at
+  // least length / edge − 1 on every edge (slivers: a fan of 8,000 has little area but 8,000 long spokes).
   const double edge = 0.8 * required_edge;
   double area = 0, on_edges = 0;
   for (auto f : target.faces()) {
@@ -322,7 +322,20 @@ std::string refine_for(Mesh& target, const std::vector<char>& region, double req
     if (region[target.from_vertex_handle(h).idx()] && region[target.to_vertex_handle(h).idx()])
       on_edges += std::max(0.0, std::ceil(target.calc_edge_length(e) / edge) - 1);
   }
-  const double needed = std::max(area / (edge * edge * std::sqrt(3.0) / 4), on_edges);
+  r.needed = std::max(area / (edge * edge * std::sqrt(3.0) / 4), on_edges);
+  return r;
+}
+
+std::string refine_for(Mesh& target, const std::vector<char>& region, double required_edge, double ratio,
+                       size_t* added, const ProgressFn& progress) {
+  *added = 0;
+  const RefineNeed need = refine_need(target, region, required_edge, ratio);
+  if (!need.refine) return {};
+  const double mean = need.mean_edge, needed = need.needed;
+  RefineOptions ro;
+  ro.progress = progress;
+  ro.expected_added = static_cast<size_t>(needed);
+  const double edge = 0.8 * required_edge;
   auto too_many = [&](const char* how, double vertices) {
     return InvalidInput(fmt::format(
         "the target patch would need {} {:.3g} vertices to hold the source's detail at this scale (target "

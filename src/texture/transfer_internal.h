@@ -1,4 +1,6 @@
 #pragma once
+
+#include "geotex/core/progress.h"
 // Pieces shared by the one-disk transfer (texture_transfer.cpp) and the atlas (texture_atlas.cpp).
 
 #include <array>
@@ -45,6 +47,16 @@ struct SourceDisk {
 //! Refine \p target in \p region when its mean edge there exceeds \p ratio × \p required_edge; \return
 //! the warning line (empty when nothing was refined) and the count in \p added.
 std::string refine_for(Mesh& target, const std::vector<char>& region, double required_edge, double ratio,
-                       size_t* added);
+                       size_t* added, const ProgressFn& progress = {});
+
+//! What refine_for() would do, without doing it: whether it refines, and the vertices it needs in the region
+//! (about area / (edge² √3/4) at edges of 0.8 × \p required_edge, at least one per edge-length step).
+struct RefineNeed {
+  bool refine = false;
+  double mean_edge = 0;      //!< mean edge in the region now
+  double needed = 0;         //!< vertices the region needs (0 without refinement)
+  size_t region_vertices = 0;  //!< vertices in the region now
+};
+RefineNeed refine_need(const Mesh& target, const std::vector<char>& region, double required_edge, double ratio);
 
 }  // namespace geotex::detail

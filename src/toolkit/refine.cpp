@@ -2,6 +2,7 @@
 
 #include "geotex/toolkit/refine.h"
 
+#include <algorithm>
 #include <queue>
 
 #include "geotex/core/error.h"
@@ -60,7 +61,8 @@ RefineResult refine_region(const Mesh& input, const std::vector<char>& region, c
     normal.push_back(np);
     r.region.push_back(r.region[va.idx()] && r.region[vb.idx()]);
     m.split(e, vm);
-    ++r.added;
+    if (++r.added % 4096 == 0 && o.progress)
+      o.progress(0.9 * std::min(1.0, double(r.added) / std::max<size_t>(o.expected_added, r.added + 1)), "refine");
     for (auto hh : m.voh_range(vm)) consider(m.edge_handle(hh));
   }
   if (o.fair && r.added > 0 && !r.capped) {  // a capped refinement is unfinished: the caller decides
@@ -70,6 +72,7 @@ RefineResult refine_region(const Mesh& input, const std::vector<char>& region, c
     // along the surface, which is what makes the normals smooth (fairing along the normals alone left
     // 60 folds in a tentacle patch transferred onto a refined icosphere(2), this none). The solver keeps
     // the row of a high-valence vertex out of the factor (its k neighbours would make a k × k block).
+    report(o.progress, 0.9, "refine: fairing");
     const Eigen::Index n0 = input.n_vertices(), n = m.n_vertices(), nn = n - n0;
     const SparseMatrix A = adjacency_matrix(m);
     const Eigen::VectorXd d = A * Eigen::VectorXd::Ones(n);
@@ -83,6 +86,7 @@ RefineResult refine_region(const Mesh& input, const std::vector<char>& region, c
     Y.bottomRows(nn) = solver.solve(-(Gn.transpose() * (Go * X.topRows(n0))));
     if (Y.allFinite()) set_positions(m, Y);
   }
+  report(o.progress, 1, "refine");
   return r;
 }
 

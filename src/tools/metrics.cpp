@@ -72,4 +72,45 @@ LabelScore score_edge_labels(const MatrixX2i& labelled, const MatrixX2i& truth) 
   return s;
 }
 
+std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F) {
+  std::vector<char> hit(F.rows(), 0);
+  if (F.rows() == 0) return hit;
+  // Every edge once (as the pair (a, b), a < b), then the faces whose box comes within half its length of
+  // its midpoint: the only ones it can cross.
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(3 * F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(std::minmax(F(f, k), F(f, (k + 1) % 3)));
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const TriangleTree tree(V, F);
+  constexpr double kEps = 1e-9;
+#pragma omp parallel
+  {
+    std::vector<int> near;
+    std::vector<int> mine;  // faces this thread found crossed
+#pragma omp for schedule(dynamic, 4096)
+    for (size_t e = 0; e < edges.size(); ++e) {
+      const auto [a, b] = edges[e];
+      const Vec3 p0 = V.row(a).transpose(), d = (V.row(b) - V.row(a)).transpose();
+      tree.faces_near(p0 + 0.5 * d, 0.5 * d.norm(), near);
+      for (int f : near) {
+        const int i = F(f, 0), j = F(f, 1), k = F(f, 2);
+        if (a == i || a == j || a == k || b == i || b == j || b == k) continue;
+        const Vec3 A = V.row(i).transpose(), e1 = (V.row(j) - V.row(i)).transpose(),
+                   e2 = (V.row(k) - V.row(i)).transpose();
+        const Vec3 pv = d.cross(e2);
+        const double det = e1.dot(pv);
+        if (!(std::abs(det) > 1e-30)) continue;
+        const Vec3 t = p0 - A, q = t.cross(e1);
+        const double u = t.dot(pv) / det, v = d.dot(q) / det, w = e2.dot(q) / det;
+        if (u > kEps && v > kEps && u + v < 1 - kEps && w > kEps && w < 1 - kEps) mine.push_back(f);
+      }
+    }
+#pragma omp critical
+    for (int f : mine) hit[f] = 1;
+  }
+  return hit;
+}
+
 }  // namespace geotex

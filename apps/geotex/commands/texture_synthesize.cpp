@@ -21,6 +21,12 @@ struct SynthesizeArgs {
   std::string exemplar, exemplar_base, target, output, texture_out, weight_file, report;
 };
 
+nlohmann::json stage_seconds(const SynthesisResult& r) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, sec] : r.stage_seconds) j[name] = sec;
+  return j;
+}
+
 void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
   Outputs out({a.exemplar, a.exemplar_base, a.target, a.weight_file},
               {{a.output, "-o"}, {a.texture_out, "--texture-out"}, {a.report, "--report"}});
@@ -39,6 +45,10 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
   // The feature-file reader: regular files only, size-capped, one number in [0, 1] per line (or a PLY).
   if (!a.weight_file.empty()) guides.weight = read_feature_file(a.weight_file, target);
   o.progress = progress_printer("synthesize");
+  o.on_estimate = [&](const SynthesisEstimate& e) {  // before the work: what it will cost
+    info(fmt::format("synthesize: estimate {} vertices{}, about {:.0f} s of CPU (exemplar share {:.3g}, scale {:.4g})",
+                     e.vertices, e.refine ? " after refinement" : "", e.seconds, e.exemplar_share, e.scale));
+  };
   const auto t0 = std::chrono::steady_clock::now();
   const SynthesisResult r = synthesize_texture(ex.base, ex.texture, target, o, guides);
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -64,6 +74,11 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
         {"lean_angle_error_deg", q.lean_angle_error_deg}, {"seam_step99", q.seam_step99},
         {"seam_step_max", q.seam_step_max}, {"within_step99", q.within_step99},
         {"within_step_max", q.within_step_max}, {"coverage", q.coverage}, {"folded", q.folded},
+        {"self_intersecting", r.self_intersecting}, {"base_self_intersecting", r.base_self_intersecting},
+        {"excess_self_intersecting", r.excess_self_intersecting}, {"shrunk_vertices", r.unfolded_vertices},
+        {"shrunk_share", r.shrunk_share}, {"refined_share", r.refined_share},
+        {"exemplar_share", r.estimate.exemplar_share}, {"estimated_vertices", r.estimate.vertices},
+        {"estimated_seconds", r.estimate.seconds}, {"stage_seconds", stage_seconds(r)},
         {"warnings", r.warnings}};
     write_text_atomic(a.report, j.dump(1) + "\n");
   }

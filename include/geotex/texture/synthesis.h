@@ -44,6 +44,8 @@
 //! their proportions and their lean), times height_scale.
 
 #include <cstdint>
+#include <functional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -57,6 +59,8 @@ namespace geotex {
 enum class SeamMethod { Cut, Blend };
 //! "cut", "blend".
 const EnumNames<SeamMethod>& seam_method_names();
+
+struct SynthesisEstimate;
 
 struct SynthesisOptions {
   // Exemplar
@@ -73,7 +77,9 @@ struct SynthesisOptions {
   //! Target length per exemplar length (displacements too). 0: automatic, so that the exemplar disk's
   //! area is exemplar_share of the target's (textured) area.
   double scale = 0;
-  double exemplar_share = 0.05;  //!< automatic scale: the exemplar disk's share of the target's area
+  //! Automatic scale: the exemplar disk's share of the target's area. 0: automatic — 0.05, or larger
+  //! (at most 0.5) where the target refined to the exemplar's resolution would exceed vertex_budget.
+  double exemplar_share = 0;
   double height_scale = 1.0;     //!< multiply the displacements by this, on top of the scale
 
   // Patches
@@ -105,10 +111,25 @@ struct SynthesisOptions {
   double refine_ratio = 1.0;
   HeatGeodesicOptions geodesic;  //!< the exemplar disk's geodesic distance
   TextureOptions texture;        //!< decoding the exemplar, encoding the result
-  ProgressFn progress;           //!< called as patches are placed (not in the table)
+  //! Automatic exemplar_share: the output vertex count (after refinement) it aims at.
+  int vertex_budget = 100'000;
+  //! Refuse (InvalidInput, before any work) when the estimated output vertex count exceeds this.
+  int max_vertices = 1'000'000;
+  ProgressFn progress;           //!< called as the work goes on, from refinement to encoding (not in the table)
+  //! Called once, before the work, with the estimate (not in the table).
+  std::function<void(const SynthesisEstimate&)> on_estimate;
 
   //! Table.
   static const OptionTable<SynthesisOptions>& table();
+};
+
+//! What a synthesis will cost, known before the work (the exemplar disk and the target's size).
+struct SynthesisEstimate {
+  double exemplar_share = 0;  //!< used (given, or automatic)
+  double scale = 0;           //!< target length per exemplar length
+  size_t vertices = 0;        //!< output vertices (the target after refinement), estimated
+  bool refine = false;        //!< whether the target will be refined
+  double seconds = 0;         //!< CPU seconds, estimated (one core; bench/synthesis.md)
 };
 
 //! Per-vertex guides on the target (each optional: leave empty).
@@ -140,8 +161,20 @@ struct SynthesisResult {
   int exemplar_center = -1;  //!< the exemplar disk used (automatic or given)
   double exemplar_radius = 0;   //!< its geodesic radius (exemplar units)
   double exemplar_extent = 0;   //!< R: exemplar length per unit-disk length (the map's scale over |z| < 0.8)
+  SynthesisEstimate estimate;   //!< the estimate made before the work
+  //! Damage counts: faces of \ref textured crossed by an edge of a non-adjacent face
+  //! (self_intersecting_faces()), the same on the refined base, and the excess (textured beyond base).
+  size_t self_intersecting = 0, base_self_intersecting = 0, excess_self_intersecting = 0;
+  double shrunk_share = 0;   //!< unfolded_vertices / #V: vertices whose (non-zero) displacement unfold shrank by over 1 %
+  double refined_share = 0;  //!< added_vertices / #V
+  std::vector<std::pair<std::string, double>> stage_seconds;  //!< wall seconds per stage, in order
   std::vector<std::string> warnings;
 };
+
+//! Estimate the cost of synthesize_texture() with the same arguments (an exemplar disk is made; the
+//! target is not refined). \throw as synthesize_texture().
+SynthesisEstimate estimate_synthesis(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
+                                     const SynthesisOptions& options = {}, const SynthesisGuides& guides = {});
 
 //! Synthesise a texture like \p exemplar (over \p exemplar_base) on the whole of \p target and apply it
 //! (see the file comment). \throw InvalidInput for bad options, a texture that does not match its base,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/progress.h"
 
 namespace geotex {
 
@@ -23,6 +24,10 @@ struct RefineOptions {
   //! along the old edges, which tilt the normals of a texture applied on top (folds after a transfer).
   bool fair = true;
   size_t max_vertices = 5'000'000;  //!< stop splitting beyond this many vertices (a guard, not a target)
+  //! Called every few thousand splits (fraction of \ref expected_added done) and around the fairing; a
+  //! callback that throws stops the refinement (Ctrl-C in Python).
+  ProgressFn progress;
+  size_t expected_added = 0;  //!< vertices the caller expects to be added (for the progress fraction only)
 };
 
 struct RefineResult {

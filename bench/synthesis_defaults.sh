@@ -1,0 +1,30 @@
+#!/bin/sh
+# Issue 27: tentacle and spike exemplars onto shared and generated models with defaults only (no share,
+# no scale; only the direction field's guide). Usage: bench/synthesis_defaults.sh BUILD_DIR WORK_DIR
+# [TARGET...] (data from ../shared/data or $GEOTEX_DATA). Prints per run: CPU, the report's counts, and
+# geval.py's self-intersections (the external ruler) against the refined base.
+set -e
+G=${1:-build}/geotex
+W=${2:-/tmp/synthesis_defaults}
+shift 2 || true
+D=${GEOTEX_DATA:-$(dirname "$0")/../../shared/data}
+E=${GEVAL:-$(dirname "$0")/../../shared/eval/geval.py}
+mkdir -p "$W"
+$G -q generate tentacle-plane --level 0 -o "$W/tp.ply" --base-output "$W/tp_base.ply"
+$G -q texture extract "$W/tp.ply" --base "$W/tp_base.ply" -o "$W/tp_tex.ply"
+$G -q generate spiky-plane --level 0 -o "$W/sp.ply" --base-output "$W/sp_base.ply"
+$G -q texture extract "$W/sp.ply" --base "$W/sp_base.ply" -o "$W/sp_tex.ply"
+$G -q generate sphere -o "$W/sphere.ply"
+run() {  # exemplar target
+  name=$(basename "$1" _tex.ply)_$(basename "$2" | sed 's/\..*//')
+  /usr/bin/time -f "$name cpu %U s user %S s sys" $G texture synthesize "$W/$1" --target "$2" -o "$W/$name.ply" \
+    --texture-out "$W/${name}_t.ply" --report "$W/$name.json" 2>&1 | grep -E "estimate|cpu|error"
+  /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print(' '.join(f'{k}={r[k]}' for k in
+    ['vertices','added_vertices','estimated_vertices','exemplar_share','self_intersecting','base_self_intersecting',
+     'excess_self_intersecting','shrunk_share','refined_share','folded','seconds']))" "$W/$name.json"
+  /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
+}
+for t in ${@:-$W/sphere.ply $D/spot.obj $D/cow.obj $D/stanford-bunny.obj $D/fandisk.obj $D/cheburashka.obj}; do
+  run tp_tex.ply "$t"
+  run sp_tex.ply "$t"
+done

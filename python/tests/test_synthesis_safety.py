@@ -1,0 +1,67 @@
+"""Issue 27: texture synthesis safe with its defaults — the estimate before the work, a refusal beyond the
+cap, and the damage counts — the same through Python and the CLI."""
+
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import geotex
+
+CLI = os.environ.get("GEOTEX_CLI")
+
+
+@pytest.fixture(scope="module")
+def tentacles():
+    (Vt, F), (Vb, _) = geotex.generate("tentacle-plane", level=0, with_base=True)
+    return geotex.texture_extract(Vt, F, Vb)
+
+
+def test_the_damage_counts_and_the_estimate_are_returned(tentacles):
+    Vs, Fs = geotex.generate("sphere", level=1)
+    r = geotex.texture_synthesize(tentacles, Vs, Fs, direction=(0, 0, 1), vertex_budget=20000)
+    assert r.exemplar_share > 0.05                  # automatic: raised to keep within the budget
+    n = len(r.V)
+    assert r.added_vertices > 0                     # a coarse sphere needs refinement, and gets it
+    assert r.refined_share == pytest.approx(r.added_vertices / n)
+    assert r.shrunk_share == pytest.approx(r.unfolded_vertices / n)
+    assert r.excess_self_intersecting == max(0, r.self_intersecting - r.base_self_intersecting)
+    assert n / 1.5 < r.estimated_vertices < 1.5 * n
+    assert set(r.stage_seconds) >= {"exemplar", "refine", "patches", "unfold"}
+
+
+def test_an_estimate_beyond_the_cap_is_refused_before_the_work(tentacles):
+    Vs, Fs = geotex.generate("sphere", level=1)
+    with pytest.raises(ValueError, match=r"output vertices estimated .* beyond max_vertices 20000"):
+        geotex.texture_synthesize(tentacles, Vs, Fs, exemplar_share=0.001, max_vertices=20000)
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+def test_cli_prints_the_estimate_first_refuses_beyond_the_cap_and_reports_the_counts(tmp_path, tentacles):
+    run = lambda *a: subprocess.run([CLI, *map(str, a)], capture_output=True, text=True, timeout=300)
+    assert run("generate", "tentacle-plane", "--level", 0, "-o", tmp_path / "tp.ply",
+               "--base-output", tmp_path / "tpb.ply").returncode == 0
+    assert run("texture", "extract", tmp_path / "tp.ply", "--base", tmp_path / "tpb.ply",
+               "-o", tmp_path / "tex.ply").returncode == 0
+    assert run("generate", "sphere", "--level", 1, "-o", tmp_path / "s.ply").returncode == 0
+    p = run("texture", "synthesize", tmp_path / "tex.ply", "--target", tmp_path / "s.ply", "-o", tmp_path / "o.ply",
+            "--exemplar-share", 0.001, "--max-vertices", 20000)
+    assert p.returncode == 1
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "output vertices estimated" in lines[0] and "max_vertices 20000" in lines[0], p.stderr
+    assert not (tmp_path / "o.ply").exists()
+    p = run("texture", "synthesize", tmp_path / "tex.ply", "--target", tmp_path / "s.ply", "-o", tmp_path / "o.ply",
+            "--direction", "0,0,1", "--vertex-budget", 20000, "--report", tmp_path / "r.json")
+    assert p.returncode == 0, p.stderr
+    first = p.stderr.splitlines()[0]
+    assert first.startswith("synthesize: estimate ") and "vertices" in first, p.stderr
+    rep = json.loads((tmp_path / "r.json").read_text())
+    py = geotex.texture_synthesize(tentacles, *geotex.read_mesh(str(tmp_path / "s.ply")), direction=(0, 0, 1),
+                                  vertex_budget=20000)
+    for key in ("self_intersecting", "base_self_intersecting", "excess_self_intersecting", "shrunk_share",
+                "refined_share", "estimated_vertices", "exemplar_share"):
+        assert rep[key] == pytest.approx(getattr(py, key)), key
+    V, _ = geotex.read_mesh(str(tmp_path / "o.ply"))
+    assert np.allclose(V, py.V)
