@@ -290,7 +290,10 @@ TEST(Synthesis, DefaultsOnACoarseSphereEstimateRefineAndCountTheDamage) {
   EXPECT_EQ(shrunk, r.unfolded_vertices);
   EXPECT_NEAR(r.shrunk_share, shrunk / n, 1e-12);
   double total = 0;
-  for (const auto& [name, sec] : r.stage_seconds) EXPECT_GE(sec, 0.0), total += sec;
+  for (const auto& [name, sec] : r.stage_seconds) {
+    EXPECT_GE(sec, 0.0) << name;
+    total += sec;
+  }
   EXPECT_GT(total, 0.0);
 }
 

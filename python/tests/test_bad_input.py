@@ -184,7 +184,8 @@ def test_class1_ctrl_c_stops_a_long_computation_within_seconds(call):
     """, timeout=600)
     assert_clean_exit(p)
     assert p.stdout.startswith("interrupted after"), p.stdout + p.stderr
-    assert float(p.stdout.split()[2]) < 3.0, p.stdout
+    # Under AddressSanitizer every sweep is several times slower, and so is the gap between two checks.
+    assert float(p.stdout.split()[2]) < (15.0 if SANITIZED else 3.0), p.stdout
 
 
 # ---- class 2: a failed run destroys files --------------------------------------------------------

@@ -72,9 +72,9 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("refine_ratio", &O::refine_ratio,
            "refine the target where its edges exceed this times the exemplar's scaled to it (0: never)", non_negative())
       .add("vertex_budget", &O::vertex_budget,
-           "automatic exemplar_share: the output vertex count (after refinement) it aims at", at_least(1000))
+           "automatic exemplar_share: the output vertex count (after refinement) it aims at", between(1000, 1e8))
       .add("max_vertices", &O::max_vertices,
-           "refuse, before any work, when the estimated output vertex count exceeds this", at_least(1000))
+           "refuse, before any work, when the estimated output vertex count exceeds this", between(1000, 1e8))
       .nest(&O::geodesic, HeatGeodesicOptions::table())
       .nest(&O::texture, TextureOptions::table());
   return t;
