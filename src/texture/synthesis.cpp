@@ -671,10 +671,8 @@ SynthesisEstimate estimate_for(const Exemplar& ex, const Mesh& target, const Eig
   return hi;
 }
 
-}  // namespace
-
-SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
-                                   const SynthesisOptions& o, const SynthesisGuides& guides) {
+//! The checks synthesize_texture() and estimate_synthesis() share: options, target, guides.
+void check_inputs(const Mesh& target, const SynthesisOptions& o, const SynthesisGuides& guides) {
   SynthesisOptions::table().check(o);
   require_valid(target, "texture synthesis: target");
   const Eigen::Index n0 = target.n_vertices();
@@ -684,6 +682,14 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
     throw InvalidInput("texture synthesis: weights must lie in [0, 1]");
   if (guides.direction.rows() && guides.direction.rows() != n0)
     throw InvalidInput(fmt::format("texture synthesis: expected one guide direction per target vertex ({})", n0));
+}
+
+}  // namespace
+
+SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
+                                   const SynthesisOptions& o, const SynthesisGuides& guides) {
+  check_inputs(target, o, guides);
+  const Eigen::Index n0 = target.n_vertices();
   // Stages: progress fractions and wall seconds per stage.
   using Clock = std::chrono::steady_clock;
   SynthesisResult res;
@@ -930,11 +936,8 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
 
 SynthesisEstimate estimate_synthesis(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
                                      const SynthesisOptions& o, const SynthesisGuides& guides) {
-  SynthesisOptions::table().check(o);
-  require_valid(target, "texture synthesis: target");
+  check_inputs(target, o, guides);
   const Eigen::Index n0 = target.n_vertices();
-  if (guides.weight.size() && guides.weight.size() != n0)
-    throw InvalidInput(fmt::format("texture synthesis: expected one weight per target vertex ({})", n0));
   const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
   return estimate_for(ex, target, guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0), o);
 }
