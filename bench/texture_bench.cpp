@@ -182,20 +182,24 @@ void BM_TextureAzimuth(benchmark::State& state) {
   std::vector<int> feet;
   for (const auto& t : info) feet.push_back(t.foot);
   const std::vector<Protrusion> before = measure_protrusions(s.base, X0, feet);
-  // The vector displacement baseline: frames from the normal and the first outgoing edge.
-  auto frames = [](const Mesh& m) {
-    const MatrixX3d N = vertex_normals(m, NormalWeighting::Angle), X = positions(m);
-    std::vector<Eigen::Matrix3d> F(m.n_vertices());
-    for (auto v : m.vertices()) {
-      const int j = m.to_vertex_handle(m.halfedge_handle(v)).idx();
-      F[v.idx()] = local_frame(N.row(v.idx()).transpose(), (X.row(j) - X.row(v.idx())).transpose());
+  // The vector displacement baselines: each displacement in a frame (e1, n × e1, n) re-made on the
+  // deformed base, e1 = the tangent part of (a) the vertex's first outgoing edge (any direction), or
+  // (b) a UV tangent along the stick's axis: x at rest, J x after the map (J the map's Jacobian there),
+  // as a texture-space tangent of a limb parametrized along its length is carried.
+  const MatrixX3d N0 = vertex_normals(s.base, NormalWeighting::Angle), N1 = vertex_normals(deformed, NormalWeighting::Angle);
+  auto vector_displacement = [&](bool uv) {
+    MatrixX3d Y(B0.rows(), 3);
+    for (auto v : s.base.vertices()) {
+      const int i = v.idx(), j = s.base.to_vertex_handle(s.base.halfedge_handle(v)).idx();
+      const Vec3 h0 = uv ? Vec3::UnitX() : Vec3((B0.row(j) - B0.row(i)).transpose());
+      const Vec3 h1 = uv ? Vec3(space_map_jacobian(map, B0.row(i).transpose()) * Vec3::UnitX())
+                         : Vec3((B1.row(j) - B1.row(i)).transpose());
+      const Eigen::Matrix3d F0 = local_frame(N0.row(i).transpose(), h0), F1 = local_frame(N1.row(i).transpose(), h1);
+      Y.row(i) = B1.row(i) + (F1 * (F0.transpose() * (X0.row(i) - B0.row(i)).transpose())).transpose();
     }
-    return F;
+    return Y;
   };
-  const std::vector<Eigen::Matrix3d> F0 = frames(s.base), F1 = frames(deformed);
-  MatrixX3d Yvec(B0.rows(), 3);
-  for (Eigen::Index i = 0; i < B0.rows(); ++i)
-    Yvec.row(i) = B1.row(i) + (F1[i] * (F0[i].transpose() * (X0.row(i) - B0.row(i)).transpose())).transpose();
+  const MatrixX3d Yvec = vector_displacement(false), Yuv = vector_displacement(true);
   TextureOptions lean, push, thesis;
   push.encoding = TiltEncoding::LeanPushforward;
   thesis.encoding = TiltEncoding::OneForm;
@@ -221,6 +225,7 @@ void BM_TextureAzimuth(benchmark::State& state) {
   worst(Ypush, "push");
   worst(Ythesis, "thesis");
   worst(Yvec, "vector");
+  worst(Yuv, "vector_uv");
   state.SetLabel(name);
 }
 BENCHMARK(BM_TextureAzimuth)->DenseRange(0, 8)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -329,6 +334,10 @@ void BM_TextureTransfer(benchmark::State& state) {
   state.counters["rim_cliff"] = q.rim_cliff;
   state.counters["added_vertices"] = static_cast<double>(r.added_vertices);
   state.counters["warnings"] = static_cast<double>(r.warnings.size());
+  state.counters["damage_folded"] = static_cast<double>(r.damage.folded);
+  state.counters["damage_self_intersecting"] = static_cast<double>(r.damage.self_intersecting);
+  state.counters["base_folded"] = static_cast<double>(r.damage.base_folded);
+  state.counters["base_self_intersecting"] = static_cast<double>(r.damage.base_self_intersecting);
   static const char* sources[] = {"tentacle plate", "igea"};
   static const char* targets[] = {"icosphere(5)", "spot", "icosphere(2)"};
   state.SetLabel(std::string(sources[state.range(0)]) + " -> " + targets[state.range(1)]);
@@ -365,6 +374,10 @@ void BM_TextureAtlas(benchmark::State& state) {
   Mesh textured = r.target;
   set_positions(textured, apply_texture(r.target, r.texture));
   state.counters["folded"] = static_cast<double>(folded_faces(textured));
+  state.counters["damage_folded"] = static_cast<double>(r.damage.folded);
+  state.counters["damage_self_intersecting"] = static_cast<double>(r.damage.self_intersecting);
+  state.counters["base_folded"] = static_cast<double>(r.damage.base_folded);
+  state.counters["base_self_intersecting"] = static_cast<double>(r.damage.base_self_intersecting);
   static const char* sources[] = {"tentacle plate", "igea"};
   state.SetLabel(std::string(sources[state.range(0)]) + (state.range(1) ? " over spot" : " over icosphere(4)"));
 }
