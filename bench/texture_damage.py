@@ -18,8 +18,11 @@ def run(*args):
 
 
 def vertices(path):
+    import warnings
+
     import geotex  # PYTHONPATH=build/python
 
+    warnings.filterwarnings("ignore")  # the models' repairs on reading
     return np.asarray(geotex.read_mesh(path)[0])
 
 
