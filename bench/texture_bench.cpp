@@ -5,6 +5,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -146,6 +148,88 @@ void BM_TextureDeform(benchmark::State& state) {
 }
 BENCHMARK(BM_TextureDeform)->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// Issue 26: the lean's angle and direction (azimuth) after a deformation of the base, for the lean
+// encoding (default: the direction turned by the polar rotation of the base's tangent Jacobian), the
+// push-forward (issue 17: J d), the thesis' 1-form, and a tangent-space vector displacement baseline: each
+// displacement stored in the frame (e, n × e, n) at its vertex, e the tangent part of its first outgoing
+// edge, and re-applied in the same frame of the deformed base. Azimuth = the angle between the tangential
+// part of tip − foot and R l (l the original one, R the polar rotation of the map's tangent Jacobian at
+// the foot, polar_rotated()). Worst of the stick's nine tentacles (level 1). Arg: deformation.
+void BM_TextureAzimuth(benchmark::State& state) {
+  static std::vector<Tentacle> info;
+  static const TexturedShape s = tentacle_stick(1, &info);
+  static const Texture tex = extract_texture(s.base, positions(s.textured));
+  static const Texture thesis_tex = [] {
+    TextureOptions o;
+    o.encoding = TiltEncoding::OneForm;
+    return extract_texture(s.base, positions(s.textured), o);
+  }();
+  const std::vector<std::pair<const char*, SpaceMap>> maps = {
+      {"x2 axis", scale_map(Vec3(2, 1, 1))},
+      {"x0.5 axis", scale_map(Vec3(0.5, 1, 1))},
+      {"x2 uniform", scale_map(Vec3(2, 2, 2))},
+      {"x0.5 uniform", scale_map(Vec3(0.5, 0.5, 0.5))},
+      {"arc bend r4", arc_bend_map(4.0)},
+      {"shear bend k0.15", bend_map(0.15)},
+      {"shear x+=0.5z", [](const Vec3& x) { return Vec3(x.x() + 0.5 * x.z(), x.y(), x.z()); }},
+      {"twist 90deg", twist_map(M_PI / 12)},
+      {"twist 360deg", twist_map(M_PI / 3)}};
+  const auto& [name, map] = maps[state.range(0)];
+  const MatrixX3d B0 = positions(s.base), X0 = positions(s.textured);
+  Mesh deformed = s.base;
+  set_positions(deformed, apply_space_map(map, B0));
+  const MatrixX3d B1 = positions(deformed);
+  std::vector<int> feet;
+  for (const auto& t : info) feet.push_back(t.foot);
+  const std::vector<Protrusion> before = measure_protrusions(s.base, X0, feet);
+  // The vector displacement baselines: each displacement in a frame (e1, n × e1, n) re-made on the
+  // deformed base, e1 = the tangent part of (a) the vertex's first outgoing edge (any direction), or
+  // (b) a UV tangent along the stick's axis: x at rest, J x after the map (J the map's Jacobian there),
+  // as a texture-space tangent of a limb parametrized along its length is carried.
+  const MatrixX3d N0 = vertex_normals(s.base, NormalWeighting::Angle), N1 = vertex_normals(deformed, NormalWeighting::Angle);
+  auto vector_displacement = [&](bool uv) {
+    MatrixX3d Y(B0.rows(), 3);
+    for (auto v : s.base.vertices()) {
+      const int i = v.idx(), j = s.base.to_vertex_handle(s.base.halfedge_handle(v)).idx();
+      const Vec3 h0 = uv ? Vec3::UnitX() : Vec3((B0.row(j) - B0.row(i)).transpose());
+      const Vec3 h1 = uv ? Vec3(space_map_jacobian(map, B0.row(i).transpose()) * Vec3::UnitX())
+                         : Vec3((B1.row(j) - B1.row(i)).transpose());
+      const Eigen::Matrix3d F0 = local_frame(N0.row(i).transpose(), h0), F1 = local_frame(N1.row(i).transpose(), h1);
+      Y.row(i) = B1.row(i) + (F1 * (F0.transpose() * (X0.row(i) - B0.row(i)).transpose())).transpose();
+    }
+    return Y;
+  };
+  const MatrixX3d Yvec = vector_displacement(false), Yuv = vector_displacement(true);
+  TextureOptions lean, push, thesis;
+  push.encoding = TiltEncoding::LeanPushforward;
+  thesis.encoding = TiltEncoding::OneForm;
+  MatrixX3d Ylean, Ypush, Ythesis;
+  const double cpu0 = process_cpu();
+  for (auto _ : state) Ylean = apply_texture(deformed, tex, lean);
+  state.counters["lean_apply_cpu_s"] = process_cpu() - cpu0;
+  Ypush = apply_texture(deformed, tex, push);
+  Ythesis = apply_texture(deformed, thesis_tex, thesis);
+  auto worst = [&](const MatrixX3d& Y, const char* key) {
+    const std::vector<Protrusion> now = measure_protrusions(deformed, Y, feet);
+    double lean_change = 0, azimuth = 0;
+    for (size_t k = 0; k < feet.size(); ++k) {
+      const Vec3 x = B0.row(feet[k]).transpose();
+      const Vec3 rl = polar_rotated(space_map_jacobian(map, x), before[k].normal, now[k].normal, before[k].direction);
+      lean_change = std::max(lean_change, std::abs(now[k].lean_deg - before[k].lean_deg));
+      azimuth = std::max(azimuth, std::acos(std::clamp(now[k].direction.dot(rl.normalized()), -1.0, 1.0)) * 180 / M_PI);
+    }
+    state.counters[std::string(key) + "_lean_deg"] = lean_change;
+    state.counters[std::string(key) + "_azimuth_deg"] = azimuth;
+  };
+  worst(Ylean, "lean");
+  worst(Ypush, "push");
+  worst(Ythesis, "thesis");
+  worst(Yvec, "vector");
+  worst(Yuv, "vector_uv");
+  state.SetLabel(name);
+}
+BENCHMARK(BM_TextureAzimuth)->DenseRange(0, 8)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 // Base shape. Args: mesh (0 igea, 1 tentacle stick level 1), method (0 robust, 1 thesis smoothing).
 void BM_TextureBaseShape(benchmark::State& state) {
   std::vector<Tentacle> info;
@@ -250,6 +334,10 @@ void BM_TextureTransfer(benchmark::State& state) {
   state.counters["rim_cliff"] = q.rim_cliff;
   state.counters["added_vertices"] = static_cast<double>(r.added_vertices);
   state.counters["warnings"] = static_cast<double>(r.warnings.size());
+  state.counters["damage_folded"] = static_cast<double>(r.damage.folded);
+  state.counters["damage_self_intersecting"] = static_cast<double>(r.damage.self_intersecting);
+  state.counters["base_folded"] = static_cast<double>(r.damage.base_folded);
+  state.counters["base_self_intersecting"] = static_cast<double>(r.damage.base_self_intersecting);
   static const char* sources[] = {"tentacle plate", "igea"};
   static const char* targets[] = {"icosphere(5)", "spot", "icosphere(2)"};
   state.SetLabel(std::string(sources[state.range(0)]) + " -> " + targets[state.range(1)]);
@@ -286,6 +374,10 @@ void BM_TextureAtlas(benchmark::State& state) {
   Mesh textured = r.target;
   set_positions(textured, apply_texture(r.target, r.texture));
   state.counters["folded"] = static_cast<double>(folded_faces(textured));
+  state.counters["damage_folded"] = static_cast<double>(r.damage.folded);
+  state.counters["damage_self_intersecting"] = static_cast<double>(r.damage.self_intersecting);
+  state.counters["base_folded"] = static_cast<double>(r.damage.base_folded);
+  state.counters["base_self_intersecting"] = static_cast<double>(r.damage.base_self_intersecting);
   static const char* sources[] = {"tentacle plate", "igea"};
   state.SetLabel(std::string(sources[state.range(0)]) + (state.range(1) ? " over spot" : " over icosphere(4)"));
 }

@@ -30,6 +30,7 @@ std::vector<Deformation> deformations() {
           {"x0.5 uniform", scale_map(Vec3(0.5, 0.5, 0.5))},
           {"arc bend, radius 4", arc_bend_map(4.0)},
           {"shear bend, kappa 0.15", bend_map(0.15)},
+          {"shear, x += 0.5 z", [](const Vec3& x) { return Vec3(x.x() + 0.5 * x.z(), x.y(), x.z()); }},
           {"twist, 90 deg over the length", twist_map(M_PI / 12)}};
 }
 
@@ -37,7 +38,8 @@ std::vector<Deformation> deformations() {
 struct Worst {
   double length = 0;   // max |length / length0 − 1|
   double lean = 0;     // max |lean − lean0|, degrees
-  double azimuth = 0;  // max angle between the lean's direction and the push-forward J l of the original one
+  double azimuth = 0;  // max angle between the lean's direction and R l, R the rotation part of J (polar)
+  double pushed = 0;   // max angle between the lean's direction and the push-forward J l of the original one
   double shape = 0;    // max RMS distance of a tentacle's vertices from the tentacle carried rigidly by the
                        // foot's frame, over its length (how much the shaft itself deforms)
 };
@@ -59,9 +61,13 @@ Worst measure(const TexturedShape& s, const std::vector<Tentacle>& info, const T
     w.length = std::max(w.length, std::abs(now[k].length / t.length - 1));
     w.lean = std::max(w.lean, std::abs(now[k].lean_deg - t.lean_deg));
     const Vec3 x = B0.row(t.foot).transpose(), n = now[k].normal;
-    Vec3 jl = space_map_jacobian(map, x) * before[k].direction;
+    const Eigen::Matrix3d J = space_map_jacobian(map, x);
+    Vec3 jl = J * before[k].direction;
     jl = (jl - jl.dot(n) * n).normalized();
-    w.azimuth = std::max(w.azimuth, std::acos(std::clamp(now[k].direction.dot(jl), -1.0, 1.0)) * 180 / M_PI);
+    const Vec3 rl = polar_rotated(J, before[k].normal, n, before[k].direction);
+    auto angle = [&](const Vec3& v) { return std::acos(std::clamp(now[k].direction.dot(v), -1.0, 1.0)) * 180 / M_PI; };
+    w.azimuth = std::max(w.azimuth, angle(rl));
+    w.pushed = std::max(w.pushed, angle(jl));
     // The ideal: the original tentacle moved rigidly with the frame (n, l, n × l) at its foot.
     Eigen::Matrix3d F0, F1;
     F0 << before[k].normal, before[k].direction, before[k].normal.cross(before[k].direction);
@@ -87,27 +93,38 @@ TEST(TextureDeform, TentaclesKeepLengthAndLeanUnderScalingBendingAndTwisting) {
   std::vector<Tentacle> info;
   const TexturedShape s = tentacle_stick(0, &info);
   ASSERT_EQ(info.size(), 9u);
-  TextureOptions lean, thesis;
-  thesis.encoding = TiltEncoding::OneForm;  // the thesis' encoding, all else equal
+  TextureOptions lean, pushforward, thesis;
+  pushforward.encoding = TiltEncoding::LeanPushforward;  // issue 17's lean encoding
+  thesis.encoding = TiltEncoding::OneForm;               // the thesis' encoding, all else equal
   const Texture a = TextureCodec(s.base, lean).extract(positions(s.textured));
   const Texture b = TextureCodec(s.base, thesis).extract(positions(s.textured));
   EXPECT_EQ(a.lean.size(), a.height.size());
+  EXPECT_EQ(a.rest.rows(), a.height.size());
   EXPECT_EQ(b.lean.size(), 0);
   std::cout << "[ tentacle stick, level 0: worst of 9 tentacles; length |tip - foot|, lean = angle of tip - foot from "
-               "the deformed base's normal at the foot, azimuth against J l, shape = RMS distance from the tentacle "
-               "carried rigidly / length ]\n";
+               "the deformed base's normal at the foot, azimuth against R l (R the rotation of the map's tangent "
+               "Jacobian), push = against J l, shape = RMS distance from the tentacle carried rigidly / length ]\n";
   for (const Deformation& d : deformations()) {
     SCOPED_TRACE(d.name);
-    const Worst wa = measure(s, info, a, d.map, lean), wb = measure(s, info, b, d.map, thesis);
-    std::cout << fmt::format("  {:30} lean encoding: length {:.2f}%, lean {:.2f} deg, azimuth {:.2f} deg, shape {:.3f}"
-                             " | thesis: length {:.2f}%, lean {:.2f} deg, azimuth {:.2f} deg, shape {:.3f}\n",
-                             d.name, 100 * wa.length, wa.lean, wa.azimuth, wa.shape, 100 * wb.length, wb.lean,
-                             wb.azimuth, wb.shape);
+    const Worst wa = measure(s, info, a, d.map, lean), wp = measure(s, info, a, d.map, pushforward),
+                wb = measure(s, info, b, d.map, thesis);
+    std::cout << fmt::format("  {:30} lean: length {:.2f}%, lean {:.2f}, azimuth {:.2f} deg, shape {:.3f} | "
+                             "lean-pushforward: lean {:.2f}, azimuth {:.2f}, push {:.2f} deg | thesis: length {:.2f}%, "
+                             "lean {:.2f}, push {:.2f} deg\n",
+                             d.name, 100 * wa.length, wa.lean, wa.azimuth, wa.shape, wp.lean, wp.azimuth, wp.pushed,
+                             100 * wb.length, wb.lean, wb.pushed);
     EXPECT_LT(wa.length, 0.03);
     EXPECT_LT(wa.lean, 3.0);
-    EXPECT_LT(wa.azimuth, 3.0);
+    EXPECT_LT(wa.azimuth, 3.0);  // the direction turns with the base's rotation only
+    EXPECT_LT(wp.lean, 3.0);
+    EXPECT_LT(wp.pushed, 3.0);   // the 1-form pushes the lean's direction forward (J d / det J)
     EXPECT_LT(wb.length, 0.03);  // heights are kept by both
-    EXPECT_LT(wb.azimuth, 3.0);  // the 1-form pushes the lean's direction forward (J d / det J)
+    EXPECT_LT(wb.pushed, 3.0);
+  }
+  // The push-forward turns the lean's direction with a stretch or a shear; the default does not.
+  for (const Deformation& d : {deformations()[2], deformations()[6]}) {
+    SCOPED_TRACE(d.name);
+    EXPECT_GT(measure(s, info, a, d.map, pushforward).azimuth, 8.0);
   }
   // The thesis' 1-form divides sin(lean) by the scale: halving the base lays the tentacles flat.
   EXPECT_GT(measure(s, info, b, scale_map(Vec3(0.5, 0.5, 0.5)), thesis).lean, 30.0);
@@ -135,4 +152,26 @@ TEST(TextureDeform, LeanEncodingRoundTripsAndKeepsRigidMotionInvariance) {
     if (D0.row(i).norm() < 1e-3 * h) continue;
     ASSERT_NEAR(D1.row(i).normalized().dot(N1.row(i)), D0.row(i).normalized().dot(N0.row(i)), 1e-6) << i;
   }
+}
+
+TEST(TextureDeform, TheRestPoseTravelsWithTheTextureThroughFilesAndTheApplyOptions) {
+  std::vector<Tentacle> info;
+  const TexturedShape s = tentacle_stick(0, &info);
+  const Texture tex = extract_texture(s.base, positions(s.textured));
+  Mesh stretched = s.base;
+  set_positions(stretched, apply_space_map(scale_map(Vec3(2, 1, 1)), positions(s.base)));
+  const MatrixX3d Y = apply_texture(stretched, tex);
+  // Written over the stretched base, the texture keeps its rest pose (vertex rest_x, rest_y, rest_z).
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "geotex-rest-pose-test.ply";
+  write_texture(path, stretched, tex);
+  const TextureFile f = read_texture(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(f.texture.rest.rows(), tex.rest.rows());
+  EXPECT_LT((f.texture.rest - tex.rest).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT((apply_texture(f.base, f.texture) - Y).rowwise().norm().maxCoeff(), 1e-5);
+  // The apply options choose the decoding: the push-forward turns the tentacles, so the surfaces differ.
+  TextureApplyOptions pushed;
+  pushed.encoding = TiltEncoding::LeanPushforward;
+  EXPECT_GT((apply_texture(stretched, tex, pushed) - Y).rowwise().norm().maxCoeff(), 0.1);
+  EXPECT_LT((apply_texture(stretched, tex, TextureApplyOptions()) - Y).rowwise().norm().maxCoeff(), 1e-12);
 }

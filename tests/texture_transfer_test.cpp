@@ -13,6 +13,7 @@
 #include "geotex/core/io.h"
 #include "geotex/texture/measures.h"
 #include "geotex/texture/texture.h"
+#include "geotex/toolkit/parametrization.h"
 #include "geotex/tools/shapes.h"
 #include "test_util.h"
 
@@ -187,6 +188,9 @@ TEST(TextureTransfer, TentaclesOntoASphereKeepHeightsAndLeanWithoutFoldsOrCliff)
   o.target_radius = 0.6;
   const TransferResult r = transfer_texture(s.base, s.texture, sphere, o);
   expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> icosphere(4)");
+  EXPECT_EQ(r.damage.excess_folded(), 0u);
+  EXPECT_EQ(r.damage.excess_self_intersecting(), 0u);
+  for (const std::string& w : r.warnings) EXPECT_EQ(w.find("self-intersecting"), std::string::npos) << w;
   // The middle tentacle keeps its lean exactly (it sits at both centres).
   const std::vector<Protrusion> src = measure_protrusions(s.base, apply_texture(s.base, s.texture), {s.center});
   const std::vector<Protrusion> dst =
@@ -216,6 +220,70 @@ TEST(TextureTransfer, ACoarseTargetIsRefinedWithAWarning) {
   const TransferResult n = transfer_texture(s.base, s.texture, coarse, o);
   EXPECT_TRUE(n.warnings.empty());
   EXPECT_LT(n.target_patch.vertices.size(), 40u);
+}
+
+TEST(TextureTransfer, ARefinedTargetKeepsACoarseDiskADisk) {
+  // A coarse cylinder (radius 0.5, height 1, 386 vertices) and a patch radius just past half its
+  // circumference (pi/2 = 1.571): a disk of the coarse target's faces; refined, the distance wobbles by
+  // a fraction of an edge and left a pin-hole or an island ("not a disk: 2 boundary loops" before).
+  const Source& s = tentacle_source();
+  const Mesh coarse = make_shape("cylinder", 0).base;
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(coarse, Vec3(0.5, 0, 0));
+  o.target_radius = 1.58;
+  o.refine_ratio = 0;
+  const TransferResult plain = transfer_texture(s.base, s.texture, coarse, o);
+  EXPECT_EQ(plain.added_vertices, 0u);
+  o.refine_ratio = 1;
+  const TransferResult r = transfer_texture(s.base, s.texture, coarse, o);
+  EXPECT_GT(r.added_vertices, 1000u);
+  EXPECT_GT(r.target_patch.vertices.size(), 5 * plain.target_patch.vertices.size());
+  EXPECT_TRUE(disk_topology_problem(r.target_patch.mesh).empty());
+  // The patch wraps the short cylinder: tall tentacles cross each other, and the report says so.
+  EXPECT_GT(r.damage.excess_self_intersecting(), 0u);
+}
+
+TEST(TextureDamage, CountsFoldsAndSelfIntersectionsBeyondTheBasesOwn) {
+  const Mesh sphere = icosphere(3, 1.0);
+  const TextureDamage none = texture_damage(sphere, positions(sphere));
+  EXPECT_EQ(none.folded, none.base_folded);
+  EXPECT_EQ(none.self_intersecting, none.base_self_intersecting);
+  EXPECT_TRUE(damage_warning(none, 0).empty());
+  // One vertex pushed through the sphere (its faces cross the far side), another slid along the surface
+  // over its neighbours (its faces fold over).
+  MatrixX3d X = positions(sphere);
+  X.row(0) *= -1.5;
+  const int v = nearest(sphere, Vec3(0, 0, 1)) == 0 ? nearest(sphere, Vec3(0, 1, 0)) : nearest(sphere, Vec3(0, 0, 1));
+  const Vec3 x = X.row(v).transpose(), t = x.cross(Vec3(1, 0, 0)).normalized();
+  X.row(v) = (x + 3 * mean_edge_length(sphere) * t).normalized().transpose();
+  const TextureDamage d = texture_damage(sphere, X);
+  EXPECT_GT(d.excess_folded(), 0u);
+  EXPECT_GT(d.excess_self_intersecting(), 0u);
+  EXPECT_FALSE(damage_warning(d, 0).empty());
+  EXPECT_TRUE(damage_warning(d, 1000).empty());
+}
+
+TEST(TextureTransfer, ReportsDamageAndWarnsAboveTheThreshold) {
+  // Tentacles three times as tall on a small patch of a sphere: they cross each other.
+  const Source& s = tentacle_source();
+  const Mesh sphere = icosphere(3, 1.0);
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(sphere, Vec3(0, 0, 1));
+  o.target_radius = 0.6;
+  o.height_scale = 3;
+  o.refine_ratio = 0;
+  const TransferResult r = transfer_texture(s.base, s.texture, sphere, o);
+  const TextureDamage d = texture_damage(r.target, apply_texture(r.target, r.texture, o.texture));
+  EXPECT_EQ(r.damage.folded, d.folded);
+  EXPECT_EQ(r.damage.self_intersecting, d.self_intersecting);
+  EXPECT_GT(r.damage.excess_folded() + r.damage.excess_self_intersecting(), 0u);
+  bool said = false;
+  for (const std::string& w : r.warnings) said |= w.find("self-intersecting") != std::string::npos;
+  EXPECT_TRUE(said);
 }
 
 TEST(TextureTransfer, BadInputIsRefusedByName) {
@@ -273,6 +341,9 @@ TEST(TextureAtlas, CoversASphereWithoutGapsAndWithoutSeams) {
   o.target_radius = 1.5;  // the texture 1.9 times as large: the sphere is finer than the source scaled to it
   const AtlasResult r = cover_with_texture(s.base, s.texture, sphere, o);
   EXPECT_TRUE(r.warnings.empty());
+  EXPECT_EQ(r.damage.excess_folded(), 0u);  // no fold or self-intersection beyond the sphere's own (none)
+  EXPECT_EQ(r.damage.excess_self_intersecting(), 0u);
+  EXPECT_EQ(r.damage.base_self_intersecting, 0u);
   EXPECT_GT(r.centers.size(), 8u);
   // Covered: every vertex lies well inside some disk (within about spacing × radius of its centre).
   EXPECT_GE(r.coverage.minCoeff(), std::pow(1 - 0.7 * 0.7, 2));
@@ -328,3 +399,4 @@ TEST(TextureTransferCli, SaysWhenTheTargetIsRefined) {
   EXPECT_EQ(f.texture.lean.size(), static_cast<Eigen::Index>(f.base.n_vertices()));
   EXPECT_GT(f.base.n_vertices(), 1000u);  // the refined target
 }
+

@@ -458,7 +458,9 @@ def texture_extract(mesh: MeshLike, F: Any = None, base: Any = None, **options: 
 def texture_apply(texture: TextureLike, base: Any = None, **options: Any) -> Result:
     """Apply a texture to its own base or to a deformed or rescaled one of the same connectivity
     (Sec. 8.4.2; `geotex texture apply`). base: #V×3 positions, or a mesh with the texture's faces.
-    Returns a Result: V (#V×3, the textured surface) and F."""
+    The lean's direction turns with the base's rotation from the texture's own base to this one
+    (tilt_encoding 'lean'; 'lean-pushforward' turns it with the full Jacobian, 'one-form' is the
+    thesis). Returns a Result: V (#V×3, the textured surface) and F."""
     Vb, F, h, t, lean = _texture(texture)
     Vn, Fn = _base_arrays(base, None)
     V = _geotex.texture_apply(Vb, F, h, t, lean, Vn, Fn, options)
@@ -488,7 +490,10 @@ def texture_transfer(texture: TextureLike, target: MeshLike, F_target: Any = Non
     vertex nearest to the point source_near / target_near (x, y, z). A refined target raises a
     UserWarning. Returns a Result: V, F (the textured target; refined where it was coarser), texture
     (the target's texture Result), source_center, target_center, source_patch, target_patch,
-    target_vertices, added_vertices, height_factor, falloff, warnings, parameters."""
+    target_vertices, added_vertices, height_factor, falloff, warnings, parameters, and the damage:
+    folded, self_intersecting (faces of the textured target), base_folded, base_self_intersecting
+    (the bare target's own), excess_folded, excess_self_intersecting (beyond them; a UserWarning above
+    damage_warning)."""
     Vt, Ft = _arrays(target, F_target)
     r = _geotex.texture_transfer(*_texture(texture), Vt, Ft, source_near, target_near, options)
     r["texture"] = _texture_result(r["texture"])
@@ -502,7 +507,7 @@ def texture_atlas(texture: TextureLike, target: MeshLike, F_target: Any = None,
     texture atlas`). The source disk is centred at source_center or at the vertex nearest to
     source_near. Returns a Result: V, F (the textured target), texture, source_center, centers,
     coverage (#V: largest disk weight, 0 uncovered), owner, added_vertices, height_factor, warnings,
-    parameters."""
+    parameters, and the damage counts as texture_transfer() has them."""
     Vt, Ft = _arrays(target, F_target)
     r = _geotex.texture_atlas(*_texture(texture), Vt, Ft, source_near, options)
     r["texture"] = _texture_result(r["texture"])

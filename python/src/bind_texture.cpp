@@ -28,7 +28,10 @@ PyTexture texture_of(py::handle V_base, py::handle F, py::handle height, py::han
   const auto nv = static_cast<Eigen::Index>(t.base.n_vertices());
   t.texture.height = to_vector(height, nv, "height");
   t.texture.tilt = to_vector(tilt, static_cast<Eigen::Index>(t.base.n_edges()), "tilt");
-  if (!lean.is_none() && py::len(lean) > 0) t.texture.lean = to_vector(lean, nv, "lean");
+  if (!lean.is_none() && py::len(lean) > 0) {
+    t.texture.lean = to_vector(lean, nv, "lean");
+    t.texture.rest = positions(t.base);  // the lean's direction is kept in this base's tangent frames
+  }
   return t;
 }
 
@@ -41,6 +44,16 @@ py::dict texture_dict(const Mesh& base, const Texture& t) {
   d["lean"] = t.lean;
   d["edges"] = MatrixX2i(edges(base));
   return d;
+}
+
+// The damage counts of a transfer or an atlas (TextureDamage) into \p d.
+void add_damage(py::dict& d, const TextureDamage& x) {
+  d["folded"] = x.folded;
+  d["base_folded"] = x.base_folded;
+  d["excess_folded"] = x.excess_folded();
+  d["self_intersecting"] = x.self_intersecting;
+  d["base_self_intersecting"] = x.base_self_intersecting;
+  d["excess_self_intersecting"] = x.excess_self_intersecting();
 }
 
 std::optional<Vec3> point_or_none(py::handle p, const char* what) {
@@ -189,6 +202,7 @@ void bind_texture(py::module_& m) {
     d["added_vertices"] = r.added_vertices;
     d["height_factor"] = r.height_factor;
     d["falloff"] = r.falloff;
+    add_damage(d, r.damage);
     d["warnings"] = r.warnings;
     d["parameters"] = options_dict(o);
     return d;
@@ -221,6 +235,7 @@ void bind_texture(py::module_& m) {
     d["owner"] = r.owner;
     d["added_vertices"] = r.added_vertices;
     d["height_factor"] = r.height_factor;
+    add_damage(d, r.damage);
     d["warnings"] = r.warnings;
     d["parameters"] = options_dict(o);
     return d;

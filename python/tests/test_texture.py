@@ -39,6 +39,13 @@ def test_extract_then_apply_reproduces_the_mesh(spiky):
     assert np.abs(d2 - 2 * d1).max() < 1e-9
     with pytest.raises(geotex.InvalidInput, match="connectivity"):
         geotex.texture_apply(tex, base=(Vb, F[:, ::-1]))
+    # On a stretched base the lean's direction turns with the base's rotation only (default); the
+    # push-forward turns it with the stretch as well.
+    S = Vb * [2.0, 1.0, 1.0]
+    kept, pushed = (geotex.texture_apply(tex, base=S, tilt_encoding=e).V for e in ("lean", "lean-pushforward"))
+    assert np.abs(kept - geotex.texture_apply(tex, base=S).V).max() == 0
+    assert np.abs(kept - pushed).max() > 0.1 * h
+    assert np.allclose(np.linalg.norm(kept - S, axis=1), np.linalg.norm(Vt - Vb, axis=1), atol=1e-6 * h)
 
 
 def test_every_tilt_fit_and_the_automatic_base_round_trip(spiky):
@@ -130,6 +137,9 @@ def test_transfer_and_atlas():
     assert r.texture.height.shape == (len(Vs),) and np.all(r.texture.height[Vs[:, 2] < 0] == 0)
     assert r.target_center == int(np.argmin(np.linalg.norm(Vs - [0, 0, 1], axis=1)))
     assert r.parameters["falloff"] == 0.4 and r.height_factor == pytest.approx(1.0)
+    # The damage against the bare target's own: none for these low bumps.
+    assert r.base_folded == 0 and r.base_self_intersecting == 0
+    assert r.excess_folded == r.folded == 0 and r.excess_self_intersecting == r.self_intersecting == 0
     # A coarse target is refined, with a warning.
     with pytest.warns(UserWarning, match="refined"):
         fine = geotex.texture_transfer(tex, (Vs, Fs), source_near=(0, 0, 0), target_near=(0, 0, 1),
@@ -146,6 +156,15 @@ def test_transfer_and_atlas():
     assert a.coverage.min() > 0 and a.owner.min() >= 0 and len(a.centers) > 4
     assert seen and seen[-1] == 1.0
     assert a.texture.height.shape == (len(Vs),)
+    assert a.excess_folded == 0 and a.excess_self_intersecting == 0 and a.base_self_intersecting == 0
+    # Tentacles three times as tall on a small patch cross each other: counted, with a warning.
+    (Vq, Fq), (Vqb, _) = geotex.generate("tentacle-plane", level=0, with_base=True)
+    tentacles = geotex.texture_extract(Vq, Fq, base=Vqb)
+    V2, F2 = geotex.generate("sphere", level=2)
+    with pytest.warns(UserWarning, match="self-intersecting"):
+        tall = geotex.texture_transfer(tentacles, V2, F2, source_near=(0, 0, 0), target_near=(0, 0, 1),
+                                       source_radius=1, target_radius=0.6, refine_ratio=0, height_scale=3)
+    assert tall.excess_folded > 0 and tall.excess_self_intersecting > 0 and tall.base_folded == 0
 
 
 def test_signatures_come_from_the_tables():

@@ -30,6 +30,20 @@ std::vector<Protrusion> measure_protrusions(const Mesh& base, const MatrixX3d& t
   return out;
 }
 
+Vec3 polar_rotated(const Eigen::Matrix3d& J, const Vec3& n0, const Vec3& n1, const Vec3& v) {
+  auto perpendicular = [](const Vec3& n) {
+    const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    return Vec3((a - a.dot(n) * n).normalized());
+  };
+  const Vec3 a0 = perpendicular(n0), b0 = n0.cross(a0), a1 = perpendicular(n1), b1 = n1.cross(a1);
+  Eigen::Matrix2d M;  // J_t in the frames (a0, b0) → (a1, b1)
+  M << a1.dot(J * a0), a1.dot(J * b0), b1.dot(J * a0), b1.dot(J * b0);
+  // The rotation nearest to M (its polar factor): rot(θ) with θ = atan2(M10 − M01, M00 + M11).
+  const Eigen::Vector2d p = Eigen::Rotation2Dd(std::atan2(M(1, 0) - M(0, 1), M(0, 0) + M(1, 1))) *
+                            Eigen::Vector2d(v.dot(a0), v.dot(b0));
+  return p.x() * a1 + p.y() * b1;
+}
+
 size_t folded_faces(const Mesh& mesh) {
   const MatrixX3d FN = face_normals(mesh);
   size_t count = 0;

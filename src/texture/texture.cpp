@@ -13,7 +13,10 @@ namespace geotex {
 
 const EnumNames<TiltEncoding>& tilt_encoding_names() {
   static const EnumNames<TiltEncoding> n = {
-      {"lean", TiltEncoding::Lean}, {"one-form", TiltEncoding::OneForm}, {"thesis", TiltEncoding::OneForm}};
+      {"lean", TiltEncoding::Lean},
+      {"lean-pushforward", TiltEncoding::LeanPushforward},
+      {"one-form", TiltEncoding::OneForm},
+      {"thesis", TiltEncoding::OneForm}};
   return n;
 }
 
@@ -26,8 +29,10 @@ const OptionTable<TextureOptions>& TextureOptions::table() {
   using O = TextureOptions;
   static const auto t = OptionTable<O>()
       .choice("tilt_encoding", &O::encoding, tilt_encoding_names(),
-              "lean (the lean angle per vertex, kept under any deformation of the base) or one-form (the thesis: "
-              "the lean's size from the 1-form, divided by the base's area scale)",
+              "lean (the lean angle per vertex, kept under any deformation of the base; its direction turns with "
+              "the base's rotation), lean-pushforward (the same angle, its direction pushed forward by the base's "
+              "Jacobian: it turns with a stretch) or one-form (the thesis: the lean's size from the 1-form, divided "
+              "by the base's area scale)",
               "Eq. (8.6-8.8)")
       .add("tangential_fit", &O::tangential_fit,
            "fit only the tilt's tangent components (all that decoding reads); false: the full fit of Eq. (5.81)",
@@ -104,6 +109,56 @@ Vec3 direction_from_tilt(Vec3 t, const Vec3& n, double sign, double lean = -1) {
 // Lean α ∈ [0, π/2] of a unit direction d from sign·n (Eq. 8.8): sin α = ‖d × n‖, cos α = |d·n|.
 double lean_of(const Vec3& d, const Vec3& n) { return std::atan2(d.cross(n).norm(), std::abs(d.dot(n))); }
 
+// The lean is stored per vertex (TiltEncoding::Lean, LeanPushforward).
+bool stores_lean(TiltEncoding e) { return e != TiltEncoding::OneForm; }
+
+// A unit vector perpendicular to unit n.
+Vec3 any_perpendicular(const Vec3& n) {
+  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return (a - a.dot(n) * n).normalized();
+}
+
+// Per vertex the frames (a0, n0 × a0) at the rest normal n0 and (a1, n1 × a1) at n1 (a1 = a0 turned by
+// the smallest rotation taking n0 to n1) and the angle θ of the rotation part of the polar decomposition
+// M = R S of the least-squares tangent Jacobian M (2 × 2 in those frames) of the one-ring: M minimises
+// Σ_j ‖M p_j − q_j‖² / ‖p_j‖² over the edges ij, p_j, q_j the rest and current edges in the frames
+// (each direction counts alike), and R = rot(θ), θ = atan2(M10 − M01, M00 + M11) the rotation nearest
+// to M. Fewer than two independent edges: θ = 0 (parallel transport of the frame).
+struct TangentTransport {
+  MatrixX3d a0, a1;
+  Eigen::VectorXd theta;
+};
+TangentTransport tangent_transport(const Mesh& mesh, const MatrixX3d& X0, const MatrixX3d& N0, const MatrixX3d& X1,
+                                   const MatrixX3d& N1) {
+  const Eigen::Index n = X0.rows();
+  TangentTransport t{MatrixX3d(n, 3), MatrixX3d(n, 3), Eigen::VectorXd::Zero(n)};
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 n0 = N0.row(i), n1 = N1.row(i);
+    const Vec3 a0 = any_perpendicular(n0);
+    Vec3 a1 = Eigen::Quaterniond::FromTwoVectors(n0, n1) * a0;
+    a1 = (a1 - a1.dot(n1) * n1).normalized();
+    const Vec3 b0 = n0.cross(a0), b1 = n1.cross(a1);
+    t.a0.row(i) = a0.transpose();
+    t.a1.row(i) = a1.transpose();
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero(), C = Eigen::Matrix2d::Zero();
+    for (auto h : mesh.voh_range(mesh.vertex_handle(static_cast<int>(i)))) {
+      const int j = mesh.to_vertex_handle(h).idx();
+      const Vec3 e0 = (X0.row(j) - X0.row(i)).transpose(), e1 = (X1.row(j) - X1.row(i)).transpose();
+      const double w = e0.squaredNorm();
+      if (!(w > 0)) continue;
+      const Eigen::Vector2d p(e0.dot(a0), e0.dot(b0)), q(e1.dot(a1), e1.dot(b1));
+      A += p * p.transpose() / w;
+      C += q * p.transpose() / w;
+    }
+    if (!(std::abs(A.determinant()) > 1e-12 * A.squaredNorm())) continue;
+    const Eigen::Matrix2d M = C * A.inverse();
+    const double th = std::atan2(M(1, 0) - M(0, 1), M(0, 0) + M(1, 1));
+    t.theta[i] = std::isfinite(th) ? th : 0.0;
+  }
+  return t;
+}
+
 Vec3 unit_or_throw(const Vec3& v, const char* what) {
   if (!(v.norm() > 0) || !v.allFinite()) throw InvalidInput(std::string(what) + ": direction must be a non-zero vector");
   return v.normalized();
@@ -112,7 +167,8 @@ Vec3 unit_or_throw(const Vec3& v, const char* what) {
 // A texture with one height (and lean, if any) per vertex and one tilt per edge of \p base.
 void require_matching(const Mesh& base, const Texture& t, const char* what) {
   const auto nv = static_cast<Eigen::Index>(base.n_vertices()), ne = static_cast<Eigen::Index>(base.n_edges());
-  if (t.height.size() != nv || t.tilt.size() != ne || (t.lean.size() != 0 && t.lean.size() != nv))
+  if (t.height.size() != nv || t.tilt.size() != ne || (t.lean.size() != 0 && t.lean.size() != nv) ||
+      (t.rest.size() != 0 && t.rest.rows() != nv))
     throw InvalidInput(std::string(what) + ": the texture (" + std::to_string(t.height.size()) + " heights, " +
                        std::to_string(t.tilt.size()) + " tilts) does not match the base (" + std::to_string(nv) +
                        " vertices, " + std::to_string(ne) + " edges)");
@@ -137,10 +193,13 @@ Texture TextureCodec::extract(const MatrixX3d& textured) {
                        " vertices, the base " + std::to_string(X_.rows()) + " (same connectivity needed)");
   if (!textured.allFinite()) throw InvalidInput("texture extraction: non-finite coordinates");
   const Eigen::Index n = X_.rows();
-  const bool lean = options_.encoding == TiltEncoding::Lean;
+  const bool lean = stores_lean(options_.encoding);
   Texture tex;
   tex.height.resize(n);
-  if (lean) tex.lean.resize(n);
+  if (lean) {
+    tex.lean.resize(n);
+    tex.rest = X_;
+  }
   MatrixX3d T(n, 3);
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -252,10 +311,40 @@ MatrixX3d TextureCodec::directions(const Texture& tex) const {
   if (tex.height.size() != n)
     throw InvalidInput("texture: expected one height per base vertex (" + std::to_string(n) + "), got " +
                        std::to_string(tex.height.size()));
-  const bool lean = options_.encoding == TiltEncoding::Lean && tex.lean.size() != 0;
+  const bool lean = stores_lean(options_.encoding) && tex.lean.size() != 0;
   if (lean && tex.lean.size() != n)
     throw InvalidInput("texture: expected one lean per base vertex (" + std::to_string(n) + "), got " +
                        std::to_string(tex.lean.size()));
+  if (tex.rest.size() != 0 && (tex.rest.rows() != n || !tex.rest.allFinite()))
+    throw InvalidInput("texture: expected " + std::to_string(n) + " finite rest positions, got " +
+                       std::to_string(tex.rest.rows()));
+  if (lean && options_.encoding == TiltEncoding::Lean && tex.rest.size() != 0 && tex.rest != X_) {
+    // The direction in the base's tangent frame: decoded on the rest base (Eq. 5.79, 8.8 there), then
+    // turned by the rotation part of the rest → current tangent Jacobian (issue 26).
+    Mesh rest = base_;
+    set_positions(rest, tex.rest);
+    const MatrixX3d N0 = vertex_normals(rest, options_.normals);
+    const MatrixX3d T0 = one_form_to_vertices(rest, tex.tilt);
+    const TangentTransport tr = tangent_transport(base_, tex.rest, N0, X_, N_);
+    MatrixX3d D(n, 3);
+#pragma omp parallel for schedule(static)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Vec3 n0 = N0.row(i), n1 = N_.row(i);
+      const double sign = nonzero_sign(tex.height[i]);
+      Vec3 t0 = T0.row(i).transpose();
+      t0 -= t0.dot(n0) * n0;
+      if (!(t0.norm() > 1e-12)) {
+        D.row(i) = (sign * n1).transpose();
+        continue;
+      }
+      const Vec3 m0 = n0.cross(t0).normalized();  // the lean's direction at rest (Eq. 8.8)
+      const Vec3 a0 = tr.a0.row(i), a1 = tr.a1.row(i);
+      const Eigen::Vector2d p = Eigen::Rotation2Dd(tr.theta[i]) * Eigen::Vector2d(m0.dot(a0), m0.dot(n0.cross(a0)));
+      const Vec3 m1 = p.x() * a1 + p.y() * n1.cross(a1);
+      D.row(i) = (sign * std::cos(tex.lean[i]) * n1 + std::sin(tex.lean[i]) * m1).transpose();
+    }
+    return D;
+  }
   if (tex.tilt.size() != static_cast<Eigen::Index>(base_.n_edges()))
     throw InvalidInput("texture: expected one tilt per base edge (" + std::to_string(base_.n_edges()) + "), got " +
                        std::to_string(tex.tilt.size()));
@@ -302,7 +391,11 @@ const OptionTable<TextureApplyOptions>& TextureApplyOptions::table() {
   static const auto t = OptionTable<O>()
       .add("height_scale", &O::height_scale, "multiply every height by this (negative: bumps become dents)",
            between(-1e6, 1e6))
-      .add("height_only", &O::height_only, "drop the tilt: a plain height field along the normals", {}, "Eq. (8.5)");
+      .add("height_only", &O::height_only, "drop the tilt: a plain height field along the normals", {}, "Eq. (8.5)")
+      .choice("tilt_encoding", &O::encoding, tilt_encoding_names(),
+              "decoding on a deformed base: lean (the lean's direction turns with the base's rotation), "
+              "lean-pushforward (with its Jacobian: it turns with a stretch) or one-form (the thesis)",
+              "Eq. (8.8)");
   return t;
 }
 
@@ -311,7 +404,9 @@ MatrixX3d apply_texture(const Mesh& base, const Texture& texture, const TextureA
   require_matching(base, texture, "apply texture");
   Texture t = scale_height(texture, options.height_scale);
   if (options.height_only) t = height_field_only(t);
-  return apply_texture(base, t);
+  TextureOptions o;
+  o.encoding = options.encoding;
+  return apply_texture(base, t, o);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -387,10 +482,13 @@ Texture TextureCodec::from_directions(const MatrixX3d& D, const Eigen::VectorXd&
   const Eigen::Index n = X_.rows();
   if (D.rows() != n || height.size() != n)
     throw InvalidInput("texture: expected one direction and one height per base vertex (" + std::to_string(n) + ")");
-  const bool lean = options_.encoding == TiltEncoding::Lean;
+  const bool lean = stores_lean(options_.encoding);
   Texture out;
   out.height.resize(n);
-  if (lean) out.lean.resize(n);
+  if (lean) {
+    out.lean.resize(n);
+    out.rest = X_;
+  }
   MatrixX3d T(n, 3);
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -606,12 +704,19 @@ Texture scale_height(const Texture& texture, double factor) {
 void write_texture(const std::filesystem::path& path, const Mesh& base, const Texture& texture, bool binary) {
   if (texture.height.size() != static_cast<Eigen::Index>(base.n_vertices()) ||
       texture.tilt.size() != static_cast<Eigen::Index>(base.n_edges()) ||
-      (texture.lean.size() != 0 && texture.lean.size() != texture.height.size()))
+      (texture.lean.size() != 0 && texture.lean.size() != texture.height.size()) ||
+      (texture.rest.size() != 0 && texture.rest.rows() != texture.height.size()))
     throw InvalidInput("write texture: sizes do not match the base mesh");
   PlyExtras ex;
   ex.vertex_scalars["height"] = std::vector<double>(texture.height.data(), texture.height.data() + texture.height.size());
   if (texture.lean.size())
     ex.vertex_scalars["lean"] = std::vector<double>(texture.lean.data(), texture.lean.data() + texture.lean.size());
+  // A rest pose other than the base itself (a texture written over a deformed base): rest_x, rest_y, rest_z.
+  if (texture.rest.size() && texture.rest != positions(base))
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::VectorXd c = texture.rest.col(k);
+      ex.vertex_scalars[std::string("rest_") + "xyz"[k]] = std::vector<double>(c.data(), c.data() + c.size());
+    }
   PlyExtras::Element e;
   e.name = "edge";
   const MatrixX2i E = edges(base);
@@ -642,6 +747,14 @@ TextureFile read_texture(const std::filesystem::path& path) {
     const auto& a = v->scalars.at("lean");
     if (a.size() != h.size()) throw IoError(path.string() + ": lean count does not match the vertices");
     out.texture.lean = Eigen::Map<const Eigen::VectorXd>(a.data(), a.size());
+    // The rest pose of the lean's direction: the stored one, else the base itself.
+    out.texture.rest = positions(out.base);
+    for (int k = 0; k < 3; ++k) {
+      const auto it = v->scalars.find(std::string("rest_") + "xyz"[k]);
+      if (it == v->scalars.end()) continue;
+      if (it->second.size() != h.size()) throw IoError(path.string() + ": rest count does not match the vertices");
+      out.texture.rest.col(k) = Eigen::Map<const Eigen::VectorXd>(it->second.data(), it->second.size());
+    }
   }
   const EdgeValues ev = read_edge_values(path, "tilt");
   if (ev.values.size() != static_cast<Eigen::Index>(out.base.n_edges()))

@@ -33,6 +33,10 @@ const OptionTable<AtlasOptions>& AtlasOptions::table() {
       .add("height_scale", &O::height_scale, "multiply the heights by this, on top of the height rule", between(0, 1e6))
       .add("refine_ratio", &O::refine_ratio,
            "refine the target where its edges exceed this times the source's scaled to it (0: never)", non_negative())
+      .add("damage_warning", &O::damage_warning,
+           "warn when the textured target has more than this many folded or self-intersecting faces beyond the "
+           "bare target's own",
+           between(0, 1000000000))
       .nest(&O::geodesic, HeatGeodesicOptions::table())
       .nest(&O::texture, TextureOptions::table());
   return t;
@@ -150,6 +154,9 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
     if (sumW[i] > 0) D.row(i) = sumM.row(i) / sumW[i] + sumDM.row(i) / std::sqrt(sumW2[i]);
   TextureCodec codec(T, o.texture);
   res.texture = codec.from_displacements(D);
+  res.damage = texture_damage(T, codec.apply(res.texture));
+  if (std::string w = damage_warning(res.damage, static_cast<size_t>(o.damage_warning)); !w.empty())
+    res.warnings.push_back(std::move(w));
   return res;
 }
 

@@ -11,7 +11,9 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/spatial.h"
+#include "geotex/texture/measures.h"
 #include "geotex/texture/transfer.h"
+#include "geotex/tools/metrics.h"
 #include "transfer_internal.h"
 #include "geotex/toolkit/parametrization.h"
 #include "geotex/toolkit/refine.h"
@@ -42,6 +44,10 @@ const OptionTable<TransferOptions>& TransferOptions::table() {
       .add("refine_ratio", &O::refine_ratio,
            "refine the target patch where its edges exceed this times the source's scaled to it (0: never)",
            non_negative())
+      .add("damage_warning", &O::damage_warning,
+           "warn when the textured target has more than this many folded or self-intersecting faces beyond the "
+           "bare target's own",
+           between(0, 1000000000))
       .nest(&O::geodesic, HeatGeodesicOptions::table())
       .nest(&O::texture, TextureOptions::table())
       .preset("thesis", "absolute heights, no rim falloff, no refinement, the 1-form encoding (Sec. 8.3.3)", [](O& o) {
@@ -107,6 +113,31 @@ Texture texture_from_local(TextureCodec& codec, const MatrixX3d& local, const Ma
 }
 
 // ---------------------------------------------------------------------------------------------
+// Damage
+
+TextureDamage texture_damage(const Mesh& base, const MatrixX3d& textured) {
+  if (textured.rows() != static_cast<Eigen::Index>(base.n_vertices()))
+    throw InvalidInput("texture damage: the textured surface has another vertex count than the base");
+  Mesh m = base;
+  set_positions(m, textured);
+  const MatrixX3i F = faces(base);
+  TextureDamage d;
+  d.folded = folded_faces(m);
+  d.base_folded = folded_faces(base);
+  const std::vector<char> hit = self_intersecting_faces(textured, F), own = self_intersecting_faces(positions(base), F);
+  d.self_intersecting = static_cast<size_t>(std::count(hit.begin(), hit.end(), 1));
+  d.base_self_intersecting = static_cast<size_t>(std::count(own.begin(), own.end(), 1));
+  return d;
+}
+
+std::string damage_warning(const TextureDamage& d, size_t threshold) {
+  if (d.excess_folded() <= threshold && d.excess_self_intersecting() <= threshold) return {};
+  return fmt::format("the textured surface has {} folded and {} self-intersecting faces beyond the base's own "
+                     "({} and {}): the texture is too large or too steep for this base here",
+                     d.excess_folded(), d.excess_self_intersecting(), d.base_folded, d.base_self_intersecting);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Geodesic disks
 
 DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const Eigen::VectorXd& dist) {
@@ -120,14 +151,76 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const 
   DiskPatch patch;
   std::vector<int> local(nv, -1);
   std::vector<Eigen::Vector3i> tris;
-  for (auto f : mesh.faces()) {
-    int c[3], k = 0;
-    bool in = true;
-    for (auto v : mesh.fv_range(f)) {
-      c[k++] = v.idx();
-      in &= dist[v.idx()] <= radius;
+  // Boundary-aware: the faces with all corners within the radius that are connected (across edges) to
+  // the centre's (islands dropped), plus the pin-holes they enclose: holes whose vertices all lie within
+  // the radius plus twice the hole's longest edge (a distance that wobbles by a fraction of an edge). A
+  // hole that reaches the mesh's boundary or its farthest vertex, or goes deeper, is outside, not a hole.
+  const int nf = static_cast<int>(mesh.n_faces());
+  auto within = [&](OpenMesh::FaceHandle f, double r) {
+    for (auto v : mesh.fv_range(f))
+      if (!(dist[v.idx()] <= r)) return false;
+    return true;
+  };
+  std::vector<char> keep(nf, 0);
+  {
+    std::vector<int> stack;
+    for (auto f : mesh.vf_range(mesh.vertex_handle(center)))
+      if (within(f, radius)) {
+        keep[f.idx()] = 1;
+        stack.push_back(f.idx());
+      }
+    while (!stack.empty()) {
+      const auto f = mesh.face_handle(stack.back());
+      stack.pop_back();
+      for (auto g : mesh.ff_range(f))
+        if (!keep[g.idx()] && within(g, radius)) {
+          keep[g.idx()] = 1;
+          stack.push_back(g.idx());
+        }
     }
-    if (!in) continue;
+  }
+  {
+    int far = -1;
+    for (int i = 0; i < nv; ++i)
+      if (std::isfinite(dist[i]) && (far < 0 || dist[i] > dist[far])) far = i;
+    std::vector<char> seen(nf, 0);
+    std::vector<int> comp, stack;
+    for (int f0 = 0; f0 < nf; ++f0) {
+      if (keep[f0] || seen[f0]) continue;
+      comp.clear();
+      stack.assign(1, f0);
+      seen[f0] = 1;
+      bool outside = false;
+      double deepest = 0, longest = 0;
+      while (!stack.empty()) {
+        const auto f = mesh.face_handle(stack.back());
+        stack.pop_back();
+        comp.push_back(f.idx());
+        for (auto v : mesh.fv_range(f)) {
+          outside |= !std::isfinite(dist[v.idx()]) || v.idx() == far;
+          deepest = std::max(deepest, dist[v.idx()]);
+        }
+        for (auto h : mesh.fh_range(f)) {
+          longest = std::max(longest, static_cast<double>(mesh.calc_edge_length(h)));
+          const auto g = mesh.opposite_face_handle(h);
+          if (!g.is_valid()) {
+            outside = true;  // the mesh's boundary
+            continue;
+          }
+          if (!keep[g.idx()] && !seen[g.idx()]) {
+            seen[g.idx()] = 1;
+            stack.push_back(g.idx());
+          }
+        }
+      }
+      if (!outside && deepest <= radius + 2 * longest)
+        for (int f : comp) keep[f] = 1;
+    }
+  }
+  for (auto f : mesh.faces()) {
+    if (!keep[f.idx()]) continue;
+    int c[3], k = 0;
+    for (auto v : mesh.fv_range(f)) c[k++] = v.idx();
     for (int& x : c) {
       if (local[x] < 0) {
         local[x] = static_cast<int>(patch.vertices.size());
@@ -327,8 +420,9 @@ RefineNeed refine_need(const Mesh& target, const std::vector<char>& region, doub
 }
 
 std::string refine_for(Mesh& target, const std::vector<char>& region, double required_edge, double ratio,
-                       size_t* added, const ProgressFn& progress) {
+                       size_t* added, const ProgressFn& progress, std::vector<char>* refined_region) {
   *added = 0;
+  if (refined_region) *refined_region = region;
   const RefineNeed need = refine_need(target, region, required_edge, ratio);
   if (!need.refine) return {};
   const double mean = need.mean_edge, needed = need.needed;
@@ -356,6 +450,7 @@ std::string refine_for(Mesh& target, const std::vector<char>& region, double req
   if (r.capped) throw too_many("more than", static_cast<double>(r.mesh.n_vertices()));
   *added = r.added;
   target = std::move(r.mesh);
+  if (refined_region) *refined_region = std::move(r.region);
   return fmt::format("target refined: {} vertices added where its edges (mean {:.4g}) were coarser than the source "
                      "patch's scaled to it ({:.4g})",
                      r.added, mean, required_edge);
@@ -434,18 +529,44 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
   // The target patch, refined first where it is coarser than the source scaled to it.
   res.target = target_base;
   Eigen::VectorXd dist = HeatGeodesics(res.target, o.geodesic).distance(o.target_center);
-  extract_disk_patch(res.target, o.target_center, o.target_radius, dist);  // a disk? (before refining)
+  const DiskPatch coarse = extract_disk_patch(res.target, o.target_center, o.target_radius, dist);  // a disk?
+  std::vector<char> descends;  // per refined vertex: 2 where it descends from the coarse disk's vertices only
   {
+    // Refined within 1.1 × the radius (1); the coarse disk's vertices are marked 2, so that a new vertex is
+    // 2 when both ends of its edge were: the faces with three such corners are the coarse disk's, refined.
     std::vector<char> region(nt);
-    for (int i = 0; i < nt; ++i) region[i] = dist[i] <= 1.1 * o.target_radius;
-    const std::string line =
-        detail::refine_for(res.target, region, lateral * src.mean_edge, o.refine_ratio, &res.added_vertices);
+    for (int i = 0; i < nt; ++i) region[i] = dist[i] <= 1.1 * o.target_radius ? 1 : 0;
+    for (int v : coarse.vertices) region[v] = 2;
+    const std::string line = detail::refine_for(res.target, region, lateral * src.mean_edge, o.refine_ratio,
+                                                &res.added_vertices, {}, &descends);
     if (!line.empty()) {
       res.warnings.push_back(line);
       dist = HeatGeodesics(res.target, o.geodesic).distance(o.target_center);
     }
   }
-  res.target_patch = extract_disk_patch(res.target, o.target_center, o.target_radius, dist);
+  try {
+    res.target_patch = extract_disk_patch(res.target, o.target_center, o.target_radius, dist);
+  } catch (const InvalidInput&) {
+    if (res.added_vertices == 0) throw;
+    // The refined surface within the radius is not a disk where the coarse one was (its finer faces close a
+    // ring around a thin part, or open a hole): keep to the coarse disk's faces, refined, within the radius;
+    // failing that, all of them (a refinement of a disk is a disk).
+    Eigen::VectorXd d = dist;
+    for (Eigen::Index i = 0; i < d.size(); ++i)
+      if (descends[i] != 2) d[i] = std::numeric_limits<double>::infinity();
+    try {
+      res.target_patch = extract_disk_patch(res.target, o.target_center, o.target_radius, d);
+    } catch (const InvalidInput&) {
+      double all = 0;
+      for (Eigen::Index i = 0; i < d.size(); ++i)
+        if (std::isfinite(d[i])) all = std::max(all, d[i]);
+      res.target_patch = extract_disk_patch(res.target, o.target_center, all, d);
+    }
+    res.warnings.push_back(fmt::format(
+        "the refined target within radius {:.4g} is not a disk (a ring closes around a thin part, or a hole "
+        "opens); the patch keeps to the coarse target's disk, refined ({} vertices)",
+        o.target_radius, res.target_patch.vertices.size()));
+  }
   report(o.progress, 0.6, "target disk");
   const DiskPatch& T = res.target_patch;
   const DiskMap map = disk_map(T, o.target_direction);
@@ -469,6 +590,9 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
   res.target_vertices = T.vertices.size();
   TextureCodec codec(res.target, o.texture);
   res.texture = texture_from_local(codec, local, e1);
+  res.damage = texture_damage(res.target, codec.apply(res.texture));
+  if (std::string w = damage_warning(res.damage, static_cast<size_t>(o.damage_warning)); !w.empty())
+    res.warnings.push_back(std::move(w));
   report(o.progress, 1.0, "encoding");
   return res;
 }

@@ -44,10 +44,12 @@ struct SourceDisk {
   double mean_edge = 0;
 };
 
-//! Refine \p target in \p region when its mean edge there exceeds \p ratio × \p required_edge; \return
-//! the warning line (empty when nothing was refined) and the count in \p added.
+//! Refine \p target in \p region (non-zero values) when its mean edge there exceeds \p ratio ×
+//! \p required_edge; \return the warning line (empty when nothing was refined) and the count in \p added;
+//! \p refined_region (if given) receives RefineResult::region (the region's values carried to new vertices:
+//! the smaller of their edge's ends'), or \p region itself when nothing was refined.
 std::string refine_for(Mesh& target, const std::vector<char>& region, double required_edge, double ratio,
-                       size_t* added, const ProgressFn& progress = {});
+                       size_t* added, const ProgressFn& progress = {}, std::vector<char>* refined_region = nullptr);
 
 //! What refine_for() would do, without doing it: whether it refines, and the vertices it needs in the region
 //! (about area / (edge² √3/4) at edges of 0.8 × \p required_edge, at least one per edge-length step).

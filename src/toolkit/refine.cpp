@@ -59,7 +59,7 @@ RefineResult refine_region(const Mesh& input, const std::vector<char>& region, c
     np = np.norm() > 0 ? Vec3(np.normalized()) : na;
     const auto vm = m.add_vertex(to_point(p));
     normal.push_back(np);
-    r.region.push_back(r.region[va.idx()] && r.region[vb.idx()]);
+    r.region.push_back(std::min(r.region[va.idx()], r.region[vb.idx()]));
     m.split(e, vm);
     if (++r.added % 4096 == 0 && o.progress)
       o.progress(0.9 * std::min(1.0, double(r.added) / std::max<size_t>(o.expected_added, r.added + 1)), "refine");

@@ -14,9 +14,11 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
 #include "geotex/texture/texture.h"
 #include "option_flags.h"
 
@@ -206,13 +208,27 @@ void run_animate(const AnimateFiles& a, const FlagSet& flags) {
 
 // ------------------------------------------------------------------------------------------------
 struct TransferFiles {
-  std::string source, target, output, texture_out, source_near, target_near;
+  std::string source, target, output, texture_out, source_near, target_near, report;
 };
+
+nlohmann::json damage_json(const TextureDamage& d) {
+  return {{"folded", d.folded},
+          {"base_folded", d.base_folded},
+          {"excess_folded", d.excess_folded()},
+          {"self_intersecting", d.self_intersecting},
+          {"base_self_intersecting", d.base_self_intersecting},
+          {"excess_self_intersecting", d.excess_self_intersecting()}};
+}
+
+std::string damage_line(const TextureDamage& d) {
+  return fmt::format("damage: {} folded, {} self-intersecting faces (the bare target's own: {}, {})", d.folded,
+                     d.self_intersecting, d.base_folded, d.base_self_intersecting);
+}
 
 void run_transfer(const TransferFiles& a, const FlagSet& flags) {
   TransferOptions o = flags.resolve<TransferOptions>("transfer");
   const auto source_near = near_point(a.source_near, "source"), target_near = near_point(a.target_near, "target");
-  Outputs out({a.source, a.target}, {{a.output, "-o"}, {a.texture_out, "--texture-out"}});
+  Outputs out({a.source, a.target}, {{a.output, "-o"}, {a.texture_out, "--texture-out"}, {a.report, "--report"}});
   const TextureFile src = load_texture(a.source);
   const Mesh target = load_mesh(a.target);
   o.source_center = center_of(src.base, o.source_center, source_near, "source");
@@ -224,23 +240,37 @@ void run_transfer(const TransferFiles& a, const FlagSet& flags) {
   info(fmt::format("transferred a {}-vertex source patch onto a {}-vertex target patch in {:.2f} s (heights x {:.4g})",
                    r.source_patch.vertices.size(), r.target_patch.vertices.size(), seconds_since(t0),
                    r.height_factor));
+  info(damage_line(r.damage));
   save_mesh(with_positions(r.target, apply_texture(r.target, r.texture, o.texture)), a.output);
   if (!a.texture_out.empty()) {
     write_texture(a.texture_out, r.target, r.texture);
     info("wrote " + a.texture_out);
+  }
+  if (!a.report.empty()) {
+    nlohmann::json j = {{"seconds", seconds_since(t0)},
+                        {"source_center", o.source_center},
+                        {"target_center", o.target_center},
+                        {"source_patch_vertices", r.source_patch.vertices.size()},
+                        {"target_patch_vertices", r.target_patch.vertices.size()},
+                        {"vertices", r.target.n_vertices()},
+                        {"added_vertices", r.added_vertices},
+                        {"height_factor", r.height_factor},
+                        {"warnings", r.warnings}};
+    j.update(damage_json(r.damage));
+    write_text_atomic(a.report, j.dump(1) + "\n");
   }
   out.commit();
 }
 
 // ------------------------------------------------------------------------------------------------
 struct AtlasFiles {
-  std::string source, target, output, texture_out, source_near;
+  std::string source, target, output, texture_out, source_near, report;
 };
 
 void run_atlas(const AtlasFiles& a, const FlagSet& flags) {
   AtlasOptions o = flags.resolve<AtlasOptions>("atlas");
   const auto source_near = near_point(a.source_near, "source");
-  Outputs out({a.source, a.target}, {{a.output, "-o"}, {a.texture_out, "--texture-out"}});
+  Outputs out({a.source, a.target}, {{a.output, "-o"}, {a.texture_out, "--texture-out"}, {a.report, "--report"}});
   const TextureFile src = load_texture(a.source);
   const Mesh target = load_mesh(a.target);
   o.source_center = center_of(src.base, o.source_center, source_near, "source");
@@ -251,10 +281,19 @@ void run_atlas(const AtlasFiles& a, const FlagSet& flags) {
   const Eigen::Index uncovered = (r.coverage.array() <= 0).count();
   info(fmt::format("covered a {}-vertex target with {} disks in {:.2f} s (heights x {:.4g}; {} vertices uncovered)",
                    r.target.n_vertices(), r.centers.size(), seconds_since(t0), r.height_factor, uncovered));
+  info(damage_line(r.damage));
   save_mesh(with_positions(r.target, apply_texture(r.target, r.texture, o.texture)), a.output);
   if (!a.texture_out.empty()) {
     write_texture(a.texture_out, r.target, r.texture);
     info("wrote " + a.texture_out);
+  }
+  if (!a.report.empty()) {
+    nlohmann::json j = {{"seconds", seconds_since(t0)},   {"disks", r.centers.size()},
+                        {"vertices", r.target.n_vertices()}, {"added_vertices", r.added_vertices},
+                        {"uncovered", uncovered},           {"height_factor", r.height_factor},
+                        {"warnings", r.warnings}};
+    j.update(damage_json(r.damage));
+    write_text_atomic(a.report, j.dump(1) + "\n");
   }
   out.commit();
 }
@@ -330,6 +369,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture (ch. 8)", [](CLI
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "textured target mesh")->required()->check(MeshOutputFile);
     s->add_option("--texture-out", a->texture_out, "also write the target's texture file")->check(TextureOutputFile);
+    s->add_option("--report", a->report, "write the transfer's counts (patches, refinement, damage) as JSON");
     auto flags = table_flags<TransferOptions>(*s, "transfer", {"--source-radius", "--target-radius"});
     add_near(*s, a->source_near, "source", "source base");
     add_near(*s, a->target_near, "target", "target");
@@ -343,6 +383,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture (ch. 8)", [](CLI
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "textured target mesh")->required()->check(MeshOutputFile);
     s->add_option("--texture-out", a->texture_out, "also write the target's texture file")->check(TextureOutputFile);
+    s->add_option("--report", a->report, "write the atlas' counts (disks, refinement, damage) as JSON");
     auto flags = table_flags<AtlasOptions>(*s, "atlas", {"--source-radius"});
     add_near(*s, a->source_near, "source", "source base");
     s->callback([a, flags] { run_atlas(*a, *flags); });

@@ -21,6 +21,12 @@ struct Protrusion {
 //! Measure the protrusions at vertices \p feet of \p textured (#V by 3) over \p base (same connectivity).
 std::vector<Protrusion> measure_protrusions(const Mesh& base, const MatrixX3d& textured, const std::vector<int>& feet);
 
+//! The tangent vector \p v at a point with unit normal \p n0 turned by the rotation part R of the polar
+//! decomposition J_t = R S of the tangent Jacobian J_t: T(n0) → T(n1) of a map with 3 × 3 Jacobian \p J
+//! (J projected onto the tangent plane at \p n1): where a vector displacement stored in a frame carried
+//! by the surface goes, stretch removed. The reference for a lean's direction after a deformation.
+Vec3 polar_rotated(const Eigen::Matrix3d& J, const Vec3& n0, const Vec3& n1, const Vec3& v);
+
 //! Faces folded over: the face's normal points against the (unnormalised) sum of its edge-neighbours'
 //! normals. Crumpled texture folds; a smooth surface, however bent, does not. \return the count.
 size_t folded_faces(const Mesh& mesh);

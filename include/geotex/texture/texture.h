@@ -24,21 +24,29 @@ namespace geotex {
 // ---------------------------------------------------------------------------------------------
 // Representation (Sec. 8.3.2–8.3.3)
 
-//! How the size of the tilt (the lean α_i of d̂_i from ±n_i, sin α_i = ‖t_i‖) is stored.
+//! How the size of the tilt (the lean α_i of d̂_i from ±n_i, sin α_i = ‖t_i‖) and its direction are
+//! stored and decoded.
 //!
 //! The tilt 1-form c (Eq. 8.2) is the flux of the tangential displacement direction across the edges
 //! (c_ij = (d̂_i × n_i)·e_ij = d̂_i·(n_i × e_ij)). Under a smooth map of the base with tangent-plane
 //! Jacobian J, decoding it (Eq. 5.79, 8.8) turns the tangential part of d̂ into J d̂ / det J: its
-//! direction is pushed forward with the surface (as a tangent vector should be), but its length is
-//! divided by the area scale, so scaling the base by s divides sin α by s (lean lost or clamped).
+//! direction is pushed forward with the surface, stretch included (a lean at 45° to a ×2 stretch turns
+//! by 18°), and its length is divided by the area scale, so scaling the base by s divides sin α by s.
+//! Lean and LeanPushforward differ only in decoding on a deformed base (extraction is the same).
 enum class TiltEncoding {
-  //! Texture::lean holds α_i; the 1-form only gives the lean's direction, J d̂ (default). Height and
-  //! lean are then kept exactly under any deformation of the base, the direction follows the surface.
+  //! Texture::lean holds α_i and the direction turns with the base's tangent frame, as a vector
+  //! displacement stored in a frame carried by the surface does (default): the direction is decoded on
+  //! the rest base (Texture::rest) and turned by the rotation part R_i of the polar decomposition
+  //! J_i = R_i S_i of the tangent Jacobian between the rest and the deformed one-ring. Height and lean
+  //! are kept exactly under any deformation, the direction turns only with the surface's rotation.
   Lean,
+  //! Texture::lean holds α_i; the direction is J d̂ from the 1-form decoded on the deformed base (it
+  //! turns with the stretch: the default before issue 26).
+  LeanPushforward,
   //! The thesis (Eq. 8.6–8.8): sin α_i = ‖(P c)_i‖, Texture::lean is left empty.
   OneForm,
 };
-//! "lean", "one-form" (also "thesis").
+//! "lean", "lean-pushforward", "one-form" (also "thesis").
 const EnumNames<TiltEncoding>& tilt_encoding_names();
 
 //! texture = ({h_i}, {c_ij}) (Eq. 8.7), with the lean per vertex (TiltEncoding::Lean).
@@ -48,8 +56,11 @@ struct Texture {
   //! #V lean angles α_i ∈ [0, π/2] in radians, the angle of d̂_i from sign(h_i) n_i (Eq. 8.8's α), or
   //! empty: then sin α_i = ‖(P c)_i‖ as in the thesis (TiltEncoding::OneForm, older files).
   Eigen::VectorXd lean;
+  //! #V by 3: the base positions the tilt was encoded over (the rest pose; set by extraction and the
+  //! edits when the lean is stored), or empty: the base the texture is applied to. TiltEncoding::Lean
+  //! decodes the direction here and turns it with the base's rotation from here to the applied base.
+  MatrixX3d rest;
 };
-
 //! How the tilt 1-form is fitted (Eq. 8.2). Both minimise the same least-squares objective (Eq. 5.81).
 enum class TiltSolver {
   //! CGLS from the averaging estimate (Eq. 5.80), stopped once the reconstruction it gives is within
@@ -65,7 +76,8 @@ const EnumNames<TiltSolver>& tilt_solver_names();
 struct TextureOptions {
   NormalWeighting normals = NormalWeighting::Angle;  //!< base vertex normals n_i
   //! Where the lean's size is stored: per vertex (default; kept under scaling, bending, twisting) or
-  //! in the 1-form as in the thesis (divided by the base's area scale when it is deformed).
+  //! in the 1-form as in the thesis (divided by the base's area scale when it is deformed); and whether
+  //! its direction turns with the base's rotation (default) or with its full Jacobian.
   TiltEncoding encoding = TiltEncoding::Lean;
   //! Fit only the tilt's components in the tangent planes (OneFormFitOptions::tangential). The tilt
   //! is tangent (Eq. 8.6) and decoding keeps only the tangent part of P c (Eq. 8.8), so the thesis'
@@ -132,7 +144,9 @@ class TextureCodec {
   //! Unit displacement directions d̂_i = cos α n_i + n_i × t_i with sin α = ‖t_i‖, cos α = sign(h_i)
   //! √(1 − ‖t_i‖²) (Eq. 8.8; the rotation is about t_i — DESIGN.md on Sec. 8.3.3). With a lean
   //! (TiltEncoding::Lean and Texture::lean given) α is the lean and only the direction of t_i is used:
-  //! d̂_i = sign(h_i) cos α_i n_i + sin α_i (n_i × t_i) / ‖t_i‖. \return #V by 3.
+  //! d̂_i = sign(h_i) cos α_i n_i + sin α_i (n_i × t_i) / ‖t_i‖; with TiltEncoding::Lean and a
+  //! Texture::rest other than this base, t_i is decoded on the rest base and (n_i × t_i)/‖t_i‖ turned
+  //! by the rotation part of the polar decomposition of the one-ring's tangent Jacobian. \return #V by 3.
   MatrixX3d directions(const Texture& texture) const;
 
   const Mesh& base() const { return base_; }
@@ -163,6 +177,11 @@ Texture height_field_only(const Texture& texture);
 struct TextureApplyOptions {
   double height_scale = 1.0;  //!< multiply every height by this
   bool height_only = false;   //!< drop the tilt (and lean): a plain height field along the normals
+  //! How the tilt is decoded on the (deformed) base: the lean's direction turned with the base's
+  //! rotation (lean, default), with its Jacobian (lean-pushforward), or the thesis' 1-form (one-form).
+  TiltEncoding encoding = TiltEncoding::Lean;
+  //! Table (no presets: a texture extracted with the thesis' preset has no lean, and is decoded as the
+  //! thesis does whatever the encoding says).
   static const OptionTable<TextureApplyOptions>& table();
 };
 

@@ -78,7 +78,9 @@ struct DiskPatch {
 };
 
 //! The faces whose three corners lie within \p distance ≤ \p radius (a geodesic distance from \p center,
-//! #V values, e.g. from HeatGeodesics), as a disk patch.
+//! #V values, e.g. from HeatGeodesics) and that are connected across edges to the centre's, with the
+//! holes they enclose filled when every vertex of a hole lies within the radius plus twice the hole's
+//! longest edge (a distance that wobbles by a fraction of an edge leaves pin-holes), as a disk patch.
 //! \throw InvalidInput if the centre is out of range or the result is not a disk (one boundary loop,
 //! Euler characteristic 1).
 DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const Eigen::VectorXd& distance);
@@ -102,6 +104,25 @@ struct DiskMap {
 //! \param anchor any 3D direction; its tangent part at the centre points along +u (when it is along the
 //! normal, the tangent part of x, else of y, is used). \throw InvalidInput, SolverError (parametrize()).
 DiskMap disk_map(const DiskPatch& patch, const Vec3& anchor);
+
+// ---------------------------------------------------------------------------------------------
+// Damage
+
+//! What a texture did to its base: faces folded over (folded_faces(), measures.h) and faces crossed by
+//! an edge of a non-adjacent face (self_intersecting_faces(), tools/metrics.h) on the textured surface,
+//! against the bare base's own (the same connectivity).
+struct TextureDamage {
+  size_t folded = 0, base_folded = 0;
+  size_t self_intersecting = 0, base_self_intersecting = 0;
+  size_t excess_folded() const { return folded > base_folded ? folded - base_folded : 0; }
+  size_t excess_self_intersecting() const {
+    return self_intersecting > base_self_intersecting ? self_intersecting - base_self_intersecting : 0;
+  }
+};
+//! The damage of \p textured (#V by 3 positions over \p base's faces) against \p base.
+TextureDamage texture_damage(const Mesh& base, const MatrixX3d& textured);
+//! A warning line when the excess folded or self-intersecting faces exceed \p threshold, else empty.
+std::string damage_warning(const TextureDamage& damage, size_t threshold);
 
 // ---------------------------------------------------------------------------------------------
 // Transfer of one disk
@@ -136,6 +157,9 @@ struct TransferOptions {
   //! edge scaled to the target (so that no detail is lost): every edge longer than 0.8 × the scaled
   //! source edge is split (longest first), leaving a mean of about 0.6 of it. 0: never refine.
   double refine_ratio = 1.0;
+  //! Warn when the textured target has more than this many folded or self-intersecting faces beyond
+  //! the bare target's own (TransferResult::damage).
+  int damage_warning = 0;
   HeatGeodesicOptions geodesic;  //!< geodesic distance on both surfaces
   TextureOptions texture;        //!< decoding the source, encoding the target
   ProgressFn progress;           //!< called after each stage (source disk, target disk, map, encoding)
@@ -154,7 +178,8 @@ struct TransferResult {
   size_t added_vertices = 0;   //!< vertices the refinement added to the target
   double height_factor = 1;    //!< what the source heights were multiplied by (rule × height_scale)
   Eigen::VectorXd falloff;     //!< #V of \ref target: the rim weight (1 inside, 0 at the rim and outside)
-  std::vector<std::string> warnings;  //!< one line each (the target was refined, …)
+  TextureDamage damage;        //!< of the textured target against \ref target's own
+  std::vector<std::string> warnings;  //!< one line each (the target was refined, damage, …)
 };
 
 //! Transfer the texture of a geodesic disk of \p source_base to a geodesic disk of \p target_base
@@ -189,6 +214,7 @@ struct AtlasOptions {
   HeightRule height_rule = HeightRule::PatchRadius;
   double height_scale = 1.0;
   double refine_ratio = 1.0;    //!< refine the target where coarser than this × the scaled source (0: never)
+  int damage_warning = 0;       //!< warn above this many excess folded or self-intersecting faces (AtlasResult::damage)
   HeatGeodesicOptions geodesic;
   TextureOptions texture;
   ProgressFn progress;  //!< called after each disk with the share of the target covered
@@ -205,6 +231,7 @@ struct AtlasResult {
   Eigen::VectorXi owner;           //!< #V: the disk with the largest weight there (−1: none)
   size_t added_vertices = 0;
   double height_factor = 1;
+  TextureDamage damage;            //!< of the textured target against \ref target's own
   std::vector<std::string> warnings;
 };
 

@@ -33,7 +33,10 @@ struct RefineOptions {
 struct RefineResult {
   Mesh mesh;              //!< the refined mesh: the input's vertices first, in order, then the new ones
   size_t added = 0;       //!< vertices added
-  std::vector<char> region;  //!< per vertex of \ref mesh: in the region (new vertices inherit it from both parents)
+  //! Per vertex of \ref mesh: the input's region value; a new vertex takes the smaller of its edge's two
+  //! ends' (with flags 0/1: in the region when both ends are). Non-zero values all count as the region,
+  //! so a caller can mark a sub-region with a larger value and learn which new vertices descend from it.
+  std::vector<char> region;
   bool capped = false;    //!< RefineOptions::max_vertices stopped the refinement (then nothing is faired)
 };
 
