@@ -12,7 +12,8 @@
 //!  4. positions fitted to each reading's face normals (Sun et al. 2007 with tangential relaxation);
 //!  5. the reading per region, not per mesh (issue 24): each vertex takes the fit whose residual against
 //!     the input along the normals, over its neighbourhood, is the smaller, with a threshold set by its
-//!     part's look (creased-looking parts lean to the sharp reading); a soft per-face map
+//!     part's look (creased-looking parts lean to the sharp reading), and the sharp fit wherever a learned
+//!     model (reading_model.h) is sure it is the better one (AutoDenoiseOptions::reading); a soft per-face map
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
 //!  6. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
 //!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
