@@ -80,6 +80,30 @@ def test_default_denoiser_reads_each_part_of_a_mixed_mesh_on_its_own(tmp_path):
         assert np.allclose(report["creased"], c) and abs(report["creased_share"] - r["creased_share"]) < 1e-12
 
 
+def test_every_way_of_reading_is_a_keyword_and_a_flag(tmp_path):
+    # Striped noise on a cube (issue 24): the hand-made rule misreads part of it as smooth, the learned model
+    # (and the default combination) read it creased; Python and the CLI name the same choice.
+    V, F = geotex.generate("cube", level=3)
+    Vn = geotex.add_noise(V, F, sigma=0.3, pattern="striped", axis=(0.3, 0.4, 0.866), seed=7)
+    err = lambda r: geotex.compare(r["V"], F, V, F)["mean_normal_error_deg"]
+    runs = {mode: geotex.denoise(Vn, F, reading=mode) for mode in ("combined", "rule", "learned")}
+    assert runs["combined"]["parameters"]["reading"] == "combined"
+    assert geotex.denoise(Vn, F)["parameters"]["reading"] == "combined"  # the default
+    assert runs["learned"]["creased_share"] > 0.9
+    assert runs["combined"]["creased_share"] > runs["rule"]["creased_share"] + 0.1
+    assert err(runs["combined"]) <= err(runs["rule"])
+    assert any("learned model is sure" in c for c in runs["combined"]["choices"])
+    with pytest.raises(geotex.InvalidInput):
+        geotex.denoise(Vn, F, reading="guess")
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), "--reading", "rule",
+                        "--report", str(tmp_path / "r.json")], check=True)
+        report = json.loads((tmp_path / "r.json").read_text())
+        assert abs(report["creased_share"] - runs["rule"]["creased_share"]) < 1e-12
+
+
 def test_surfel_primal_denoising(noisy_cube):
     V, F, Vn = noisy_cube
     r = geotex.denoise(Vn, F, method="surfel", retrieval="primal")

@@ -17,9 +17,16 @@
 #include "geotex/core/progress.h"
 #include "geotex/denoise/mrf.h"
 #include "geotex/denoise/normal_fit.h"
+#include "geotex/denoise/reading_model.h"
 #include "geotex/denoise/surfel.h"
 
 namespace geotex {
+
+const EnumNames<ReadingRule>& reading_rule_names() {
+  static const EnumNames<ReadingRule> n = {
+      {"combined", ReadingRule::Combined}, {"rule", ReadingRule::Rule}, {"learned", ReadingRule::Learned}};
+  return n;
+}
 
 const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
   using O = AutoDenoiseOptions;
@@ -36,6 +43,10 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("keep_below", &O::keep_below,
            "normal noise (mean edge lengths) at which half of the change is kept; much less noisy inputs stay as they are",
            positive())
+      .choice("reading", &O::reading, reading_rule_names(),
+              "how each region's reading is decided: combined (the hand-made rule, and sharp where the learned model "
+              "is sure), rule (the hand-made threshold alone) or learned (the model alone: trained on synthetic noise "
+              "of generated shapes; bench/denoise.md)")
       .add("label_angle", &O::label_angle_deg,
            "label edges sharper than this after denoising, degrees; auto: 60 (creased regions), 75 (smooth ones)",
            {0, 180, true, false}, "Eq. (6.9)");
@@ -58,106 +69,14 @@ constexpr double kRelaxation = 0.25;  // the fit's tangential relaxation (surfel
 constexpr int kUntangleRounds = 10;
 
 
-// The reading of the surface per region (issue 24). Both readings are fitted, and each vertex takes the
-// one that explains its neighbourhood's data: the sharp reading flattens fine relief and curvature into
-// facets, which leaves a residual above the noise along the normals, and the smooth reading rounds
-// creases, which does the same there. z = log(r_sharp / r_smooth), with r the normal residual of the fit
-// against the input averaged over kResidualRings rings; sharp where z < t. The threshold t comes from the
-// part's look (component_look(), per connected component): kThresholdCreased on a part that looks
-// creased (look <= kRatioCreased), kThresholdSmooth on one that looks organic (>= kRatioSmooth),
-// log-linear between, so flat faces (where both fits have nearly the same residual) go to the sharp
-// reading on CAD parts and facets stay off organic ones. The 0/1 choice is averaged over kReadingRings
-// rings: a soft map, 1 creased. Chosen on synthetic noise (Gaussian 0.1–0.5, along the normals,
-// impulsive) over fandisk, the cube, woody, spot, cheburashka, the teapot, the cow and a fandisk+spot
-// mesh (bench/denoise.md); the shared noisy pairs are the test, not the tuning set.
-constexpr int kResidualRings = 5, kReadingRings = 3, kMinComponent = 100;
-constexpr double kRatioCreased = 0.55, kRatioSmooth = 0.70, kThresholdCreased = 0.3, kThresholdSmooth = -0.5;
-
-
-// Average a per-vertex quantity with its neighbours', \p rounds times (Jacobi).
-Eigen::VectorXd ring_average(const Neighborhoods& N, Eigen::VectorXd x, int rounds) {
-  for (int round = 0; round < rounds; ++round) {
-    Eigen::VectorXd next(x.size());
-#pragma omp parallel for schedule(static)
-    for (Eigen::Index v = 0; v < x.size(); ++v) {
-      double sum = x[v];
-      for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) sum += x[N.indices[k]];
-      next[v] = sum / (1 + N.offsets[v + 1] - N.offsets[v]);
-    }
-    x.swap(next);
-  }
-  return x;
-}
-
-// A part's look, from the two fits' vertex normals across the mesh edges: how much of the angle between
-// neighbouring normals the sharp fit keeps, sqrt((q50_sharp / q50_smooth) (q75_sharp / q75_smooth)). On a
-// CAD part the sharp fit flattens the faces between creases (most angles near 0: 0.21–0.53 on fandisk, the
-// cube and woody at σ 0.1–0.5); on an organic one it turns curvature into facets of a few edges, whose
-// angles stay (0.73–1.1 on spot, cheburashka, the teapot and the cow). Components under kMinComponent
-// vertices take the whole mesh's. \return one value per vertex.
-Eigen::VectorXd component_look(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& Ns, const MatrixX3d& Nm) {
-  const Eigen::Index n = N.size();
-  int n_components = 0;
-  const Eigen::VectorXi comp = connected_components(mesh, &n_components);
-  std::vector<std::vector<int>> members(n_components);
-  for (Eigen::Index v = 0; v < n; ++v) members[comp[v]].push_back(static_cast<int>(v));
-  const auto angle = [](const MatrixX3d& Nv, int i, int j) {
-    const Vec3 p = Nv.row(i), q = Nv.row(j);
-    return std::atan2(p.cross(q).norm(), p.dot(q));
-  };
-  auto look = [&](const std::vector<int>& vs) {
-    std::vector<double> as, am;
-    for (int i : vs)
-      for (int k = N.offsets[i]; k < N.offsets[i + 1]; ++k)
-        if (const int j = N.indices[k]; j > i) as.push_back(angle(Ns, i, j)), am.push_back(angle(Nm, i, j));
-    if (am.empty()) return 1.0;
-    auto q = [](std::vector<double>& a, double p) {
-      const auto it = a.begin() + static_cast<std::ptrdiff_t>(p * double(a.size() - 1));
-      std::nth_element(a.begin(), it, a.end());
-      return *it;
-    };
-    const double m50 = q(am, 0.5), m75 = q(am, 0.75), s50 = q(as, 0.5), s75 = q(as, 0.75);
-    if (!(m50 > 0 && m75 > 0)) return 0.0;  // the smooth fit is flat: so is the part
-    return std::sqrt((s50 / m50) * (s75 / m75));
-  };
-  std::vector<int> all(n);
-  for (Eigen::Index v = 0; v < n; ++v) all[v] = static_cast<int>(v);
-  const double whole = look(all);
-  Eigen::VectorXd ratio(n);
-  for (const auto& m : members) {
-    const double r = m.size() >= kMinComponent ? look(m) : whole;
-    for (int v : m) ratio[v] = r;
-  }
-  return ratio;
-}
-
-Eigen::VectorXd creased_reading(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X, const MatrixX3d& Xs,
-                                const MatrixX3d& Xm, std::pair<double, double>* look_range = nullptr) {
-  const Eigen::Index n = X.rows();
-  Mesh fit = mesh;
-  set_positions(fit, Xs);
-  const MatrixX3d Ns = vertex_normals(fit);
-  set_positions(fit, Xm);
-  const MatrixX3d Nv = vertex_normals(fit);
-  Eigen::VectorXd rs(n), rm(n);
-  for (Eigen::Index v = 0; v < n; ++v) {
-    rs[v] = std::pow(Nv.row(v).dot(Xs.row(v) - X.row(v)), 2);
-    rm[v] = std::pow(Nv.row(v).dot(Xm.row(v) - X.row(v)), 2);
-  }
-  rs = ring_average(N, rs, kResidualRings);
-  rm = ring_average(N, rm, kResidualRings);
-  const double eps = 1e-12 * (rm.mean() + rs.mean()) + std::numeric_limits<double>::min();
-  const Eigen::VectorXd ratio = component_look(mesh, N, Ns, Nv);
-  Eigen::VectorXd sharp_here(n);
-  for (Eigen::Index v = 0; v < n; ++v) {
-    const double u = std::clamp(std::log(std::max(ratio[v], 1e-9) / kRatioCreased) / std::log(kRatioSmooth / kRatioCreased),
-                                0.0, 1.0);
-    const double t = kThresholdCreased + u * (kThresholdSmooth - kThresholdCreased);
-    sharp_here[v] = std::log((rs[v] + eps) / (rm[v] + eps)) < t ? 1.0 : 0.0;
-  }
-  if (look_range) *look_range = {ratio.minCoeff(), ratio.maxCoeff()};
-  return ring_average(N, sharp_here, kReadingRings);
-}
+// The reading of the surface per region (issue 24): both readings are fitted, and each vertex takes the
+// one the learned reading (reading_model.h) says is nearer the truth, or by the previous release's rule
+// (AutoDenoiseOptions::reading); the 0/1 choice is averaged over kReadingRings rings: a soft map, 1 creased.
+constexpr int kReadingRings = 3;
+// ReadingRule::Combined: the learned model overrides the rule where it is this sure the sharp fit is better
+// (0.9 and 0.97 measured on the shared clean models: mean ratio to the better forced reading 1.010 and
+// 1.037, the rule alone 1.043; bench/denoise.md).
+constexpr double kConfident = 0.9;
 
 // A target normal that points away from the input's own normals around the face (the area-weighted mean
 // over the faces sharing a vertex with it: a surfel turned over on a thin part, whose one-ring reaches the
@@ -251,9 +170,48 @@ int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d
   return bad;
 }
 
+// Per vertex: 1 where the sharp fit's faces around it are nearer the truth's normals than the smooth fit's,
+// weighted by the difference (degrees, at most 20: a choice that matters more is learned first).
+ReadingSamples reading_samples_from(const Mesh& mesh, const Eigen::MatrixXd& features, const MatrixX3d& Xs,
+                                    const MatrixX3d& Xm, const MatrixX3d& truth) {
+  const MatrixX3i F = faces(mesh);
+  auto normals = [&](const MatrixX3d& P) {
+    MatrixX3d Nf(F.rows(), 3);
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      const Vec3 a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
+      const Vec3 n = (b - a).cross(c - a);
+      Nf.row(f) = (n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero()).transpose();
+    }
+    return Nf;
+  };
+  const MatrixX3d Nt = normals(truth), Ns = normals(Xs), Nm = normals(Xm);
+  const Eigen::Index n = features.rows();
+  Eigen::VectorXd es = Eigen::VectorXd::Zero(n), em = Eigen::VectorXd::Zero(n), count = Eigen::VectorXd::Zero(n);
+  auto angle = [](const Vec3& p, const Vec3& q) { return std::atan2(p.cross(q).norm(), p.dot(q)) * 180 / M_PI; };
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Vec3 t = Nt.row(f);
+    const double a = angle(Ns.row(f), t), b = angle(Nm.row(f), t);
+    for (int k = 0; k < 3; ++k) es[F(f, k)] += a, em[F(f, k)] += b, count[F(f, k)] += 1;
+  }
+  ReadingSamples s;
+  s.features = features;
+  s.sharp_better.resize(n);
+  s.weight.resize(n);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const double d = count[v] > 0 ? (em[v] - es[v]) / count[v] : 0;
+    s.sharp_better[v] = d > 0 ? 1.0 : 0.0;
+    s.weight[v] = std::min(std::abs(d), 20.0);
+  }
+  return s;
+}
+
 }  // namespace
 
-AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& options) {
+namespace {
+
+// auto_denoise(); with \p truth (the clean positions), stops after the two fits and fills \p samples instead.
+AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& options, const MatrixX3d* truth,
+                                    ReadingSamples* samples) {
   AutoDenoiseOptions::table().check(options);
   require_valid(mesh, "denoise input");
   AutoDenoiseResult r;
@@ -353,10 +311,30 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   }
   stage("vertex fit");
 
-  // 5. The reading, per region (creased_reading()); --creased / --no-creased force one everywhere.
+  // 5. The reading, per region (reading_model.h); --creased / --no-creased force one everywhere.
   std::pair<double, double> look{0, 0};
-  const Eigen::VectorXd cv = o.creased ? Eigen::VectorXd::Constant(N.size(), *o.creased ? 1.0 : 0.0)
-                                       : creased_reading(mesh, N, X, Xs, Xm, &look);
+  Eigen::VectorXd cv;
+  if (o.creased) {
+    cv = Eigen::VectorXd::Constant(N.size(), *o.creased ? 1.0 : 0.0);
+  } else {
+    const Eigen::MatrixXd features = reading_features(mesh, N, X, Xs, Xm, normal_noise);
+    if (truth) {
+      *samples = reading_samples_from(mesh, features, Xs, Xm, *truth);
+      return r;
+    }
+    look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
+    // The rule's reading, the learned model's (p > 1/2), or the rule's where the model is not confident
+    // (p <= kConfident) and sharp where it is.
+    const Eigen::VectorXd rule = rule_reading(features);
+    Eigen::VectorXd sharp_here = rule;
+    if (o.reading != ReadingRule::Rule) {
+      const Eigen::VectorXd p = default_reading_model().probability(features);
+      for (Eigen::Index v = 0; v < p.size(); ++v)
+        sharp_here[v] = o.reading == ReadingRule::Learned ? (p[v] > 0.5 ? 1.0 : 0.0)
+                                                          : (p[v] > kConfident ? 1.0 : rule[v]);
+    }
+    cv = ring_average(N, sharp_here, kReadingRings);
+  }
   r.creased.resize(F.rows());
   for (Eigen::Index f = 0; f < F.rows(); ++f) r.creased[f] = (cv[F(f, 0)] + cv[F(f, 1)] + cv[F(f, 2)]) / 3;
   if (!want_mild) r.positions = Xs;
@@ -386,9 +364,12 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
                                       "{:.0f}% in transitions",
                                       100 * r.creased_share, 100 * (1 - r.creased_share), 100 * blend_area / total));
     if (!o.creased)
-      r.choices.push_back(fmt::format("look (the share of the neighbour-normal angles the sharp fit keeps; CAD-like "
-                                      "below {:.2f}, organic above {:.2f}): {:.3f}{}",
-                                      kRatioCreased, kRatioSmooth, look.first,
+      r.choices.push_back(fmt::format("reading: {}; look (the share of the neighbour-normal angles the sharp fit "
+                                      "keeps; CAD-like near 0.2-0.5, organic near 0.7-1.1): {:.3f}{}",
+                                      o.reading == ReadingRule::Rule      ? "the hand-made rule"
+                                      : o.reading == ReadingRule::Learned ? "learned"
+                                                                          : "the hand-made rule, sharp where the learned model is sure",
+                                      look.first,
                                       look.second > look.first ? fmt::format(" to {:.3f} over the parts", look.second) : ""));
   }
   if (want_sharp && r.creased_share > 0)
@@ -433,6 +414,23 @@ AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& optio
   stage("labels");
   report(o.progress, 1.0, "auto");
   return r;
+}
+
+}  // namespace
+
+AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& options) {
+  return denoise_or_sample(mesh, options, nullptr, nullptr);
+}
+
+ReadingSamples reading_samples(const Mesh& noisy, const MatrixX3d& clean, const AutoDenoiseOptions& options) {
+  if (clean.rows() != static_cast<Eigen::Index>(noisy.n_vertices()))
+    throw InvalidInput(fmt::format("reading samples: {} clean positions for {} vertices", clean.rows(), noisy.n_vertices()));
+  AutoDenoiseOptions o = options;
+  o.creased.reset();
+  ReadingSamples s;
+  denoise_or_sample(noisy, o, &clean, &s);
+  if (s.features.rows() == 0) throw InvalidInput("reading samples: no noise found (the readings are not fitted)");
+  return s;
 }
 
 }  // namespace geotex

@@ -12,7 +12,8 @@
 //!  4. positions fitted to each reading's face normals (Sun et al. 2007 with tangential relaxation);
 //!  5. the reading per region, not per mesh (issue 24): each vertex takes the fit whose residual against
 //!     the input along the normals, over its neighbourhood, is the smaller, with a threshold set by its
-//!     part's look (creased-looking parts lean to the sharp reading); a soft per-face map
+//!     part's look (creased-looking parts lean to the sharp reading), and the sharp fit wherever a learned
+//!     model (reading_model.h) is sure it is the better one (AutoDenoiseOptions::reading); a soft per-face map
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
 //!  6. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
 //!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
@@ -63,6 +64,16 @@ struct NoiseEstimate {
 //! \throw InvalidInput for an empty mesh or one without interior vertices of large enough two-rings.
 NoiseEstimate estimate_noise(const Mesh& mesh, int max_samples = 20000);
 
+//! How each region's reading (creased or smooth) is decided (step 5).
+enum class ReadingRule {
+  //! rule_reading(), and sharp wherever the learned model (reading_model.h) gives p > 0.9 (default)
+  Combined,
+  Rule,     //!< the previous release's hand-made threshold alone (rule_reading())
+  Learned,  //!< the learned model alone (sharp where p > 1/2)
+};
+//! "combined", "rule", "learned".
+const EnumNames<ReadingRule>& reading_rule_names();
+
 //! Options of auto_denoise(). Unset ("auto") values are derived from the input.
 struct AutoDenoiseOptions {
   //! The noise level, as `geotex noise --sigma` (isotropic, mean edge lengths); auto: estimate_noise().
@@ -79,6 +90,7 @@ struct AutoDenoiseOptions {
   //! Label edges whose dihedral angle after denoising exceeds this (degrees, Eq. 6.9's φ0 of a final edge
   //! process); auto: 60° on creased surfaces, 75° on smooth ones.
   std::optional<double> label_angle_deg;
+  ReadingRule reading = ReadingRule::Combined;  //!< how each region's reading is decided (step 5)
   ProgressFn progress;          //!< optional progress callback
   static const OptionTable<AutoDenoiseOptions>& table();
 };
@@ -101,5 +113,12 @@ struct AutoDenoiseResult {
 //! Denoise \p mesh with the default pipeline (see the file's comment).
 //! \throw InvalidInput for an invalid mesh, InvalidOption for options out of range.
 AutoDenoiseResult auto_denoise(const Mesh& mesh, const AutoDenoiseOptions& options = {});
+
+struct ReadingSamples;
+//! The training samples of the learned reading (reading_model.h) from one noisy mesh and its truth \p clean
+//! (#V by 3, the same connectivity): both readings fitted as auto_denoise() does (AutoDenoiseOptions::creased
+//! ignored), the features of every vertex, and which fit's faces around it are nearer the truth's normals.
+//! \throw InvalidInput when \p clean does not match, or the mesh is too small or noiseless (no readings fitted).
+ReadingSamples reading_samples(const Mesh& noisy, const MatrixX3d& clean, const AutoDenoiseOptions& options = {});
 
 }  // namespace geotex
