@@ -40,6 +40,12 @@ struct Stick {
     adf = feature_map(shape.textured, o);
   }
 };
+FeatureMapOptions binary_auto() {
+  FeatureMapOptions o;
+  o.method = FeatureMapMethod::Auto;
+  return o;
+}
+
 const Stick& stick() {
   static const Stick s;
   return s;
@@ -56,7 +62,7 @@ TEST(FeatureMap, AdfFindsTheWholeTentaclesOfTheStick) {
   EXPECT_EQ(s.adf.summary.regions, 9);
   EXPECT_TRUE(s.adf.summary.warning.empty()) << s.adf.summary.warning;
   // Auto is the ADF map wherever the ADF finds protrusions.
-  EXPECT_EQ(feature_map(s.shape.textured).method, FeatureMapMethod::Adf);
+  EXPECT_EQ(feature_map(s.shape.textured, binary_auto()).method, FeatureMapMethod::Adf);
 }
 
 TEST(FeatureMap, AdfFromASimplificationFindsTheSameTentacles) {
@@ -78,7 +84,7 @@ TEST(FeatureMap, AdfFromASimplificationFindsTheSameTentacles) {
 
 TEST(FeatureMap, AutoFallsBackToHeightOnAPlateAndFindsTheBumpsAndTheRidge) {
   const BumpyPlate b = ridge_plate(60);
-  const FeatureMap fm = feature_map(b.mesh);
+  const FeatureMap fm = feature_map(b.mesh, binary_auto());
   EXPECT_EQ(fm.method, FeatureMapMethod::Height);  // the ADF peaks at the plate's border, not on the bumps
   const double score = iou(fm.weights, b.truth);
   std::printf("  ridge plate, auto: IoU %.3f with the true footprints, %s\n", score, fm.summary.describe().c_str());
@@ -202,7 +208,7 @@ TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {
 TEST(FeatureMap, RealModelKeepsItsFeaturesAndItsBox) {
   GEOTEX_REQUIRE_DATA();
   const Mesh m = read_mesh(geotex::test::data_dir() / "spot.obj");
-  const FeatureMap fm = feature_map(m);
+  const FeatureMap fm = feature_map(m, binary_auto());
   EXPECT_GT(fm.summary.marked_fraction, 0.01);
   EXPECT_LT(fm.summary.marked_fraction, 0.5);
   const MatrixX3d X = positions(m);
