@@ -946,7 +946,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     for (int k : bad)
       for (int j = 0; j < 3; ++j)
         if (!relaxed[F(k, j)]) relaxed[F(k, j)] = 1, front.push_back(F(k, j));
-    for (int r = 0; r < o.flip_rings + round; ++r) {
+    for (int r = 0; r < o.flip_rings + 2 * round; ++r) {  // wider each round
       std::vector<int> next;
       for (int v : front)
         for (auto u : mesh.vv_range(mesh.vertex_handle(v)))

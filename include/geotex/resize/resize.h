@@ -137,8 +137,8 @@ struct ResizeOptions {
   //! detail may grow uniformly rather than stretch); false: fixed by keep_feature_size.
   bool adapt_scale = true;
   //! Similarity: rounds that relax faces turned over against the plain map (and \ref flip_rings rings
-  //! around them, one more each round) to the map, and solve again.
-  int flip_rounds = 4;
+  //! around them, two more each round) to the map, and solve again.
+  int flip_rounds = 8;
   int flip_rings = 2;
   LaplacianType laplacian = LaplacianType::Umbrella;  //!< Eq. (9.1) uses the umbrella operator
   ProgressFn progress;
