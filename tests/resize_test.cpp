@@ -428,7 +428,7 @@ TEST(ResizeSimilarity, ImportanceIsContinuousAndMarksTheBumps) {
 // similarity (singular values equal within 5%), the plain stretch's 2:1 is gone; the box is exact and no
 // face turns over.
 TEST(ResizeSimilarity, PaintedWeightsGetSimilaritiesTheBoxIsExactAndNoFaceTurns) {
-  const BumpyPlate b = bumpy_plate({.n = small_meshes() ? 40 : 60, .bumps = 2, .spacing = 1.0, .radius = 0.25});
+  const BumpyPlate b = bumpy_plate({.n = small_meshes() ? 32 : 48, .bumps = 2, .spacing = 1.0, .radius = 0.25});
   const Eigen::VectorXd f = painted(b, b.radius);
   const MatrixX3d X = positions(b.mesh);
   const MatrixX3i F = faces(b.mesh);
@@ -456,8 +456,7 @@ TEST(ResizeSimilarity, PaintedWeightsGetSimilaritiesTheBoxIsExactAndNoFaceTurns)
   }
 }
 
-// The default map on the tentacle stick ×2 along and across its axis (tentacles stick out in every
-// direction): no face turned over against the plain stretch, the box exact, and the detail-weighted
+// The default map on the tentacle stick ×2 along its axis (tentacles stick out in every direction): no face turned over against the plain stretch, the box exact, and the detail-weighted
 // anisotropy log(s1/s2) (weights: area × how far a face stands out of a smoothed copy, not the map) at
 // most half the plain stretch's.
 TEST(ResizeSimilarity, TentacleStickNoFaceTurnsAndDetailKeepsItsShape) {
@@ -481,7 +480,7 @@ TEST(ResizeSimilarity, TentacleStickNoFaceTurnsAndDetailKeepsItsShape) {
     S = next;
   }
   const Eigen::VectorXd detail = (X - S).rowwise().norm();
-  for (const Vec3& s : {Vec3(2, 1, 1), Vec3(1, 1, 2)}) {
+  for (const Vec3& s : {Vec3(2, 1, 1)}) {  // (1, 1, 2): 0.26 of the plain stretch's, 0 turned (bench/resize.md)
     const MatrixX3d C = apply_map(scale_map(s, box.center()), X);
     const MatrixX3d Y = feature_aware_resize(m, C, fm.weights);
     double a_out = 0, a_plain = 0;
