@@ -204,6 +204,18 @@ TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {
   }
   std::printf("  stick x2 + arc, defaults (importance, similarity): worst length change %.1f%%, angle change %.1f deg\n",
               100 * length_d, angle_d);
+  {  // ×2 along the axis without the arc, the defaults
+    const MatrixX3d C2 = apply_space_map(scale_map({2, 1, 1}, bounding_box(m).center()), X);
+    const MatrixX3d Y2 = feature_aware_resize(m, C2, feature_map(m).weights);
+    double l2 = 0, a2 = 0;
+    for (const Tentacle& t : s.info) {
+      const Eigen::VectorXd foot = tentacle_truth(s.shape.base, {t}, TentacleOptions{}.radius);
+      const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), d = measure_protrusion(m, Y2, t.foot, foot);
+      l2 = std::max(l2, std::abs(d.length / a.length - 1));
+      a2 = std::max(a2, std::abs(d.angle_deg - a.angle_deg));
+    }
+    std::printf("  stick x2, defaults: worst length change %.1f%%, angle change %.1f deg\n", 100 * l2, a2);
+  }
   std::printf("  stick x2 + arc: worst length change %.1f%%, worst angle change %.1f deg (plain map %.1f deg)\n",
               100 * length, angle, plain_angle);
   EXPECT_LT(length, 0.05);
