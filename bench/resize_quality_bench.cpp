@@ -43,6 +43,7 @@ void BM_Stick(benchmark::State& state) {
   so.arc_radius = 6;
   const MatrixX3d C = apply_space_map(space_map(so, bounding_box(m)), X);
   ResizeOptions o;
+  o.method = ResizeMethod::Sliding;  // the binary maps' method (the default, similarity, is for continuous maps)
   if (state.range(2) == 1 || state.range(2) == 2) ResizeOptions::table().apply_preset(o, "thesis");
   if (state.range(2) == 2) o.keep_feature_size = true;
   Eigen::VectorXd f;
@@ -89,11 +90,14 @@ void BM_Model(benchmark::State& state) {
   const BoundingBox box = bounding_box(m);
   const MatrixX3d C = apply_space_map(scale_map({2, 1, 1}, box.center()), X);
   ResizeOptions o;
+  o.method = ResizeMethod::Sliding;  // with the binary map "auto", as measured for issue 18
   if (state.range(1) == 1) ResizeOptions::table().apply_preset(o, "thesis");
+  FeatureMapOptions binary;
+  binary.method = FeatureMapMethod::Auto;
   FeatureMap fm;
   MatrixX3d Y;
   for (auto _ : state) {
-    fm = feature_map(m);
+    fm = feature_map(m, binary);
     Y = feature_aware_resize(m, C, fm.weights, o);
   }
   const Vec3 ratio = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose().cwiseQuotient(box.size());

@@ -40,6 +40,12 @@ struct Stick {
     adf = feature_map(shape.textured, o);
   }
 };
+FeatureMapOptions binary_auto() {
+  FeatureMapOptions o;
+  o.method = FeatureMapMethod::Auto;
+  return o;
+}
+
 const Stick& stick() {
   static const Stick s;
   return s;
@@ -56,7 +62,7 @@ TEST(FeatureMap, AdfFindsTheWholeTentaclesOfTheStick) {
   EXPECT_EQ(s.adf.summary.regions, 9);
   EXPECT_TRUE(s.adf.summary.warning.empty()) << s.adf.summary.warning;
   // Auto is the ADF map wherever the ADF finds protrusions.
-  EXPECT_EQ(feature_map(s.shape.textured).method, FeatureMapMethod::Adf);
+  EXPECT_EQ(feature_map(s.shape.textured, binary_auto()).method, FeatureMapMethod::Adf);
 }
 
 TEST(FeatureMap, AdfFromASimplificationFindsTheSameTentacles) {
@@ -78,7 +84,7 @@ TEST(FeatureMap, AdfFromASimplificationFindsTheSameTentacles) {
 
 TEST(FeatureMap, AutoFallsBackToHeightOnAPlateAndFindsTheBumpsAndTheRidge) {
   const BumpyPlate b = ridge_plate(60);
-  const FeatureMap fm = feature_map(b.mesh);
+  const FeatureMap fm = feature_map(b.mesh, binary_auto());
   EXPECT_EQ(fm.method, FeatureMapMethod::Height);  // the ADF peaks at the plate's border, not on the bumps
   const double score = iou(fm.weights, b.truth);
   std::printf("  ridge plate, auto: IoU %.3f with the true footprints, %s\n", score, fm.summary.describe().c_str());
@@ -181,14 +187,34 @@ TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {
   so.scale = Vec3(2, 1, 1);
   so.arc_radius = 6;
   const MatrixX3d C = apply_space_map(space_map(so, bounding_box(m)), X);
-  const MatrixX3d Y = feature_aware_resize(m, C, s.adf.weights);
-  double length = 0, angle = 0, plain_angle = 0;
+  ResizeOptions sliding;  // the binary map's method
+  sliding.method = ResizeMethod::Sliding;
+  const MatrixX3d Y = feature_aware_resize(m, C, s.adf.weights, sliding);
+  const MatrixX3d Yd = feature_aware_resize(m, C, feature_map(m).weights);  // the defaults: importance, similarity
+  double length = 0, angle = 0, plain_angle = 0, length_d = 0, angle_d = 0;
   for (const Tentacle& t : s.info) {
     const Eigen::VectorXd foot = tentacle_truth(s.shape.base, {t}, TentacleOptions{}.radius);
     const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
+    const ProtrusionPose d = measure_protrusion(m, Yd, t.foot, foot);
     length = std::max(length, std::abs(b.length / a.length - 1));
     angle = std::max(angle, std::abs(b.angle_deg - a.angle_deg));
+    length_d = std::max(length_d, std::abs(d.length / a.length - 1));
+    angle_d = std::max(angle_d, std::abs(d.angle_deg - a.angle_deg));
     plain_angle = std::max(plain_angle, std::abs(measure_protrusion(m, C, t.foot, foot).angle_deg - a.angle_deg));
+  }
+  std::printf("  stick x2 + arc, defaults (importance, similarity): worst length change %.1f%%, angle change %.1f deg\n",
+              100 * length_d, angle_d);
+  {  // ×2 along the axis without the arc, the defaults
+    const MatrixX3d C2 = apply_space_map(scale_map({2, 1, 1}, bounding_box(m).center()), X);
+    const MatrixX3d Y2 = feature_aware_resize(m, C2, feature_map(m).weights);
+    double l2 = 0, a2 = 0;
+    for (const Tentacle& t : s.info) {
+      const Eigen::VectorXd foot = tentacle_truth(s.shape.base, {t}, TentacleOptions{}.radius);
+      const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), d = measure_protrusion(m, Y2, t.foot, foot);
+      l2 = std::max(l2, std::abs(d.length / a.length - 1));
+      a2 = std::max(a2, std::abs(d.angle_deg - a.angle_deg));
+    }
+    std::printf("  stick x2, defaults: worst length change %.1f%%, angle change %.1f deg\n", 100 * l2, a2);
   }
   std::printf("  stick x2 + arc: worst length change %.1f%%, worst angle change %.1f deg (plain map %.1f deg)\n",
               100 * length, angle, plain_angle);
@@ -202,12 +228,14 @@ TEST(FeatureMap, TentaclesKeepLengthAndAngleOnTheStretchedArc) {
 TEST(FeatureMap, RealModelKeepsItsFeaturesAndItsBox) {
   GEOTEX_REQUIRE_DATA();
   const Mesh m = read_mesh(geotex::test::data_dir() / "spot.obj");
-  const FeatureMap fm = feature_map(m);
+  const FeatureMap fm = feature_map(m, binary_auto());
   EXPECT_GT(fm.summary.marked_fraction, 0.01);
   EXPECT_LT(fm.summary.marked_fraction, 0.5);
   const MatrixX3d X = positions(m);
   const BoundingBox box = bounding_box(m);
-  const MatrixX3d Y = feature_aware_resize(m, scale_map({2, 1, 1}, box.center()), fm.weights);
+  ResizeOptions sliding;  // the binary map's method
+  sliding.method = ResizeMethod::Sliding;
+  const MatrixX3d Y = feature_aware_resize(m, scale_map({2, 1, 1}, box.center()), fm.weights, sliding);
   const Vec3 ratio = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose().cwiseQuotient(box.size());
   EXPECT_NEAR(ratio.x(), 2.0, 0.02);
   EXPECT_NEAR(ratio.y(), 1.0, 0.01);

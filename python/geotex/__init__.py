@@ -540,12 +540,13 @@ def write_texture(path: Union[str, os.PathLike], texture: TextureLike, binary: b
 
 
 @with_options("ResizeRunOptions")
-def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any = "auto",
+def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any = "importance",
            **options: Any) -> np.ndarray:
     """Feature-aware resizing and deformation (ch. 9; `geotex resize`, the same library call).
     The deformation: scale=(sx, sy, sz), twist, bend, arc_radius (about the bounding box's centre), or
-    deformed=#V×3 positions from any other deformation (e.g. deform()). features: a map name ('auto',
-    'height', 'adf', 'none'; the same feature_map() as the command line), #V weights in [0, 1], or a
+    deformed=#V×3 positions from any other deformation (e.g. deform()). features: a map name
+    ('importance', the continuous default; 'auto', 'height', 'adf', binary; 'none'; the same
+    feature_map() as the command line), #V weights in [0, 1] (binary or continuous, e.g. painted), or a
     feature file (text, or PLY with vertex 'feature' or 'height'). A UserWarning says when the map marks
     more than half or less than 0.5% of the surface. Returns the resized #V×3 positions."""
     V, F = _arrays(mesh, F)
@@ -562,7 +563,8 @@ def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any
 @with_options("FeatureMapOptions")
 def feature_map(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
     """The feature map of resizing (Sec. 9.4; what `geotex resize --features` and resize() use).
-    Returns a Result: weights (#V in {0, 1}), field (the height or ADF it was grown on), detector
+    Returns a Result: weights (#V in [0, 1] for 'importance', the default; in {0, 1} for the binary
+    maps), field (the raw importance, or the height or ADF a binary map was grown on), detector
     (the one used; for 'auto', the one chosen), marked_fraction, marked_vertices, regions, warning
     (also raised as a UserWarning), parameters."""
     return Result(**_geotex.feature_map(*_arrays(mesh, F), options))

@@ -26,17 +26,20 @@ def test_signature_comes_from_the_tables():
     for name in ("scale", "twist", "arc_radius", "features", "adf_t", "significance", "height_threshold",
                  "height_dilate", "method", "position_weight", "transition", "preset", "progress", "threads"):
         assert name in params, name
-    assert params["scale"].default == (1.0, 1.0, 1.0) and params["features"].default == "auto"
+    assert params["scale"].default == (1.0, 1.0, 1.0) and params["features"].default == "importance"
     assert "features" in inspect.signature(geotex.feature_map).parameters
 
 
 def test_auto_is_the_feature_map_of_the_library(plate):
     V, F = plate
-    fm = geotex.feature_map(V, F)  # features="auto"
-    assert fm.detector in ("adf", "height") and fm.weights.shape == (len(V),)
+    fm = geotex.feature_map(V, F)  # features="importance"
+    assert fm.detector == "importance" and fm.weights.shape == (len(V),)
     assert 0.005 < fm.marked_fraction < 0.5 and fm.warning == ""
-    assert fm.parameters["features"] == "auto"
-    # resize(features="auto") uses exactly that map: giving its weights gives the same result.
+    assert fm.parameters["features"] == "importance"
+    assert fm.weights.min() >= 0 and fm.weights.max() <= 1
+    assert ((fm.weights > 0.05) & (fm.weights < 0.95)).any()  # continuous, not yes/no
+    assert geotex.feature_map(V, F, features="auto").detector in ("adf", "height")  # the binary map by name
+    # resize(features="importance") uses exactly that map: giving its weights gives the same result.
     a = geotex.resize(V, F, scale=(2, 1, 1))
     b = geotex.resize(V, F, scale=(2, 1, 1), features=fm.weights)
     assert np.array_equal(a, b)
@@ -59,6 +62,25 @@ def test_user_weights_and_feature_files(plate, tmp_path):
         geotex.resize(V, F, scale=(2, 1, 1), features=np.full(len(V), 2.0))  # outside [0, 1]
     with pytest.raises(geotex.IoError):
         geotex.resize(V, F, scale=(2, 1, 1), features=tmp_path / "missing.txt")
+
+
+def test_painted_weights_are_honoured(plate, tmp_path):
+    V, F = plate
+    # A painted map: 1 in a disc about the plate's centre, smoothly 0 at twice its radius.
+    r = np.linalg.norm(V[:, :2] - (V.min(0) + V.max(0))[:2] / 2, axis=1)
+    t = np.clip((0.5 - r) / 0.25, 0, 1)
+    paint = t * t * (3 - 2 * t)
+    path = tmp_path / "paint.txt"
+    path.write_text("".join(f"{x!r}\n" for x in paint))
+    a = geotex.resize(V, F, scale=(2, 1, 1), features=paint)
+    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=path), a)
+    assert not np.array_equal(geotex.resize(V, F, scale=(2, 1, 1)), a)
+    # Inside the painted core the stretch is gone: the core keeps its proportions (it may grow uniformly).
+    core = r < 0.2
+    aspect = lambda P: np.ptp(P[core, 0]) / np.ptp(P[core, 1])
+    assert abs(aspect(a) / aspect(V) - 1) < 0.05, aspect(a) / aspect(V)
+    ext = np.ptp(a, axis=0) / np.ptp(V, axis=0)
+    assert ext[0] == pytest.approx(2, abs=1e-9) and ext[1] == pytest.approx(1, abs=1e-9)
 
 
 def test_none_features_scale_the_box_exactly(plate):
@@ -126,10 +148,16 @@ def test_cli_and_python_give_the_same_result(tmp_path):
     mesh, out = tmp_path / "plate.ply", tmp_path / "out.ply"
     subprocess.run([cli, "generate", "bumpy-plate", "--level", "0", "-o", str(mesh)], check=True, capture_output=True)
     r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "2,1,1.5", "--features", "auto",
-                        "--transition", "0.2"], capture_output=True, text=True)
+                        "--transition", "0.2", "--method", "sliding"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert "of the surface" in r.stderr  # the marked fraction is printed
     V, F = geotex.read_mesh(mesh)
-    expected = geotex.resize(V, F, scale=(2, 1, 1.5), features="auto", transition=0.2)
+    expected = geotex.resize(V, F, scale=(2, 1, 1.5), features="auto", transition=0.2, method="sliding")
+    got, _ = geotex.read_mesh(out)
+    assert np.abs(got - expected).max() < 1e-9
+    # And the default (importance map, similarity method).
+    r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "2,1,1.5"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    expected = geotex.resize(V, F, scale=(2, 1, 1.5))
     got, _ = geotex.read_mesh(out)
     assert np.abs(got - expected).max() < 1e-9

@@ -17,7 +17,8 @@
 namespace geotex {
 
 const EnumNames<FeatureMapMethod>& feature_map_names() {
-  static const EnumNames<FeatureMapMethod> names = {{"auto", FeatureMapMethod::Auto},
+  static const EnumNames<FeatureMapMethod> names = {{"importance", FeatureMapMethod::Importance},
+                                                     {"auto", FeatureMapMethod::Auto},
                                                      {"height", FeatureMapMethod::Height},
                                                      {"adf", FeatureMapMethod::Adf},
                                                      {"none", FeatureMapMethod::None}};
@@ -28,8 +29,23 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
   using O = FeatureMapOptions;
   static const auto t = OptionTable<O>()
       .choice("features", &O::method, feature_map_names(),
-              "feature map: auto (adf, or height where the ADF finds no protrusion), height (over a smoothed base), "
-              "adf (auto diffusion function), none", "Sec. 9.4")
+              "feature map: importance (continuous weights from relief, its variation and protrusions, default), "
+              "auto (binary: adf, or height where the ADF finds no protrusion), height (binary, over a smoothed "
+              "base), adf (binary, auto diffusion function), none", "Sec. 9.4")
+      .add("detail_scale", &O::detail_scale,
+           "importance: middle smoothing scale of the relief in mean edge lengths (scales s/2, s, 2s)", between(0.1, 1000))
+      .add("importance_low", &O::importance_low,
+           "importance: raw value (about 1 at the 90th percentile) below which a vertex has weight 0", non_negative())
+      .add("importance_high", &O::importance_high, "importance: raw value above which a vertex has weight 1",
+           positive())
+      .add("variation_share", &O::variation_share,
+           "importance: share of the raw value from the relief's variation (0 on flat, round or cylindrical areas)",
+           between(0, 1))
+      .add("importance_smoothing", &O::importance_smoothing,
+           "importance: Laplacian diffusion steps that smooth the map (no crease at a region's rim)", between(0, 10000))
+      .add("protrusions", &O::protrusions, "importance: protrusions (significant height basins) get weight 1")
+      .add("importance_adf", &O::importance_adf,
+           "importance: find the protrusions with the ADF instead of the height (slower)")
       .add("smoothing_scale", &O::smoothing_scale,
            "height: smoothing time of the base is (s R)^2, R the radius of a sphere of the same area", positive())
       .add("adf_t", &O::adf_t, "adf: diffusion time in units of 1/lambda_1", positive(), "Sec. 9.4 (Gebal et al. 2009)")
@@ -295,6 +311,103 @@ std::string FeatureSummary::describe() const {
                      marked_vertices, regions, regions == 1 ? "" : "s");
 }
 
+namespace {
+
+// Area-weighted q-quantile of v.
+double weighted_quantile(const Eigen::VectorXd& v, const Eigen::VectorXd& w, double q) {
+  std::vector<int> order(v.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return v[a] < v[b]; });
+  const double target = q * w.sum();
+  double acc = 0;
+  for (int i : order) {
+    acc += w[i];
+    if (acc >= target) return v[i];
+  }
+  return order.empty() ? 0.0 : v[order.back()];
+}
+
+// Lazy umbrella diffusion, steps × (½ f + ½ mean of the neighbours).
+Eigen::MatrixXd diffuse(const Mesh& mesh, Eigen::MatrixXd f, int steps) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  for (int s = 0; s < steps; ++s) {
+    Eigen::MatrixXd g = f;
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < n; ++i) {
+      Eigen::RowVectorXd acc = Eigen::RowVectorXd::Zero(f.cols());
+      int k = 0;
+      for (auto w : mesh.vv_range(mesh.vertex_handle(i))) {
+        acc += f.row(w.idx());
+        ++k;
+      }
+      if (k > 0) g.row(i) = 0.5 * f.row(i) + 0.5 * acc / k;
+    }
+    f.swap(g);
+  }
+  return f;
+}
+
+}  // namespace
+
+Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* raw_out) {
+  check_options(o);
+  require_valid(mesh, "feature map input");
+  if (!(o.importance_high > o.importance_low))
+    throw InvalidInput("importance_high must be above importance_low");
+  const int n = static_cast<int>(mesh.n_vertices());
+  const double h = mean_edge_length(mesh);
+  if (!(h > 0)) throw InvalidInput("feature map: the mesh has no edges of positive length");
+  const Eigen::VectorXd area = feature_vertex_areas(mesh);
+  const MatrixX3d X = positions(mesh);
+  // Relief over smoothed copies at three scales, each in units of its 90th percentile.
+  Eigen::MatrixXd Z(n, 3);
+  const double scales[3] = {0.5 * o.detail_scale, o.detail_scale, 2.0 * o.detail_scale};
+  for (int k = 0; k < 3; ++k) {
+    report(o.progress, 0.1 + 0.2 * k, "importance: relief");
+    SmoothingOptions s;
+    s.laplacian = LaplacianType::Cotangent;
+    s.lambda = scales[k] * scales[k];  // time (c h)², in units of h²
+    s.steps = 1;
+    s.update_weights = false;
+    const Eigen::VectorXd r = (X - smooth(mesh, s)).rowwise().norm();
+    const double q = weighted_quantile(r, area, 0.9);
+    Z.col(k) = q > 0 ? Eigen::VectorXd(r / q) : Eigen::VectorXd::Zero(n);
+  }
+  const Eigen::VectorXd detail = Z.rowwise().mean();
+  // Its variation: the relief minus its own smoothed copy (constant relief, on a sphere, a cylinder or a
+  // plane, gives none).
+  const Eigen::VectorXd base = diffuse(mesh, detail, static_cast<int>(std::ceil(4 * o.detail_scale * o.detail_scale))).col(0);
+  Eigen::VectorXd variation = (detail - base).cwiseAbs();
+  {
+    // In units of its own 90th percentile, but not of less than a twentieth of the relief's: a shape
+    // whose relief hardly varies (a cylinder) would otherwise show its noise as variation.
+    const double q = std::max(weighted_quantile(variation, area, 0.9), 0.05);
+    variation /= q;
+  }
+  Eigen::VectorXd raw = (1 - o.variation_share) * detail + o.variation_share * variation;
+  Eigen::VectorXd f(n);
+  for (int i = 0; i < n; ++i) {
+    const double t = std::clamp((raw[i] - o.importance_low) / (o.importance_high - o.importance_low), 0.0, 1.0);
+    f[i] = t * t * (3 - 2 * t);
+  }
+  if (o.protrusions) {
+    report(o.progress, 0.7, "importance: protrusions");
+    Eigen::VectorXd p;
+    if (o.importance_adf) {
+      p = adf_features(mesh, o);
+    } else {
+      p = significant_basins(mesh, height_over_base(mesh, o.smoothing_scale), o.significance, o.merge_pass);
+      p = drop_large_regions(mesh, p, o.max_extent);
+    }
+    f = f.cwiseMax(p);
+  }
+  f = diffuse(mesh, f, o.importance_smoothing).col(0).cwiseMax(0.0).cwiseMin(1.0);
+  for (int i = 0; i < n; ++i)
+    if (mesh.is_isolated(mesh.vertex_handle(i))) f[i] = 0;
+  if (raw_out) *raw_out = std::move(raw);
+  return f;
+}
+
 FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
   check_options(o);
   require_valid(mesh, "feature map input");
@@ -303,6 +416,10 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
   out.weights = Eigen::VectorXd::Zero(n);
   out.field = Eigen::VectorXd::Zero(n);
   out.method = FeatureMapMethod::None;
+  if (o.method == FeatureMapMethod::Importance) {
+    out.weights = importance_map(mesh, o, &out.field);
+    out.method = FeatureMapMethod::Importance;
+  }
   if (o.method == FeatureMapMethod::Adf || o.method == FeatureMapMethod::Auto) {
     report(o.progress, 0.0, "adf");
     out.weights = adf_features(mesh, o, &out.field);
@@ -322,6 +439,8 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
   if (o.dilate > 0) out.weights = dilate_features(mesh, out.weights, o.dilate);
   out.summary = summarize_features(mesh, out.weights);
   if (o.method == FeatureMapMethod::None) out.summary.warning.clear();  // asked for: the plain map is meant
+  // Continuous weights over most of the surface still leave the rest to take the stretch.
+  if (out.method == FeatureMapMethod::Importance && out.summary.marked_fraction > 0.5) out.summary.warning.clear();
   report(o.progress, 1.0, "done");
   return out;
 }

@@ -71,7 +71,8 @@ SpaceMap space_map(const SpaceMapOptions& o, const BoundingBox& box) {
 }
 
 const EnumNames<ResizeMethod>& resize_method_names() {
-  static const EnumNames<ResizeMethod> names = {{"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis}};
+  static const EnumNames<ResizeMethod> names = {
+      {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis}};
   return names;
 }
 
@@ -79,7 +80,8 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
   using O = ResizeOptions;
   static const auto t = OptionTable<O>()
       .choice("method", &O::method, resize_method_names(),
-              "sliding (background slides along the surface, default) or thesis (Eq. 9.2-9.3)", "Sec. 9.4")
+              "similarity (continuous weights: near-similarities where important, default), sliding (binary "
+              "features rigid, background slides along the surface) or thesis (Eq. 9.2-9.3)", "Sec. 9.4")
       .add("position_weight", &O::position_weight, "w: weight of the position terms against the feature terms",
            positive(), "Eq. (9.2)")
       .alias("weight")
@@ -106,6 +108,17 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            between(0, 10000))
       .add("bend_features", &O::bend_features,
            "sliding: elongated features (ridges) bend with their base; false: every feature turns as one rigid piece")
+      .add("iterations", &O::iterations,
+           "similarity: local-global rounds (rotations refitted to the solution, surface re-projected)", between(0, 20))
+      .add("surface_weight", &O::surface_weight,
+           "similarity: weight holding unimportant vertices to the plainly stretched surface (along its normal)",
+           positive())
+      .add("adapt_scale", &O::adapt_scale,
+           "similarity: important regions scale uniformly as fits the solution best, between the map's smallest "
+           "and largest local stretch (as similar as possible); false: the scale of keep_feature_size")
+      .add("flip_rounds", &O::flip_rounds,
+           "similarity: rounds relaxing faces turned over against the plain map to it", between(0, 20))
+      .add("flip_rings", &O::flip_rings, "similarity: vertex rings relaxed around a turned-over face", between(0, 100))
       .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",
               "Eq. (9.1)")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
@@ -736,6 +749,228 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   return out;
 }
 
+// Similarity (see resize.h). Unknowns stacked [x; y; z]. Energy:
+//   Σ_edges k_ij |(x'_i − x'_j) − T_ij (x_i − x_j)|²   k_ij = f_ij², T_i = s_i R_i, T_ij = (T_i + T_j)/2
+// + β Σ_edges |(x'_i − x'_j) − (c_i − c_j)|²            the rest follows the map, weakly
+// + w Σ_i (1 − f_i) (n_iᵀ (x'_i − q_i))²                 held to the stretched surface, free to slide
+// + w_F Σ_boundary (1 − f_i)² |x'_i − c_i|²              a plate's rim follows the map
+// + w_F Σ_extremes (x'_i − c_i)_a²                       the box
+// + ε Σ |x'_i − c_i|²
+// with q_i, n_i at first c_i and its vertex normal, then the closest point of the stretched surface.
+// f_ij = (f_i + f_j)/2. Relaxed vertices (around faces that turned over) get f = 0 and β = 10.
+MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& f0,
+                            const ResizeOptions& o) {
+  const int n = static_cast<int>(X.rows());
+  const double w = o.surface_weight, beta = o.background_smoothness, eps = 1e-6;
+  const MatrixX3i F = faces(mesh);
+  std::vector<std::array<int, 2>> edges;
+  edges.reserve(mesh.n_edges());
+  for (auto e : mesh.edges()) edges.push_back({e.v0().idx(), e.v1().idx()});
+  Mesh mapped = mesh;
+  set_positions(mapped, C);
+  const MatrixX3d Nc = vertex_normals(mapped), N0 = vertex_normals(mesh);
+  const MatrixX3d Fn_plain = face_normals(mapped);
+
+  // T_i = s_i R_i from the map's local linear part J_i.
+  report(o.progress, 0.05, "transforms");
+  const std::vector<Eigen::Matrix3d> J = local_jacobians(mesh, X, C);
+  std::vector<Eigen::Matrix3d> T(n);
+  Eigen::VectorXd scale(n), s_lo(n), s_hi(n);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 nrm = N0.row(i).transpose();
+    Vec3 t1 = nrm.unitOrthogonal(), t2 = nrm.cross(t1);
+    Eigen::Matrix<double, 3, 2> B;
+    B << J[i] * t1, J[i] * t2;
+    const Eigen::Vector2d sv = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(B).singularValues();
+    const bool ok = nrm.squaredNorm() > 0.5;
+    s_lo[i] = ok ? sv[1] : std::cbrt(std::abs(J[i].determinant()));
+    s_hi[i] = ok ? sv[0] : s_lo[i];
+    scale[i] = o.keep_feature_size ? s_lo[i] : std::sqrt(s_lo[i] * s_hi[i]);
+    T[i] = scale[i] * nearest_similarity(J[i], false);
+  }
+
+  // The frame: the vertices within frame_band mean edge lengths of a box face, along that axis (the
+  // feet of a model standing on the box's floor stay level), and the mesh boundary.
+  std::vector<std::array<int, 2>> extremes;  // (vertex, axis)
+  {
+    const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+    const double band = std::max(o.frame_band, 1e-3) * mean_edge_length(mesh);
+    // Only the band's local extremes (no neighbour further out): a hoof's tip, every vertex of a flat
+    // bottom, not the rows of a wall rising from it.
+    for (int a = 0; a < 3; ++a) {
+      if (!(hi[a] - lo[a] > 2 * band)) continue;  // a flat model's thickness: its vertices follow the map
+      for (int i = 0; i < n; ++i) {
+        const auto vh = mesh.vertex_handle(i);
+        if (mesh.is_isolated(vh)) continue;
+        const bool low = X(i, a) <= lo[a] + band, high = X(i, a) >= hi[a] - band;
+        if (!low && !high) continue;
+        bool extreme = true;
+        for (auto u : mesh.vv_range(vh))
+          if ((low && X(u.idx(), a) < X(i, a)) || (high && X(u.idx(), a) > X(i, a))) extreme = false;
+        if (extreme) extremes.push_back({i, a});
+      }
+    }
+  }
+  MatrixX3d target = C;  // where the frame's vertices are pulled, moved until they land on C
+  std::vector<char> boundary(n, 0);
+  for (auto v : mesh.vertices())
+    if (mesh.is_boundary(v)) boundary[v.idx()] = 1;
+
+  Eigen::VectorXd f = f0;
+  std::vector<char> relaxed(n, 0);
+  constexpr double kRelaxed = 10.0;  // edge weight of relaxed vertices towards the map: above any similarity's
+  MatrixX3d Nrm = Nc, Q = C;
+  SpdSolver solver;
+  auto assemble = [&] {
+    std::vector<Triplet> t;
+    t.reserve(12 * edges.size() + 12 * n);
+    SparseMatrix G(n, n);
+    {
+      std::vector<Triplet> g;
+      g.reserve(4 * edges.size());
+      for (const auto& [a, b] : edges) {
+        const double fe = 0.5 * (f[a] + f[b]);
+        const double we = fe * fe + ((relaxed[a] || relaxed[b]) ? kRelaxed : beta);
+        g.emplace_back(a, a, we);
+        g.emplace_back(b, b, we);
+        g.emplace_back(a, b, -we);
+        g.emplace_back(b, a, -we);
+      }
+      G.setFromTriplets(g.begin(), g.end());
+    }
+    add_blocks(t, G, n);
+    for (int i = 0; i < n; ++i) {
+      const double wi = w * (1 - f[i]);
+      const double bw = boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0;
+      for (int d = 0; d < 3; ++d) {
+        t.emplace_back(d * n + i, d * n + i, eps + bw);
+        for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + i, wi * Nrm(i, d) * Nrm(i, e));
+      }
+    }
+    for (const auto& [v, a] : extremes) t.emplace_back(a * n + v, a * n + v, o.frame_weight);
+    SparseMatrix A(3 * n, 3 * n);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+  };
+  auto solve = [&] {
+    MatrixX3d R = MatrixX3d::Zero(n, 3);
+    for (const auto& [a, b] : edges) {
+      const double fe = 0.5 * (f[a] + f[b]), ke = fe * fe, be = (relaxed[a] || relaxed[b]) ? kRelaxed : beta;
+      const Vec3 dx = (X.row(a) - X.row(b)).transpose();
+      const Eigen::RowVector3d r =
+          (ke * (0.5 * (T[a] + T[b]) * dx) + be * Vec3((C.row(a) - C.row(b)).transpose())).transpose();
+      R.row(a) += r;
+      R.row(b) -= r;
+    }
+    for (int i = 0; i < n; ++i) {
+      const double bw = boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0;
+      R.row(i) += (eps + bw) * C.row(i) + w * (1 - f[i]) * Nrm.row(i).dot(Q.row(i)) * Nrm.row(i);
+    }
+    for (const auto& [v, a] : extremes) R(v, a) += o.frame_weight * target(v, a);
+    return unstack(solver.solve(stack(R)).col(0));
+  };
+  // The frame's vertices land where the map puts them: their targets are moved by what they miss
+  // (a stiff region pulled by its tip moves as a whole instead of stretching), with the same factor.
+  auto solve_frame = [&] {  // the targets carry over from the last call (a warm start)
+    MatrixX3d Y = solve();
+    for (int round = 0; round < 2; ++round) {
+      for (const auto& [v, a] : extremes) target(v, a) += C(v, a) - Y(v, a);
+      Y = solve();
+    }
+    return Y;
+  };
+  // Local step: the rotation that best turns each vertex's 1-ring edges into the solution's.
+  auto refit = [&](const MatrixX3d& Y) {
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int i = 0; i < n; ++i) {
+      if (f[i] <= 0) continue;
+      const auto vh = mesh.vertex_handle(i);
+      Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+      double len2 = 0;
+      for (auto u : mesh.vv_range(vh)) {
+        const int j = u.idx();
+        S += (Y.row(j) - Y.row(i)).transpose() * (X.row(j) - X.row(i));
+        len2 += (X.row(j) - X.row(i)).squaredNorm();
+      }
+      if (!(S.squaredNorm() > 0) || !(len2 > 0)) continue;
+      const Eigen::Matrix3d R = nearest_similarity(S, false);
+      // As similar as possible: the scale that fits best, within the map's own local stretches.
+      if (o.adapt_scale) scale[i] = std::clamp((R.transpose() * S).trace() / len2, s_lo[i], s_hi[i]);
+      T[i] = scale[i] * R;
+    }
+  };
+  auto project = [&](const MatrixX3d& Y) {
+    const TriangleTree tree(C, F);
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < n; ++i) {
+      if (f[i] >= 1 || mesh.is_isolated(mesh.vertex_handle(i))) continue;
+      const TriangleTree::Hit hit = tree.closest(Y.row(i).transpose());
+      const Eigen::Vector3i tri = F.row(hit.face);
+      Vec3 nv = hit.bary[0] * Vec3(Nc.row(tri[0])) + hit.bary[1] * Vec3(Nc.row(tri[1])) + hit.bary[2] * Vec3(Nc.row(tri[2]));
+      if (nv.norm() < 1e-12) continue;
+      Q.row(i) = hit.point.transpose();
+      Nrm.row(i) = nv.normalized().transpose();
+    }
+  };
+  auto flipped = [&](const MatrixX3d& Y) {
+    std::vector<int> out;
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      const Vec3 a = Y.row(F(k, 0)).transpose(), b = Y.row(F(k, 1)).transpose(), c = Y.row(F(k, 2)).transpose();
+      if ((b - a).cross(c - a).dot(Vec3(Fn_plain.row(k).transpose())) < 0) out.push_back(static_cast<int>(k));
+    }
+    return out;
+  };
+
+  report(o.progress, 0.2, "factor");
+  SparseMatrix A = assemble();
+  solver.analyze(A, 3);
+  solver.factorize(A);
+  report(o.progress, 0.3, "solve");
+  MatrixX3d out = solve_frame();
+  for (int it = 0; it < o.iterations; ++it) {
+    report(o.progress, 0.3 + 0.4 * it / std::max(1, o.iterations), "local-global");
+    refit(out);
+    if (it == 0 || it == o.iterations / 2) {  // the constraint planes: the stretched surface where the solution is
+      project(out);
+      solver.factorize(assemble());
+    }
+    out = it + 1 == o.iterations ? solve_frame() : solve();
+  }
+  // Faces turned over against the plain map: relax them and rings around them to the map.
+  for (int round = 0; round < o.flip_rounds; ++round) {
+    const std::vector<int> bad = flipped(out);
+    if (bad.empty()) break;
+    report(o.progress, 0.7 + 0.25 * round / std::max(1, o.flip_rounds), fmt::format("relax {} turned faces", bad.size()));
+    std::vector<int> front;
+    for (int k : bad)
+      for (int j = 0; j < 3; ++j)
+        if (!relaxed[F(k, j)]) relaxed[F(k, j)] = 1, front.push_back(F(k, j));
+    for (int r = 0; r < o.flip_rings + 2 * round; ++r) {  // wider each round
+      std::vector<int> next;
+      for (int v : front)
+        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+          if (!relaxed[u.idx()]) relaxed[u.idx()] = 1, next.push_back(u.idx());
+      front.swap(next);
+    }
+    for (int i = 0; i < n; ++i)
+      if (relaxed[i]) {
+        f[i] = 0;
+        Q.row(i) = C.row(i);
+        Nrm.row(i) = Nc.row(i);
+      }
+    solver.factorize(assemble());
+    out = solve_frame();
+  }
+  // The box exactly as the map puts it: a per-axis scale of a few parts in 10⁴ (positive, so no face turns).
+  const Vec3 clo = C.colwise().minCoeff(), chi = C.colwise().maxCoeff();
+  const Vec3 olo = out.colwise().minCoeff(), ohi = out.colwise().maxCoeff();
+  for (int a = 0; a < 3; ++a)
+    if (ohi[a] > olo[a] && chi[a] > clo[a])
+      out.col(a) = ((out.col(a).array() - olo[a]) * ((chi[a] - clo[a]) / (ohi[a] - olo[a])) + clo[a]).matrix();
+  return out;
+}
+
 }  // namespace
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
@@ -751,8 +986,9 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     throw InvalidInput("feature weights must lie in [0, 1]");
   report(o.progress, 0.0, "transforms");
   const MatrixX3d X = positions(mesh);
-  MatrixX3d out = o.method == ResizeMethod::Thesis ? thesis_resize(mesh, X, C, features, o)
-                                                   : sliding_resize(mesh, X, C, features, o);
+  MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
+                  : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
+                                                      : similarity_resize(mesh, X, C, features, o);
   report(o.progress, 1.0, "done");
   return out;
 }
@@ -770,8 +1006,13 @@ const OptionTable<ResizeRunOptions>& ResizeRunOptions::table() {
         .nest(&O::features, FeatureMapOptions::table())
         .nest(&O::feature_file, FeatureFileOptions::table())
         .nest(&O::resize, ResizeOptions::table());
+    // The thesis' runs used a binary map of protrusions (Sec. 9.4): its preset selects "auto" too.
     for (const auto& p : ResizeOptions::table().presets())
-      t.preset(p.name, p.help, [apply = p.apply](O& o) { apply(o.resize); });
+      t.preset(p.name, p.help + (p.name == "thesis" ? ", binary feature map (auto)" : ""),
+               [apply = p.apply, thesis = p.name == "thesis"](O& o) {
+                 apply(o.resize);
+                 if (thesis) o.features.method = FeatureMapMethod::Auto;
+               });
     return t;
   }();
   return t;

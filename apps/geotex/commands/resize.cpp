@@ -1,10 +1,11 @@
 // geotex resize IN -o OUT [--scale 2,1,1] [--twist T] [--bend K] [--arc-radius R] | --deformed MESH
-//   [--features auto|height|adf|none|FILE] [--save-features PLY] [--report JSON] [--preset thesis]:
+//   [--features importance|auto|height|adf|none|FILE] [--save-features PLY] [--report JSON] [--preset thesis]:
 // feature-aware resizing and deformation (thesis ch. 9). One flag per field of ResizeRunOptions
 // (resize.h: the space map, the feature map, the feature file, the solver), made from its table; the
 // run itself is the library's resize_mesh(), as in Python's geotex.resize().
 //
-// Feature files (--features FILE): a text file with one weight in [0, 1] per vertex and line; or a PLY
+// Feature files (--features FILE): a text file with one weight in [0, 1] per vertex and line (binary or
+// continuous, e.g. painted in a DCC tool; --save-features writes the continuous importance map); or a PLY
 // with a vertex property "feature" (weights) or "height" (a texture height, e.g. from `geotex texture
 // extract`; features where |height| > --height-threshold mean edge lengths, grown by --height-dilate).
 
@@ -33,8 +34,11 @@ std::string take_feature_file(CLI::App& app) {
   for (const auto& [name, method] : feature_map_names())
     if (value == name) return {};
   std::error_code ec;
-  if (!std::filesystem::exists(value, ec))
-    throw InvalidOption(fmt::format("--features: '{}' is neither a map (auto, height, adf, none) nor a feature file", value));
+  if (!std::filesystem::exists(value, ec)) {
+    std::string names;
+    for (const auto& [name, method] : feature_map_names()) names += (names.empty() ? "" : ", ") + std::string(name);
+    throw InvalidOption(fmt::format("--features: '{}' is neither a map ({}) nor a feature file", value, names));
+  }
   opt->clear();
   return value;
 }

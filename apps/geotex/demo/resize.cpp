@@ -21,7 +21,8 @@ void save_with_features(const Mesh& mesh, const MatrixX3d& Y, const Eigen::Vecto
   write_ply(out, path, fx);
 }
 
-// The three results of one deformation: plain space map, thesis preset, sliding (default).
+// The three results of one deformation: plain space map, thesis preset, the default (similarity; the
+// files keep the name "sliding" of the earlier default).
 std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& f) {
   ResizeOptions thesis;
   ResizeOptions::table().apply_preset(thesis, "thesis");
@@ -29,7 +30,7 @@ std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const M
 }
 
 const char* method_label(const std::string& name) {
-  return name == "plain" ? "plain space map" : name == "thesis" ? "preset thesis (Eq. 9.2&ndash;9.3)" : "default (sliding)";
+  return name == "plain" ? "plain space map" : name == "thesis" ? "preset thesis (Eq. 9.2&ndash;9.3)" : "default (similarity)";
 }
 
 DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
@@ -41,8 +42,8 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
   r["summary"].push_back("ridge plate, automatic " + fm.summary.describe());
   save_with_features(b.mesh, X, fm.weights, ctx.dir / "ridge-plate-features.ply");
   add_figure(ctx, {.mesh = "ridge-plate-features.ply",
-                   .caption = "Ridge plate: round bumps and a ridge. Colour: the automatic feature map (1: feature, "
-                              "kept rigid; 0: stretchable), " + fm.summary.describe() + ".",
+                   .caption = "Ridge plate: round bumps and a ridge. Colour: the automatic importance map (1: kept "
+                              "similar; 0: stretchable), " + fm.summary.describe() + ".",
                    .compare = "ridge-plate", .field = "feature"});
   const std::pair<SpaceMap, const char*> maps[] = {
       {scale_map({2, 1, 1}), "scale-2-1-1"}, {bend_map(1.5), "bend-1.5"}, {twist_map(1.0), "twist-1"}};

@@ -2,7 +2,17 @@
 //! \file feature_map.h Feature maps for feature-aware resizing (thesis Sec. 9.4): per-vertex weights
 //! f_i ∈ [0, 1] marking the parts of a model that must keep their shape.
 //!
-//! Two detectors, both grown to whole features by the same rule, and their combination:
+//! A continuous importance map (the default, FeatureMapMethod::Importance): f_i ∈ [0, 1] says how much
+//! the surface around vertex i shows a stretch. It is high where the surface has detail: relief over
+//! a smoothed copy of itself at three scales (implicit cotangent smoothing, times (c h)² for c = s/2,
+//! s, 2s, h the mean edge length; each relief in units of its own area-weighted 90th percentile), and
+//! where that relief varies (eyes, lips, ornaments: the relief minus its own smoothed copy, zero on
+//! flat, spherical and cylindrical stretches of surface, where a stretch is hard to see); protrusions
+//! (the height map below) count fully. The raw value passes a smoothstep between importance_low and
+//! importance_high and a few Laplacian diffusion steps, so that it has no edge of its own (a binary
+//! map's rim becomes the resize's crease).
+//!
+//! Two binary detectors, both grown to whole features by the same rule, and their combination:
 //!  - height: each vertex's height over a smoothed base (the base of ch. 8, implicit cotangent
 //!    smoothing at a scale tied to the model's size);
 //!  - adf: the auto diffusion function (Gębal et al. 2009), which the thesis thresholds for the tentacle
@@ -32,14 +42,29 @@ namespace geotex {
 enum class FeatureMapMethod {
   Height,  //!< height over a smoothed base
   Adf,     //!< auto diffusion function (Sec. 9.4)
-  Auto,    //!< Adf, or Height where the ADF finds no protrusion
-  None     //!< no features (every f_i = 0: the plain space map)
+  Auto,    //!< Adf, or Height where the ADF finds no protrusion (binary)
+  None,    //!< no features (every f_i = 0: the plain space map)
+  Importance  //!< continuous importance in [0, 1] (default; see the file comment)
 };
-//! "height", "adf", "auto", "none".
+//! "importance", "auto", "height", "adf", "none".
 const EnumNames<FeatureMapMethod>& feature_map_names();
 
 struct FeatureMapOptions {
-  FeatureMapMethod method = FeatureMapMethod::Auto;
+  FeatureMapMethod method = FeatureMapMethod::Importance;
+  //! Importance: the middle smoothing scale s of the relief, in mean edge lengths (scales s/2, s, 2s).
+  double detail_scale = 4.0;
+  //! Importance: the raw value (mean of the normalised reliefs and their variation, ≈ 1 at the
+  //! 90th percentile) maps to 0 below importance_low and to 1 above importance_high (smoothstep).
+  double importance_low = 0.1;
+  double importance_high = 0.6;
+  //! Importance: share of the raw value from the relief's variation (the rest from the relief itself).
+  double variation_share = 0.5;
+  //! Importance: Laplacian diffusion steps (½ f + ½ neighbour mean) smoothing the map.
+  int importance_smoothing = 6;
+  //! Importance: protrusions (the height map's significant basins, dropped when larger than
+  //! max_extent) count as fully important; "adf" uses the ADF map instead (seconds on large meshes).
+  bool protrusions = true;
+  bool importance_adf = false;
   //! Height: the base is one implicit cotangent smoothing step of time (s R)², R = √(area / 4π) the
   //! radius of the sphere of the same area, s this scale; closed bases are rescaled to the input's
   //! volume. Features narrower than about s R are flattened away, so they stand out as height.
@@ -87,15 +112,21 @@ struct FeatureSummary {
 FeatureSummary summarize_features(const Mesh& mesh, const Eigen::VectorXd& f);
 
 struct FeatureMap {
-  Eigen::VectorXd weights;  //!< #V weights f_i ∈ {0, 1}
-  Eigen::VectorXd field;    //!< #V values of the field the map was grown on (height, or the ADF at adf_t)
-  FeatureMapMethod method = FeatureMapMethod::None;  //!< the detector used (Height or Adf; for Auto, the one chosen)
+  Eigen::VectorXd weights;  //!< #V weights f_i: in [0, 1] for Importance, else in {0, 1}
+  //! #V values of the field the map was grown on (height, the ADF at adf_t, or the raw importance)
+  Eigen::VectorXd field;
+  //! The detector used (Importance, Height or Adf; for Auto, the one chosen)
+  FeatureMapMethod method = FeatureMapMethod::None;
   FeatureSummary summary;
 };
 
 //! The feature map of \p mesh by options.method. The one definition of "auto" for every front end.
 //! \throw InvalidInput for an empty mesh or bad options; SolverError if the ADF's eigenproblem fails.
 FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& options = {});
+
+//! The continuous importance map (FeatureMapMethod::Importance; see the file comment). \param raw if
+//! given, receives the raw value before the smoothstep and the diffusion. \throw InvalidInput.
+Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& options = {}, Eigen::VectorXd* raw = nullptr);
 
 //! Height of each vertex over the smoothed base of FeatureMapOptions::smoothing_scale, along the
 //! base's normal, in units of R = √(area / 4π). #V values.
