@@ -36,7 +36,7 @@ const OptionTable<AtlasOptions>& AtlasOptions::table() {
       .add("damage_warning", &O::damage_warning,
            "warn when the textured target has more than this many folded or self-intersecting faces beyond the "
            "bare target's own",
-           between(0, 1000000000))
+           between(0, 100000000))  // a face count: at most 10^8, as every count flag
       .nest(&O::geodesic, HeatGeodesicOptions::table())
       .nest(&O::texture, TextureOptions::table());
   return t;

@@ -47,7 +47,7 @@ const OptionTable<TransferOptions>& TransferOptions::table() {
       .add("damage_warning", &O::damage_warning,
            "warn when the textured target has more than this many folded or self-intersecting faces beyond the "
            "bare target's own",
-           between(0, 1000000000))
+           between(0, 100000000))  // a face count: at most 10^8, as every count flag
       .nest(&O::geodesic, HeatGeodesicOptions::table())
       .nest(&O::texture, TextureOptions::table())
       .preset("thesis", "absolute heights, no rim falloff, no refinement, the 1-form encoding (Sec. 8.3.3)", [](O& o) {
