@@ -221,14 +221,13 @@ ReadingModel train_reading_model(const ReadingSamples& s, const ReadingTrainOpti
   for (int it = 0; it < options.iterations; ++it) {
     const Eigen::VectorXd t = Z * beta;
     Eigen::VectorXd g = Eigen::VectorXd::Zero(d + 1);
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(d + 1, d + 1);
     Eigen::VectorXd c(n);
     for (Eigen::Index i = 0; i < n; ++i) {
       const double p = sigmoid(t[i]), w = s.weight[i] / total;
       g += (w * (p - s.sharp_better[i])) * Z.row(i).transpose();
       c[i] = w * p * (1 - p);
     }
-    H = Z.transpose() * c.asDiagonal() * Z;
+    Eigen::MatrixXd H = Z.transpose() * c.asDiagonal() * Z;
     for (Eigen::Index k = 0; k < d; ++k) {
       g[k] += options.l2 * beta[k];
       H(k, k) += options.l2;
