@@ -64,6 +64,17 @@ void expect_kept(const TransferQuality& k, const std::string& what) {
   EXPECT_LT(k.rim_cliff, 1e-9) << what;
 }
 
+// Transfer options taking the source's disk onto the disk of \p radius around the vertex of \p target
+// nearest \p near.
+TransferOptions disk_onto(const Source& s, const Mesh& target, const Vec3& near, double radius) {
+  TransferOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_center = nearest(target, near);
+  o.target_radius = radius;
+  return o;
+}
+
 }  // namespace
 
 TEST(TextureSampler, ReproducesTheDisplacementsAtVerticesInTheirFrames) {
@@ -112,11 +123,7 @@ TEST(TextureTransfer, OntoItselfIsTheIdentity) {
 TEST(TextureTransfer, TheAnchorDirectionTurnsTheTextureAndVertexOrderDoesNot) {
   const Source& s = tentacle_source();
   const Mesh sphere = icosphere(4, 1.0);
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(sphere, Vec3(0, 0, 1));
-  o.target_radius = 0.6;
+  TransferOptions o = disk_onto(s, sphere, Vec3(0, 0, 1), 0.6);
   o.target_direction = Vec3(1, 0, 0);
   // The middle tentacle's lean (towards the source's +x, the source anchor) follows the target anchor.
   auto lean_at_top = [&](const TransferOptions& opt, const Mesh& target) {
@@ -154,11 +161,7 @@ TEST(TextureTransfer, TheAnchorDirectionTurnsTheTextureAndVertexOrderDoesNot) {
 TEST(TextureTransfer, HeightsFollowTheStatedRule) {
   const Source& s = tentacle_source();
   const Mesh sphere = icosphere(4, 1.0);
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(sphere, Vec3(0, 0, 1));
-  o.target_radius = 0.5;
+  TransferOptions o = disk_onto(s, sphere, Vec3(0, 0, 1), 0.5);
   o.falloff = 0;
   const double hs = s.texture.height[s.center];  // the middle tentacle's tip, at both disks' centres
   const TransferResult a = transfer_texture(s.base, s.texture, sphere, o);
@@ -181,11 +184,7 @@ TEST(TextureTransfer, HeightsFollowTheStatedRule) {
 TEST(TextureTransfer, TentaclesOntoASphereKeepHeightsAndLeanWithoutFoldsOrCliff) {
   const Source& s = tentacle_source();
   const Mesh sphere = icosphere(4, 1.0);
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(sphere, Vec3(0, 0, 1));
-  o.target_radius = 0.6;
+  TransferOptions o = disk_onto(s, sphere, Vec3(0, 0, 1), 0.6);
   const TransferResult r = transfer_texture(s.base, s.texture, sphere, o);
   expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> icosphere(4)");
   EXPECT_EQ(r.damage.excess_folded(), 0u);
@@ -202,11 +201,7 @@ TEST(TextureTransfer, TentaclesOntoASphereKeepHeightsAndLeanWithoutFoldsOrCliff)
 TEST(TextureTransfer, ACoarseTargetIsRefinedWithAWarning) {
   const Source& s = tentacle_source();
   const Mesh coarse = icosphere(2, 1.0);  // 162 vertices: ~30 times coarser than the patch scaled to it
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(coarse, Vec3(0, 0, 1));
-  o.target_radius = 0.6;
+  TransferOptions o = disk_onto(s, coarse, Vec3(0, 0, 1), 0.6);
   const TransferResult r = transfer_texture(s.base, s.texture, coarse, o);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("refined"), std::string::npos) << r.warnings[0];
@@ -228,11 +223,7 @@ TEST(TextureTransfer, ARefinedTargetKeepsACoarseDiskADisk) {
   // a fraction of an edge and left a pin-hole or an island ("not a disk: 2 boundary loops" before).
   const Source& s = tentacle_source();
   const Mesh coarse = make_shape("cylinder", 0).base;
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(coarse, Vec3(0.5, 0, 0));
-  o.target_radius = 1.58;
+  TransferOptions o = disk_onto(s, coarse, Vec3(0.5, 0, 0), 1.58);
   o.refine_ratio = 0;
   const TransferResult plain = transfer_texture(s.base, s.texture, coarse, o);
   EXPECT_EQ(plain.added_vertices, 0u);
@@ -269,11 +260,7 @@ TEST(TextureTransfer, ReportsDamageAndWarnsAboveTheThreshold) {
   // Tentacles three times as tall on a small patch of a sphere: they cross each other.
   const Source& s = tentacle_source();
   const Mesh sphere = icosphere(3, 1.0);
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(sphere, Vec3(0, 0, 1));
-  o.target_radius = 0.6;
+  TransferOptions o = disk_onto(s, sphere, Vec3(0, 0, 1), 0.6);
   o.height_scale = 3;
   o.refine_ratio = 0;
   const TransferResult r = transfer_texture(s.base, s.texture, sphere, o);
@@ -373,11 +360,7 @@ TEST(TextureTransferData, TentaclesOntoSpot) {
   GEOTEX_REQUIRE_DATA();
   const Source& s = tentacle_source();
   const Mesh spot = read_mesh(geotex::test::data_dir() / "spot.obj");
-  TransferOptions o;
-  o.source_center = s.center;
-  o.source_radius = s.radius;
-  o.target_center = nearest(spot, Vec3(0.45, 0, 0));
-  o.target_radius = 0.3;
+  TransferOptions o = disk_onto(s, spot, Vec3(0.45, 0, 0), 0.3);
   const TransferResult r = transfer_texture(s.base, s.texture, spot, o);
   EXPECT_EQ(r.warnings.size(), 1u);  // spot is coarser than the patch scaled to it
   expect_kept(transfer_quality(s.base, s.texture, r, o), "tentacle patch -> spot");
