@@ -1,7 +1,7 @@
 // Demo step for feature-aware resizing (thesis ch. 9): a plate with round bumps and a ridge, scaled by
 // (2, 1, 1), bent and twisted, and the tentacle stick scaled ×2 along its axis and bent into an arc;
 // automatic features (feature_map(), "auto"); plain map, the thesis' method (preset "thesis") and the
-// sliding method; and spot.obj from the shared data ×2 along x.
+// default (similarity) method; and spot.obj (shipped, CC0) ×2 along x.
 
 #include <fmt/format.h>
 
@@ -21,12 +21,11 @@ void save_with_features(const Mesh& mesh, const MatrixX3d& Y, const Eigen::Vecto
   write_ply(out, path, fx);
 }
 
-// The three results of one deformation: plain space map, thesis preset, the default (similarity; the
-// files keep the name "sliding" of the earlier default).
+// The three results of one deformation: plain space map, thesis preset, the default (similarity).
 std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& f) {
   ResizeOptions thesis;
   ResizeOptions::table().apply_preset(thesis, "thesis");
-  return {{"plain", C}, {"thesis", feature_aware_resize(mesh, C, f, thesis)}, {"sliding", feature_aware_resize(mesh, C, f)}};
+  return {{"plain", C}, {"thesis", feature_aware_resize(mesh, C, f, thesis)}, {"default", feature_aware_resize(mesh, C, f)}};
 }
 
 const char* method_label(const std::string& name) {
