@@ -18,6 +18,9 @@ cmake --build "$build" -j"$jobs"
 echo "sanitize: built in $(( $(date +%s) - start )) s"
 
 export GEOTEX_SANITIZE=1
+# tests/cli_properties.py (CTest cli_properties): a third of its mesh-by-command runs, each command on a third
+# of the meshes (368 s under ASan for all of them; scripts/test.sh runs all).
+export GEOTEX_PROPERTIES_SHARE=3
 # abort_on_error: a report kills the process (no partially passing test). detect_leaks: LeakSanitizer.
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
