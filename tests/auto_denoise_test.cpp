@@ -58,6 +58,30 @@ int folds(const Mesh& result, const Mesh& truth) {
   return n;
 }
 
+// Two meshes in one, apart along x (b's leftmost point one width of a right of a), b scaled to a's mean edge.
+Mesh side_by_side(const Mesh& a, const Mesh& b) {
+  const MatrixX3d Va = positions(a), Vb = positions(b) * (mean_edge_length(a) / mean_edge_length(b));
+  const MatrixX3i Fa = faces(a), Fb = faces(b);
+  MatrixX3d V(Va.rows() + Vb.rows(), 3);
+  const double gap = Va.col(0).maxCoeff() - Va.col(0).minCoeff();
+  V << Va, Vb.rowwise() + Eigen::RowVector3d(Va.col(0).maxCoeff() + gap - Vb.col(0).minCoeff(), 0, 0);
+  MatrixX3i F(Fa.rows() + Fb.rows(), 3);
+  F << Fa, Fb.array() + static_cast<int>(Va.rows());
+  return make_mesh(V, F);
+}
+
+// Mean angle (degrees) between the normals of faces [from, to) of \p F placed at \p X and at \p V.
+double part_error(const MatrixX3i& F, const MatrixX3d& V, const MatrixX3d& X, Eigen::Index from, Eigen::Index to) {
+  double sum = 0;
+  for (Eigen::Index f = from; f < to; ++f) {
+    const auto n = [&](const MatrixX3d& P) {
+      return Vec3((P.row(F(f, 1)) - P.row(F(f, 0))).cross(P.row(F(f, 2)) - P.row(F(f, 0))).normalized());
+    };
+    sum += std::acos(std::clamp(n(X).dot(n(V)), -1.0, 1.0)) * 180 / M_PI;
+  }
+  return sum / double(to - from);
+}
+
 int labelled(const Eigen::VectorXd& labels) { return static_cast<int>((labels.array() > 0.5).count()); }
 
 }  // namespace
@@ -152,27 +176,11 @@ TEST(AutoDenoise, NoisyCubeIsCreasedAndItsEdgesAreLabelled) {
 // its own: the cube's faces creased, the sphere's smooth, and each part's error no worse than the forced
 // reading that is right for it (by more than 5%).
 TEST(AutoDenoise, AMixedMeshGetsTheRightReadingOnEachPart) {
-  const Mesh cube = subdivided_cube(16), sphere = icosphere(4);
-  const MatrixX3d Vc = positions(cube), Vs = positions(sphere) * (mean_edge_length(cube) / mean_edge_length(sphere));
-  const MatrixX3i Fc = faces(cube), Fs = faces(sphere);
-  MatrixX3d V(Vc.rows() + Vs.rows(), 3);
-  // Side by side, apart: the sphere's leftmost point one cube width right of the cube.
-  const double gap = Vc.col(0).maxCoeff() - Vc.col(0).minCoeff();
-  V << Vc, Vs.rowwise() + Eigen::RowVector3d(Vc.col(0).maxCoeff() + gap - Vs.col(0).minCoeff(), 0, 0);
-  MatrixX3i F(Fc.rows() + Fs.rows(), 3);
-  F << Fc, Fs.array() + static_cast<int>(Vc.rows());
-  const Mesh clean = make_mesh(V, F);
+  const Mesh cube = subdivided_cube(16), clean = side_by_side(cube, icosphere(4));
+  const MatrixX3d V = positions(clean);
+  const MatrixX3i F = faces(clean), Fc = faces(cube);
   const Mesh noisy = with_noise(clean, 0.3);
-  const auto error_on = [&](const MatrixX3d& X, Eigen::Index from, Eigen::Index to) {
-    double sum = 0;
-    for (Eigen::Index f = from; f < to; ++f) {
-      const auto n = [&](const MatrixX3d& P) {
-        return Vec3((P.row(F(f, 1)) - P.row(F(f, 0))).cross(P.row(F(f, 2)) - P.row(F(f, 0))).normalized());
-      };
-      sum += std::acos(std::clamp(n(X).dot(n(V)), -1.0, 1.0)) * 180 / M_PI;
-    }
-    return sum / double(to - from);
-  };
+  const auto error_on = [&](const MatrixX3d& X, Eigen::Index from, Eigen::Index to) { return part_error(F, V, X, from, to); };
   const AutoDenoiseResult r = auto_denoise(noisy);
   AutoDenoiseOptions forced;
   forced.creased = true;
@@ -190,6 +198,33 @@ TEST(AutoDenoise, AMixedMeshGetsTheRightReadingOnEachPart) {
   // And the forced readings are each wrong on the other part (so the test can fail).
   EXPECT_GT(error_on(Xm, 0, nc), 1.5 * error_on(Xs, 0, nc));
   EXPECT_GT(error_on(Xs, nc, nf), 1.2 * error_on(Xm, nc, nf));
+}
+
+// Step 5b: relief is kept where it stands above the noise and smoothed away where the surface is plain: spot
+// (a cow with eyes, nostrils, ears: relief a few edges across; shipped in data/) beside a plain sphere of the
+// same edge length, with noise.
+TEST(AutoDenoise, FineReliefIsKeptWherePresentAndAPlainPartIsSmoothed) {
+  const Mesh cow = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
+  const Mesh clean = side_by_side(cow, icosphere(4)), noisy = with_noise(clean, 0.1);
+  const MatrixX3d V = positions(clean);
+  const MatrixX3i F = faces(clean);
+  const Eigen::Index nc = cow.n_faces(), nf = F.rows();
+  const auto error_on = [&](const MatrixX3d& X, Eigen::Index from, Eigen::Index to) { return part_error(F, V, X, from, to); };
+  AutoDenoiseOptions o;
+  o.creased = false;
+  const AutoDenoiseResult r = auto_denoise(noisy, o);
+  o.relief_floor = 0;  // the light fit everywhere
+  const MatrixX3d light = auto_denoise(noisy, o).positions;
+  o.relief_floor = 1e6;  // the mild fit everywhere
+  const MatrixX3d mild = auto_denoise(noisy, o).positions;
+  EXPECT_GT(r.relief.head(nc).mean(), r.relief.tail(nf - nc).mean() + 0.3) << "the relief map follows the relief";
+  // The two fits disagree on each part (so the test can fail), and the default takes the better on each.
+  EXPECT_LT(error_on(light, 0, nc), 0.8 * error_on(mild, 0, nc)) << "spot: the light fit keeps its relief";
+  EXPECT_LT(error_on(mild, nc, nf), 0.8 * error_on(light, nc, nf)) << "sphere: the mild fit smooths it";
+  EXPECT_LE(error_on(r.positions, 0, nc), 1.1 * error_on(light, 0, nc));
+  EXPECT_LE(error_on(r.positions, nc, nf), 1.1 * error_on(mild, nc, nf));
+  EXPECT_GT(r.relief_share, 0.0);
+  EXPECT_LT(r.relief_share, 1.0);
 }
 
 TEST(AutoDenoise, NoisyRealModelsNoFaceTurnedOverNoFold) {

@@ -340,8 +340,8 @@ def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> AutoDenoiseRe
     surface is creased or smooth, then surfels, positions fitted to them and edge labels, with every
     parameter derived from the input (auto_denoise.h). Returns a Result: V, F (same connectivity),
     edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), creased (#F: how
-    each face was read, 1 creased, 0 smooth, between: a transition), creased_share (of the area),
-    parameters."""
+    each face was read, 1 creased, 0 smooth, between: a transition), creased_share (of the area), relief (#F:
+    the fine relief kept in smooth regions, 0 plain to 1), relief_share, parameters."""
     return AutoDenoiseResult(**_geotex.denoise_auto(*_arrays(mesh, F), options))
 
 

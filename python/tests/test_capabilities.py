@@ -1,6 +1,7 @@
 """Every capability beyond the foundation through Python, each with a property that could fail."""
 
 import json
+from pathlib import Path
 import math
 import os
 import subprocess
@@ -102,6 +103,34 @@ def test_every_way_of_reading_is_a_keyword_and_a_flag(tmp_path):
                         "--report", str(tmp_path / "r.json")], check=True)
         report = json.loads((tmp_path / "r.json").read_text())
         assert abs(report["creased_share"] - runs["rule"]["creased_share"]) < 1e-12
+
+
+def test_relief_map_keeps_detail_and_smooths_a_plain_part_in_python_and_the_cli(tmp_path):
+    # The smooth reading's relief per region (auto_denoise.h, step 5b): spot (eyes, nostrils, ears; shipped in
+    # data/) keeps its relief where a plain sphere of the same edge length beside it is smoothed; the map is the
+    # same through Python and in the CLI's report, and relief_floor reaches both ends.
+    root = Path(__file__).resolve().parents[2]
+    Vc, Fc = geotex.read_mesh(str(root / "data" / "spot.obj"))
+    Vs, Fs = geotex.generate("sphere", level=3)
+    Vs = Vs * (geotex.mean_edge_length(Vc, Fc) / geotex.mean_edge_length(Vs, Fs))
+    Vs = Vs + [Vc[:, 0].max() - Vs[:, 0].min() + np.ptp(Vc[:, 0]), 0, 0]
+    V, F = np.vstack([Vc, Vs]), np.vstack([Fc, Fs + len(Vc)])
+    Vn = geotex.add_noise(V, F, sigma=0.1, seed=3)
+    r = geotex.denoise(Vn, F, creased=False)
+    rel = np.asarray(r["relief"])
+    assert rel.shape == (len(F),) and rel.min() >= 0 and rel.max() <= 1
+    assert rel[: len(Fc)].mean() > rel[len(Fc):].mean() + 0.3, (rel[: len(Fc)].mean(), rel[len(Fc):].mean())
+    assert 0 < r["relief_share"] < 1 and any(line.startswith("relief (smooth regions)") for line in r["choices"])
+    err = lambda X: geotex.compare(X[: len(Vc)], Fc, Vc, Fc)["mean_normal_error_deg"]
+    assert err(r["V"]) < 0.8 * err(geotex.denoise(Vn, F, creased=False, relief_floor=1e6)["V"])
+    assert np.all(np.asarray(geotex.denoise(Vn, F, creased=False, relief_floor=1e6)["relief"]) == 0)
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), "--no-creased",
+                        "--report", str(tmp_path / "r.json")], check=True)
+        report = json.loads((tmp_path / "r.json").read_text())
+        assert np.allclose(report["relief"], rel) and abs(report["relief_share"] - r["relief_share"]) < 1e-12
 
 
 def test_surfel_primal_denoising(noisy_cube):

@@ -31,6 +31,10 @@ const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
       .add("creased_share", [](const R& r) { return r.creased_share; }, "the share of the area read creased")
       .array("creased", [](const R& r) { return r.creased; },
              "#F: how each face was read, 1 creased, 0 smooth, between: a transition")
+      .add("relief_share", [](const R& r) { return r.relief_share; },
+           "the share of the light fit's relief kept, area-weighted over the faces read smooth")
+      .array("relief", [](const R& r) { return r.relief; },
+             "#F: the light fit's relief kept, 0 plain (the mild fit) to 1 (relief above the noise: the light fit)")
       .add("seconds_per_stage", [](const R& r) {
              nlohmann::json j = nlohmann::json::object();
              for (const auto& [stage, sec] : r.seconds) j[stage] = sec;

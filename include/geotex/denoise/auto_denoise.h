@@ -15,6 +15,10 @@
 //!     part's look (creased-looking parts lean to the sharp reading), and the sharp fit wherever a learned
 //!     model (reading_model.h) is sure it is the better one (AutoDenoiseOptions::reading); a soft per-face map
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
+//!  5b. the smooth reading's relief per region: a light fit (1 mild sweep, 3 updates) keeps fine relief and
+//!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
+//!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
+//!     detail keep their shape where a plain sphere is still smoothed fully;
 //!  6. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
 //!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
 //!  7. faces turned over against their target normals are untangled (their vertices moved to the mean of
@@ -84,6 +88,14 @@ struct AutoDenoiseOptions {
   int mild_iterations = 4;      //!< sweeps of the mild surfel pass (every input)
   int sharp_iterations = 30;    //!< threshold steps of the sharp surfel pass (creased inputs)
   int fit_iterations = 20;      //!< vertex updates fitting the positions to the normals (Sun et al. 2007)
+  //! The smooth reading's relief, per region (step 5b): a light fit (this many mild sweeps, then
+  //! light_fit_iterations updates) keeps fine relief, and each vertex keeps it where the local energy of the
+  //! light fit's departure from the mild one stands above relief_floor × the local noise energy.
+  int light_iterations = 1;
+  int light_fit_iterations = 3;  //!< vertex updates of the light fit
+  //! The noise floor of step 5b in units of the local noise energy: 0 keeps the light fit everywhere, a
+  //! large value the mild fit everywhere (the previous release's smooth reading).
+  double relief_floor = 0.13;
   //! Normal noise (mean edge lengths) at which half of the change is kept: inputs much less noisy are
   //! returned (nearly) as they are.
   double keep_below = 0.02;
@@ -106,6 +118,10 @@ struct AutoDenoiseResult {
   //! mild pass's), in between a blend (transitions); constant when AutoDenoiseOptions::creased is given.
   Eigen::VectorXd creased;
   double creased_share = 0;            //!< the share of the surface area read creased (creased >= 0.5)
+  //! #F: how much of the light fit's relief each face keeps in the smooth reading, 0 (plain: the mild fit)
+  //! to 1 (relief well above the noise: the light fit); see AutoDenoiseOptions::relief_floor.
+  Eigen::VectorXd relief;
+  double relief_share = 0;             //!< the area-weighted mean of relief over the faces read smooth
   std::vector<std::pair<std::string, double>> seconds;  //!< wall time of each stage
 
 };
