@@ -55,29 +55,6 @@ size_t folded_faces(const Mesh& mesh) {
   return count;
 }
 
-HeightStats height_stats(const Mesh& base, const Eigen::VectorXd& h, const std::vector<char>& mask) {
-  if (h.size() != static_cast<Eigen::Index>(base.n_vertices()) || mask.size() != base.n_vertices())
-    throw InvalidInput("height statistics: expected one height and one mask entry per vertex");
-  const Eigen::VectorXd fa = face_areas(base);
-  Eigen::VectorXd va = Eigen::VectorXd::Zero(h.size());
-  for (auto f : base.faces())
-    for (auto v : base.fv_range(f)) va[v.idx()] += fa[f.idx()] / 3;
-  HeightStats s;
-  double sum_abs = 0, sum_sq = 0;
-  for (Eigen::Index i = 0; i < h.size(); ++i) {
-    if (!mask[i]) continue;
-    s.area += va[i];
-    sum_abs += va[i] * std::abs(h[i]);
-    sum_sq += va[i] * h[i] * h[i];
-    s.max_abs = std::max(s.max_abs, std::abs(h[i]));
-  }
-  if (s.area > 0) {
-    s.mean_abs = sum_abs / s.area;
-    s.rms = std::sqrt(sum_sq / s.area);
-  }
-  return s;
-}
-
 namespace {
 
 // ∫ h² = A/6 (Σ h_i² + Σ_{i<j} h_i h_j) exactly; ∫ |h| at the centroids of the 16 sub-triangles of a
@@ -153,19 +130,6 @@ HeightStats height_stats_linear(const Mesh& base, const Eigen::VectorXd& h, cons
     s.rms = std::sqrt(sum_sq / s.area);
   }
   return s;
-}
-
-double max_height_step(const Mesh& mesh, const Eigen::VectorXd& h, const std::vector<char>& mask) {
-  if (h.size() != static_cast<Eigen::Index>(mesh.n_vertices()) || (!mask.empty() && mask.size() != mesh.n_vertices()))
-    throw InvalidInput("height step: expected one height (and mask entry) per vertex");
-  double step = 0;
-  for (auto e : mesh.edges()) {
-    const auto hh = mesh.halfedge_handle(e, 0);
-    const int a = mesh.from_vertex_handle(hh).idx(), b = mesh.to_vertex_handle(hh).idx();
-    if (!mask.empty() && !mask[a] && !mask[b]) continue;
-    step = std::max(step, std::abs(h[a] - h[b]));
-  }
-  return step;
 }
 
 namespace {

@@ -10,9 +10,6 @@ namespace geotex {
 //! Peak resident set size of this process so far, in bytes (getrusage's ru_maxrss); 0 if unknown.
 size_t peak_rss_bytes();
 
-//! Current resident set size in bytes (from /proc/self/statm); 0 if unknown.
-size_t current_rss_bytes();
-
 //! User + system CPU time of this process so far, in seconds.
 double cpu_seconds();
 

@@ -31,16 +31,14 @@ Vec3 polar_rotated(const Eigen::Matrix3d& J, const Vec3& n0, const Vec3& n1, con
 //! normals. Crumpled texture folds; a smooth surface, however bent, does not. \return the count.
 size_t folded_faces(const Mesh& mesh);
 
-//! Statistics of the heights \p h (#V) over the vertices where \p mask is non-zero, weighted by the
-//! vertices' areas on \p base (a third of their faces' areas).
+//! Statistics of a height field over a region (height_stats_linear(), height_stats_disk()).
 struct HeightStats {
   double mean_abs = 0;  //!< area-weighted mean |h|
   double rms = 0;       //!< area-weighted root mean square of h
   double max_abs = 0;   //!< largest |h|
-  double area = 0;      //!< area of the vertices counted
+  double area = 0;      //!< area counted
 };
-HeightStats height_stats(const Mesh& base, const Eigen::VectorXd& h, const std::vector<char>& mask);
-//! The same for the piecewise-linear height field itself, integrated over the faces whose corners are
+//! Statistics of the piecewise-linear height field \p h (#V), integrated over the faces whose corners are
 //! all in \p mask (|h| by a 16-point rule, h² exactly): what resampling at any density converges to.
 //! Vertex statistics of a rough texture exceed these (linear interpolation between a peak and a trough
 //! is lower than both), so compare a resampled texture with its source this way.
@@ -51,10 +49,6 @@ HeightStats height_stats_linear(const Mesh& base, const Eigen::VectorXd& h, cons
 //! two disks of a transfer sample the same function of z, so these agree up to resampling, whatever
 //! area distortion the two conformal maps have (height_stats_linear() on the surfaces includes it).
 HeightStats height_stats_disk(const Mesh& disk, const MatrixX2d& uv, const Eigen::VectorXd& h, double radius);
-
-//! Largest |h_i − h_j| over the edges ij with at least one end where \p mask is non-zero (all edges
-//! when \p mask is empty).
-double max_height_step(const Mesh& mesh, const Eigen::VectorXd& h, const std::vector<char>& mask = {});
 
 //! What a disk transfer kept (TransferResult against its source), by the measures the tests state.
 struct TransferQuality {
