@@ -50,13 +50,12 @@ CPU_CAP_S = None          # --hard: RLIMIT_CPU of each run (issue 30)
 HARD_FACES = 100000
 KEEPS_CONNECTIVITY = {"noise", "smooth", "denoise", "deform", "project", "resize"}
 # (mesh, command) runs of the hard zoo still past the CPU cap (bench/bad-input.md, "left undone"), as
-# measured on 2026-12-04 (7e004fc; `cli_properties.py build/geotex --hard --jobs 2`).
+# measured on 2026-12-06 (h-hard; `cli_properties.py build/geotex --hard --jobs 2`). The fan's two
+# resizes take 16-17 s of CPU run alone (mostly the ADF's Lanczos on one 10^5-vertex component; main's
+# build the same) and were stopped at 20 s in that run, two runs sharing two cores.
 KNOWN_OVER_CAP = {
-    ("hard-fan", "resize thesis"), ("hard-fan", "texture atlas"), ("hard-fan", "texture synthesize"),
-    ("hard-disjoint", "resize x2 adf"), ("hard-disjoint", "resize thesis"), ("hard-disjoint", "texture atlas"),
-    ("hard-disjoint", "texture synthesize"),
-    ("hard-needles", "project"), ("hard-needles", "resize x2 adf"), ("hard-needles", "resize thesis"),
-    ("hard-needles", "texture atlas"), ("hard-needles", "texture synthesize"),
+    ("hard-fan", "resize x2 adf"), ("hard-fan", "resize thesis"),
+    ("hard-needles", "project"), ("hard-needles", "resize x2 adf"), ("hard-needles", "texture atlas"),
 }
 
 

@@ -248,3 +248,44 @@ TEST(FeatureMap, RealModelKeepsItsFeaturesAndItsBox) {
               fm.summary.describe().c_str(), ratio.x(), ratio.y(), ratio.z(), 100 * worst);
   EXPECT_LT(worst, 0.1);
 }
+
+TEST(FeatureMap, AdfOfSeveralComponentsIsEachComponentsOwn) {
+  // Two copies of the stick side by side and three loose triangles: each component gets its own
+  // spectrum (one spectrum of the whole would spend its eigenpairs on the k zero modes of k components:
+  // minutes for 10^5 disjoint triangles), its ADF weighted by its share of the area. So each copy's field
+  // is the stick's alone times its share, and both copies mark the same vertices.
+  const Stick& s = stick();
+  const MatrixX3d X = positions(s.shape.textured);
+  const MatrixX3i F = faces(s.shape.textured);
+  const Eigen::Index n = X.rows(), m = F.rows();
+  const double gap = 2 * (X.col(1).maxCoeff() - X.col(1).minCoeff());
+  MatrixX3d Y(2 * n + 9, 3);
+  MatrixX3i G(2 * m + 3, 3);
+  Y.topRows(n) = X;
+  Y.middleRows(n, n) = X.rowwise() + Eigen::RowVector3d(0, gap, 0);
+  G.topRows(m) = F;
+  G.middleRows(m, m) = F.array() + static_cast<int>(n);
+  for (int t = 0; t < 3; ++t) {  // loose triangles: components of three vertices (a dense 3 by 3 problem)
+    const Eigen::Index b = 2 * n + 3 * t;
+    Y.row(b) = Eigen::RowVector3d(0.1 * t, -gap, 0);
+    Y.row(b + 1) = Y.row(b) + Eigen::RowVector3d(0.05, 0, 0);
+    Y.row(b + 2) = Y.row(b) + Eigen::RowVector3d(0, 0.04, 0.01);
+    G.row(2 * m + t) << static_cast<int>(b), static_cast<int>(b + 1), static_cast<int>(b + 2);
+  }
+  const Mesh pair = make_mesh(Y, G);
+  ASSERT_EQ(pair.n_faces(), static_cast<size_t>(2 * m + 3));
+  FeatureMapOptions o;
+  o.method = FeatureMapMethod::Adf;
+  const FeatureMap both = feature_map(pair, o);
+  const double total = face_areas(pair).sum(), share = face_areas(s.shape.textured).sum() / total;
+  const Eigen::VectorXd alone = share * s.adf.field;
+  const double scale = alone.cwiseAbs().maxCoeff();
+  EXPECT_LT((both.field.head(n) - alone).cwiseAbs().maxCoeff(), 1e-6 * scale);
+  EXPECT_LT((both.field.segment(n, n) - alone).cwiseAbs().maxCoeff(), 1e-6 * scale);
+  EXPECT_TRUE(both.field.tail(9).allFinite());
+  EXPECT_GT(both.field.tail(9).minCoeff(), 0);
+  EXPECT_EQ(both.weights.head(n), both.weights.segment(n, n));
+  std::printf("  two sticks: IoU %.3f of each copy's map with the stick's alone, %s\n",
+              iou(both.weights.head(n), s.adf.weights), both.summary.describe().c_str());
+  EXPECT_GT(iou(both.weights.head(n), s.adf.weights), 0.8);
+}

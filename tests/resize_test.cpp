@@ -515,3 +515,37 @@ TEST(ResizeCli, PaintedWeightFileIsHonoured) {
   EXPECT_LT((positions(read_mesh(tmp / "r.ply")) - expected).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_EQ(geotex::test::read_file(tmp / "saved.txt"), text);  // the weights used are the ones painted
 }
+
+TEST(Resize, ThesisOnAFanSolvesEquation93AsWritten) {
+  // A fan of 700 triangles around one vertex: the apex's Laplacian row couples all 700 rim vertices,
+  // a dense 700 x 700 block in LᵀFL (10^5: 3.7 GB, issue 30) that the least-squares solver keeps out of
+  // its factor. The result is still the least-squares solution of Eq. (9.3), by dense QR.
+  const int k = 700, n = k + 1;
+  MatrixX3d X(n, 3);
+  MatrixX3i F(k, 3);
+  X.row(0) << 0, 0, 0.3;
+  for (int i = 0; i < k; ++i) {
+    const double t = 2 * M_PI * i / k;
+    X.row(1 + i) << std::cos(t), std::sin(t), 0.05 * std::sin(5 * t);
+    F.row(i) << 0, 1 + i, 1 + (i + 1) % k;
+  }
+  const Mesh m = make_mesh(X, F);
+  ASSERT_EQ(static_cast<int>(m.n_faces()), k);
+  const MatrixX3d C = apply_map(twist_map(0.8), apply_map(scale_map({1.7, 1.0, 0.8}), X));
+  Eigen::VectorXd f(n);
+  for (int i = 0; i < n; ++i) f[i] = 0.5 + 0.45 * std::sin(3.0 * i);
+  ResizeOptions o;
+  ResizeOptions::table().apply_preset(o, "thesis");
+  const MatrixX3d Y = feature_aware_resize(m, C, f, o);
+  const Eigen::MatrixXd L = Eigen::MatrixXd(umbrella_laplacian(m));
+  const std::vector<Similarity> T = one_ring_similarities(m, X, C, !o.keep_feature_size);
+  const MatrixX3d D = L * X;
+  MatrixX3d Dt(n, 3);
+  for (int i = 0; i < n; ++i) Dt.row(i) = (T[i].linear() * D.row(i).transpose()).transpose();
+  const Eigen::VectorXd wp = o.position_weight * (Eigen::VectorXd::Ones(n) - f);
+  Eigen::MatrixXd A(2 * n, n), B(2 * n, 3);
+  A << f.asDiagonal() * L, Eigen::MatrixXd(wp.asDiagonal());
+  B << f.asDiagonal() * Dt, wp.asDiagonal() * C;
+  const Eigen::MatrixXd ref = A.colPivHouseholderQr().solve(B);
+  EXPECT_LT((Y - ref).cwiseAbs().maxCoeff(), 1e-6 * ref.cwiseAbs().maxCoeff());
+}

@@ -356,6 +356,61 @@ TEST(TextureAtlas, CoversASphereWithoutGapsAndWithoutSeams) {
   EXPECT_GT(cut.across99, 2 * a.within99);
 }
 
+TEST(TextureAtlas, EachComponentIsCoveredAsIfAlone) {
+  // Two spheres and 200 loose triangles: the disks are placed part by part (each disk costs a pass over
+  // its part only: 10^5 disjoint triangles took minutes, issue 30), with the whole target's heat time.
+  // Each sphere gets the disks and the texture the sphere alone gets; each loose triangle gets a disk.
+  const Source s = bumpy_source();
+  // A bumpy sphere: no two vertices tie as the farthest from the centres so far (the second copy's
+  // coordinates differ from the first's by rounding, which would break a sphere's ties differently).
+  Mesh sphere = icosphere(3, 1.0);
+  {
+    MatrixX3d B = positions(sphere);
+    for (Eigen::Index i = 0; i < B.rows(); ++i) B.row(i) *= 1 + 0.05 * std::sin(12.9898 * i + 4.1 * B(i, 0));
+    set_positions(sphere, B);
+  }
+  AtlasOptions o;
+  o.source_center = s.center;
+  o.source_radius = s.radius;
+  o.target_radius = 1.5;
+  o.refine_ratio = 0;  // vertex i of the target stays vertex i
+  const AtlasResult alone = cover_with_texture(s.base, s.texture, sphere, o);
+  const MatrixX3d X = positions(sphere);
+  const MatrixX3i F = faces(sphere);
+  const Eigen::Index n = X.rows(), m = F.rows();
+  const int loose = 200;
+  MatrixX3d Y(2 * n + 3 * loose, 3);
+  MatrixX3i G(2 * m + loose, 3);
+  Y.topRows(n) = X;
+  Y.middleRows(n, n) = X.rowwise() + Eigen::RowVector3d(3, 0, 0);
+  G.topRows(m) = F;
+  G.middleRows(m, m) = F.array() + static_cast<int>(n);
+  // Loose triangles with the spheres' mean edge, so that the target's mean edge (and heat time) stays
+  // the sphere's.
+  const double h = mean_edge_length(sphere);
+  for (int t = 0; t < loose; ++t) {
+    const Eigen::Index b = 2 * n + 3 * t;
+    Y.row(b) = Eigen::RowVector3d(-3 + 0.2 * (t % 20), 0.2 * (t / 20), 0);
+    Y.row(b + 1) = Y.row(b) + Eigen::RowVector3d(h, 0, 0);
+    Y.row(b + 2) = Y.row(b) + Eigen::RowVector3d(0.5 * h, 0.5 * std::sqrt(3.0) * h, 0);
+    G.row(2 * m + t) << static_cast<int>(b), static_cast<int>(b + 1), static_cast<int>(b + 2);
+  }
+  const Mesh target = make_mesh(Y, G);
+  ASSERT_NEAR(mean_edge_length(target), h, 1e-9 * h);
+  const AtlasResult r = cover_with_texture(s.base, s.texture, target, o);
+  const Eigen::VectorXd& a = alone.texture.height;
+  const double tol = 1e-6 * a.cwiseAbs().maxCoeff();
+  EXPECT_LT((r.texture.height.head(n) - a).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LT((r.texture.height.segment(n, n) - a).cwiseAbs().maxCoeff(), tol);
+  EXPECT_EQ(r.centers.size(), 2 * alone.centers.size() + loose);
+  for (size_t k = 0; k < alone.centers.size(); ++k) {
+    EXPECT_EQ(r.centers[k], alone.centers[k]);
+    EXPECT_EQ(r.centers[alone.centers.size() + k], alone.centers[k] + n);
+  }
+  EXPECT_LT((r.coverage.head(n) - alone.coverage).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((r.coverage.segment(n, n) - alone.coverage).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(TextureTransferData, TentaclesOntoSpot) {
   GEOTEX_REQUIRE_DATA();
   const Source& s = tentacle_source();

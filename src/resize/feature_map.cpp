@@ -221,27 +221,81 @@ bool too_large(const MatrixX3d& X, const std::vector<int>& region, const Vec3& m
 
 }  // namespace
 
-Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* field) {
+namespace {
+
+// The ADF at each diffusion time tried, #V by levels, of a mesh whose faced vertices are connected.
+// On a large mesh the spectrum comes from a simplification (its low end does not change with
+// resolution) and the ADF is extended back harmonically, which adds no maxima of its own.
+Eigen::MatrixXd adf_levels_connected(const Mesh& mesh, const FeatureMapOptions& o, int levels, bool quiet) {
   int n_faced = vertices_in_faces(mesh);
-  const int levels = std::max(1, o.adf_levels);
-  // The ADF at each diffusion time tried, #V by levels. On a large mesh the spectrum comes from a
-  // simplification (its low end does not change with resolution) and the ADF is extended back
-  // harmonically, which adds no maxima of its own.
-  Eigen::MatrixXd G;
   const bool coarse = o.adf_full_vertices > 0 && n_faced > o.adf_full_vertices && n_faced > o.adf_vertices;
-  if (coarse) report(o.progress, 0.02, fmt::format("adf: simplification to {} vertices", o.adf_vertices));
+  if (coarse && !quiet) report(o.progress, 0.02, fmt::format("adf: simplification to {} vertices", o.adf_vertices));
   const SimplifiedMesh simple = coarse ? simplify(mesh, o.adf_vertices) : SimplifiedMesh{};
   const Mesh& spectral = coarse ? simple.mesh : mesh;
   if (coarse) n_faced = vertices_in_faces(spectral);
-  report(o.progress, 0.1, "adf: Laplace spectrum");
+  if (!quiet) report(o.progress, 0.1, "adf: Laplace spectrum");
   const LaplaceSpectrum spectrum = laplace_spectrum(spectral, std::min(o.eigenpairs, n_faced - 1));
-  G.resize(spectral.n_vertices(), levels);
+  Eigen::MatrixXd G(spectral.n_vertices(), levels);
   double t = o.adf_t;
   for (int level = 0; level < levels; ++level, t *= 0.5) G.col(level) = auto_diffusion_function(spectrum, t);
   if (coarse) {
-    report(o.progress, 0.7, "adf: extension to every vertex");
+    if (!quiet) report(o.progress, 0.7, "adf: extension to every vertex");
     G = extend_harmonic(mesh, simple.original, G);
   }
+  return G;
+}
+
+// The ADF of a mesh of several components: each component's own (its own eigenpairs and λ_1), times
+// its share of the total area. A Laplacian of k components has k zero eigenvalues, so one spectrum
+// of the whole would spend its eigenpairs on component indicators (10^5 disjoint triangles: minutes
+// of Lanczos for nothing); per component the cost is linear in the component count. The area share
+// keeps ∫ADF dA of every component comparable (φ² scales as 1/area), as in a single spectrum.
+Eigen::MatrixXd adf_levels(const Mesh& mesh, const FeatureMapOptions& o, int levels) {
+  int k = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &k);
+  std::vector<std::vector<int>> members(k);
+  for (int v = 0; v < comp.size(); ++v)
+    if (!mesh.is_isolated(mesh.vertex_handle(v))) members[comp[v]].push_back(v);
+  std::erase_if(members, [](const std::vector<int>& m) { return m.empty(); });  // isolated vertices: ADF 0
+  if (members.size() <= 1) return adf_levels_connected(mesh, o, levels, false);  // unchanged for one component
+  report(o.progress, 0.1, fmt::format("adf: Laplace spectra of {} components", members.size()));
+  const MatrixX3d X = positions(mesh);
+  const MatrixX3i F = faces(mesh);
+  std::vector<std::vector<int>> component_faces(members.size());
+  std::vector<int> local(X.rows(), -1), which(X.rows(), -1);
+  for (int c = 0; c < static_cast<int>(members.size()); ++c)
+    for (int i = 0; i < static_cast<int>(members[c].size()); ++i) {
+      local[members[c][i]] = i;
+      which[members[c][i]] = c;
+    }
+  for (int f = 0; f < F.rows(); ++f) component_faces[which[F(f, 0)]].push_back(f);
+  const Eigen::VectorXd fa = face_areas(mesh);
+  const double total_area = fa.sum();
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(X.rows(), levels);
+  for (int c = 0; c < static_cast<int>(members.size()); ++c) {
+    const std::vector<int>& m = members[c];
+    MatrixX3d Xc(m.size(), 3);
+    for (size_t i = 0; i < m.size(); ++i) Xc.row(i) = X.row(m[i]);
+    MatrixX3i Fc(component_faces[c].size(), 3);
+    double area = 0;
+    for (size_t j = 0; j < component_faces[c].size(); ++j) {
+      const int f = component_faces[c][j];
+      for (int a = 0; a < 3; ++a) Fc(j, a) = local[F(f, a)];
+      area += fa[f];
+    }
+    const Eigen::MatrixXd Gc = adf_levels_connected(make_mesh(Xc, Fc), o, levels, true);
+    const double share = total_area > 0 ? area / total_area : 0.0;
+    for (size_t i = 0; i < m.size(); ++i) G.row(m[i]) = share * Gc.row(i);
+    check_interrupt();
+  }
+  return G;
+}
+
+}  // namespace
+
+Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* field) {
+  const int levels = std::max(1, o.adf_levels);
+  const Eigen::MatrixXd G = adf_levels(mesh, o, levels);  // the ADF at each diffusion time tried, #V by levels
   const MatrixX3d X = positions(mesh);
   const Vec3 extent = X.colwise().maxCoeff() - X.colwise().minCoeff();
   const Eigen::Index n = X.rows();

@@ -1083,7 +1083,8 @@ SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exe
   {
     Eigen::VectorXd hc(cov.size());
     MatrixX3d Pc(cov.size(), 3);
-    for (size_t k = 0; k < cov.size(); ++k) hc[k] = ht[cov[k]], Pc.row(k) = positions(T).row(cov[k]);
+    const MatrixX3d X = positions(T);  // once: inside the loop it made the report quadratic (issue 30)
+    for (size_t k = 0; k < cov.size(); ++k) hc[k] = ht[cov[k]], Pc.row(k) = X.row(cov[k]);
     const std::vector<int> ft = height_features(Pc, hc, corr, thr);
     q.target_features = ft.size();
     q.target_spacing = mean_spacing(Pc, ft);

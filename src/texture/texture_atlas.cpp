@@ -42,6 +42,122 @@ const OptionTable<AtlasOptions>& AtlasOptions::table() {
   return t;
 }
 
+namespace {
+
+// Variance-preserving blend (as by-example noise blends, Heitz and Neyret 2018): with normalised
+// weights w̃_k = b_k^p / Σ_j b_j^p, D = Σ w̃_k M_k + Σ w̃_k (D_k − M_k) / √(Σ w̃_k²), M_k the source
+// patch's mean displacement in disk k's frame. A plain average of two unrelated pieces of texture
+// has 1/√2 of their contrast; this keeps it. Sums are kept relative to the largest b_k seen so far
+// (b^p underflows for large p).
+struct Blend {
+  MatrixX3d sumM, sumDM;
+  Eigen::VectorXd sumW, sumW2;
+};
+
+// The vertices the disks of one part cover: \p part is the target itself (to_target empty) or a
+// piece of it, whose vertex i is the target's to_target[i].
+struct Part {
+  const Mesh& mesh;
+  std::vector<int> to_target;
+  int target(int v) const { return to_target.empty() ? v : to_target[v]; }
+};
+
+// Farthest-point sampling of disk centres over one part; each disk is blended in as soon as it is
+// placed. A centre in a component no disk has reached yet moves to the vertex farthest from it (an
+// extremity, so the disks pack from the outside in). \return the disks left out (not disks).
+size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& N, const detail::SourceDisk& src,
+                   double R, const AtlasOptions& o, AtlasResult& res, Blend& b) {
+  const Mesh& T = part.mesh;
+  const Eigen::Index n = T.n_vertices();
+  Eigen::VectorXd dmin = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  for (auto v : T.vertices())
+    if (T.is_isolated(v)) dmin[v.idx()] = 0;  // nothing to cover
+  const Vec3 mean_local = src.mean_local();
+  size_t skipped = 0;
+  Eigen::Index next = 0;
+  for (int c = dmin.maxCoeff(&next) > o.spacing * R ? static_cast<int>(next) : -1; c >= 0;) {
+    if (std::isinf(dmin[c])) {  // a component's first disk: start from its extremity
+      const Eigen::VectorXd d0 = geo.distance(c);
+      double best = -1;
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (std::isfinite(d0[i]) && d0[i] > best && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) {
+          best = d0[i];
+          c = static_cast<int>(i);
+        }
+    }
+    const Eigen::VectorXd d = geo.distance(c);
+    dmin = dmin.cwiseMin(d);
+    // The disk, shrunk when the full radius is not a disk there (a thin part, a handle).
+    DiskPatch patch;
+    bool ok = false;
+    for (double r = R; !ok && r >= 0.5 * R; r *= 0.8) {
+      try {
+        patch = extract_disk_patch(T, c, r, d);
+        ok = true;
+      } catch (const InvalidInput&) {
+      }
+    }
+    if (ok) {
+      const DiskMap map = disk_map(patch, o.target_direction);
+      const MatrixX3d e1 = detail::vertex_u_directions(patch.mesh, map.e1);
+      const int disk = static_cast<int>(res.centers.size());
+      for (size_t k = 0; k < patch.vertices.size(); ++k) {
+        const int v = part.target(patch.vertices[k]);
+        const Eigen::Vector2d z = map.uv.row(k).transpose();
+        const double w = std::pow(std::max(0.0, 1 - z.squaredNorm()), 2);
+        if (!(w > 0)) continue;
+        const Eigen::Matrix3d frame = local_frame(N.row(v).transpose(), e1.row(k).transpose());
+        const Vec3 D = frame * (res.height_factor * src.sample(z)), M = frame * (res.height_factor * mean_local);
+        if (w > res.coverage[v]) {  // rescale the sums to the new largest weight
+          const double f = res.coverage[v] > 0 ? std::pow(res.coverage[v] / w, o.blend_power) : 0.0;
+          b.sumW[v] *= f;
+          b.sumW2[v] *= f * f;
+          b.sumM.row(v) *= f;
+          b.sumDM.row(v) *= f;
+          res.coverage[v] = w;
+          res.owner[v] = disk;
+        }
+        const double wp = std::pow(w / res.coverage[v], o.blend_power);
+        b.sumW[v] += wp;
+        b.sumW2[v] += wp * wp;
+        b.sumM.row(v) += wp * M.transpose();
+        b.sumDM.row(v) += wp * (D - M).transpose();
+      }
+      res.centers.push_back(part.target(c));
+    } else {
+      ++skipped;
+      for (Eigen::Index i = 0; i < n; ++i)  // give up around it rather than retry forever
+        if (d[i] <= o.spacing * R) dmin[i] = 0;
+    }
+    // The next centre: the vertex farthest from every centre so far, unless all are close enough.
+    const double gap = dmin.maxCoeff(&next);
+    c = gap > o.spacing * R ? static_cast<int>(next) : -1;
+    if (o.progress && part.to_target.empty())
+      report(o.progress, c < 0 ? 1.0 : double((dmin.array() <= o.spacing * R).count()) / n, "disks");
+  }
+  return skipped;
+}
+
+// Components packed into parts of at least kPartVertices vertices (a larger component is a part of
+// its own), in the order of their first vertex. Each disk costs a heat solve and passes over its whole
+// part: over the whole target, 10^5 disjoint triangles (a disk each) cost minutes (issue 30).
+constexpr int kPartVertices = 64;
+
+std::vector<std::vector<int>> parts_of(const Mesh& T) {
+  int k = 0;
+  const Eigen::VectorXi comp = connected_components(T, &k);
+  std::vector<std::vector<int>> members(k);
+  for (int v = 0; v < comp.size(); ++v) members[comp[v]].push_back(v);
+  std::vector<std::vector<int>> parts(1);
+  for (const auto& m : members) {
+    if (static_cast<int>(parts.back().size()) >= kPartVertices) parts.emplace_back();
+    parts.back().insert(parts.back().end(), m.begin(), m.end());
+  }
+  return parts;
+}
+
+}  // namespace
+
 AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, const Mesh& target_base,
                                const AtlasOptions& o) {
   AtlasOptions::table().check(o);
@@ -66,84 +182,38 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
   const Mesh& T = res.target;
   const Eigen::Index n = T.n_vertices();
   const MatrixX3d N = vertex_normals(T, o.texture.normals);
-  const HeatGeodesics geo(T, o.geodesic);
-
-  // Farthest-point sampling of disk centres; each disk is blended in as soon as it is placed.
-  Eigen::VectorXd dmin = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
-  for (auto v : T.vertices())
-    if (T.is_isolated(v)) dmin[v.idx()] = 0;  // nothing to cover
-  // Variance-preserving blend (as by-example noise blends, Heitz and Neyret 2018): with normalised
-  // weights w̃_k = b_k^p / Σ_j b_j^p, D = Σ w̃_k M_k + Σ w̃_k (D_k − M_k) / √(Σ w̃_k²), M_k the source
-  // patch's mean displacement in disk k's frame. A plain average of two unrelated pieces of texture
-  // has 1/√2 of their contrast; this keeps it. Sums are kept relative to the largest b_k seen so far
-  // (b^p underflows for large p).
-  const Vec3 mean_local = src.mean_local();
-  MatrixX3d sumM = MatrixX3d::Zero(n, 3), sumDM = MatrixX3d::Zero(n, 3);
-  Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), sumW2 = Eigen::VectorXd::Zero(n);
+  Blend b{MatrixX3d::Zero(n, 3), MatrixX3d::Zero(n, 3), Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
   res.coverage = Eigen::VectorXd::Zero(n);
   res.owner = Eigen::VectorXi::Constant(n, -1);
-  Eigen::Index first = 0;
-  while (first < n && T.is_isolated(T.vertex_handle(static_cast<int>(first)))) ++first;
-  {  // start from the vertex farthest from the first: an extremity, so the disks pack from the outside in
-    const Eigen::VectorXd d0 = geo.distance(static_cast<int>(first));
-    double best = -1;
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (std::isfinite(d0[i]) && d0[i] > best && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) {
-        best = d0[i];
-        first = i;
-      }
-  }
   size_t skipped = 0;
-  for (int c = static_cast<int>(first); c >= 0;) {
-    const Eigen::VectorXd d = geo.distance(c);
-    dmin = dmin.cwiseMin(d);
-    // The disk, shrunk when the full radius is not a disk there (a thin part, a handle).
-    DiskPatch patch;
-    bool ok = false;
-    for (double r = R; !ok && r >= 0.5 * R; r *= 0.8) {
-      try {
-        patch = extract_disk_patch(T, c, r, d);
-        ok = true;
-      } catch (const InvalidInput&) {
-      }
+  const std::vector<std::vector<int>> parts = parts_of(T);
+  if (parts.size() == 1) {
+    skipped = place_disks(Part{T, {}}, HeatGeodesics(T, o.geodesic), N, src, R, o, res, b);
+  } else {
+    // Each part's heat time the target's: t = time_factor h², h the target's mean edge length.
+    const double h = mean_edge_length(T);
+    const MatrixX3d X = positions(T);
+    const MatrixX3i F = faces(T);
+    std::vector<int> part_of(n, -1), local(n, -1);
+    for (size_t p = 0; p < parts.size(); ++p)
+      for (size_t i = 0; i < parts[p].size(); ++i) part_of[parts[p][i]] = static_cast<int>(p), local[parts[p][i]] = static_cast<int>(i);
+    std::vector<std::vector<int>> part_faces(parts.size());
+    for (Eigen::Index f = 0; f < F.rows(); ++f) part_faces[part_of[F(f, 0)]].push_back(static_cast<int>(f));
+    Eigen::Index done = 0;
+    for (size_t p = 0; p < parts.size(); ++p) {
+      MatrixX3d Xp(parts[p].size(), 3);
+      for (size_t i = 0; i < parts[p].size(); ++i) Xp.row(i) = X.row(parts[p][i]);
+      MatrixX3i Fp(part_faces[p].size(), 3);
+      for (size_t j = 0; j < part_faces[p].size(); ++j)
+        for (int a = 0; a < 3; ++a) Fp(j, a) = local[F(part_faces[p][j], a)];
+      if (Fp.rows() == 0) continue;  // isolated vertices only: nothing to cover
+      const Mesh piece = make_mesh(Xp, Fp);
+      HeatGeodesicOptions g = o.geodesic;
+      if (piece.n_edges() > 0) g.time_factor *= std::pow(h / mean_edge_length(piece), 2);
+      skipped += place_disks(Part{piece, parts[p]}, HeatGeodesics(piece, g), N, src, R, o, res, b);
+      done += static_cast<Eigen::Index>(parts[p].size());
+      if (o.progress) report(o.progress, double(done) / n, "disks");
     }
-    if (ok) {
-      const DiskMap map = disk_map(patch, o.target_direction);
-      const MatrixX3d e1 = detail::vertex_u_directions(patch.mesh, map.e1);
-      const int disk = static_cast<int>(res.centers.size());
-      for (size_t k = 0; k < patch.vertices.size(); ++k) {
-        const int v = patch.vertices[k];
-        const Eigen::Vector2d z = map.uv.row(k).transpose();
-        const double w = std::pow(std::max(0.0, 1 - z.squaredNorm()), 2);
-        if (!(w > 0)) continue;
-        const Eigen::Matrix3d frame = local_frame(N.row(v).transpose(), e1.row(k).transpose());
-        const Vec3 D = frame * (res.height_factor * src.sample(z)), M = frame * (res.height_factor * mean_local);
-        if (w > res.coverage[v]) {  // rescale the sums to the new largest weight
-          const double f = res.coverage[v] > 0 ? std::pow(res.coverage[v] / w, o.blend_power) : 0.0;
-          sumW[v] *= f;
-          sumW2[v] *= f * f;
-          sumM.row(v) *= f;
-          sumDM.row(v) *= f;
-          res.coverage[v] = w;
-          res.owner[v] = disk;
-        }
-        const double wp = std::pow(w / res.coverage[v], o.blend_power);
-        sumW[v] += wp;
-        sumW2[v] += wp * wp;
-        sumM.row(v) += wp * M.transpose();
-        sumDM.row(v) += wp * (D - M).transpose();
-      }
-      res.centers.push_back(c);
-    } else {
-      ++skipped;
-      for (Eigen::Index i = 0; i < n; ++i)  // give up around it rather than retry forever
-        if (d[i] <= o.spacing * R) dmin[i] = 0;
-    }
-    // The next centre: the vertex farthest from every centre so far, unless all are close enough.
-    Eigen::Index far = 0;
-    const double gap = dmin.maxCoeff(&far);
-    c = gap > o.spacing * R ? static_cast<int>(far) : -1;
-    if (o.progress) report(o.progress, c < 0 ? 1.0 : double((dmin.array() <= o.spacing * R).count()) / n, "disks");
   }
   if (skipped)
     res.warnings.push_back(fmt::format("{} disk(s) of radius down to {:.4g} were not disks (thin parts or handles) "
@@ -151,7 +221,7 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
                                        skipped, 0.5 * R));
   MatrixX3d D = MatrixX3d::Zero(n, 3);
   for (Eigen::Index i = 0; i < n; ++i)
-    if (sumW[i] > 0) D.row(i) = sumM.row(i) / sumW[i] + sumDM.row(i) / std::sqrt(sumW2[i]);
+    if (b.sumW[i] > 0) D.row(i) = b.sumM.row(i) / b.sumW[i] + b.sumDM.row(i) / std::sqrt(b.sumW2[i]);
   TextureCodec codec(T, o.texture);
   res.texture = codec.from_displacements(D);
   res.damage = texture_damage(T, codec.apply(res.texture));
