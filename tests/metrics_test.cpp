@@ -85,6 +85,32 @@ TEST(Metrics, EdgeLabelScores) {
   EXPECT_DOUBLE_EQ(s.f1, 2 * (2.0 / 3.0) * 0.5 / (2.0 / 3.0 + 0.5));
 }
 
+namespace {
+// The faces some edge of another face (sharing no vertex with it) crosses, by testing every (edge, face)
+// pair (Moller-Trumbore): the reference the self-intersection search is checked against.
+std::vector<char> crossed_faces_brute_force(const MatrixX3d& V, const MatrixX3i& F) {
+  std::vector<char> brute(F.rows(), 0);
+  for (Eigen::Index g = 0; g < F.rows(); ++g)
+    for (int s = 0; s < 3; ++s) {
+      const int a = F(g, s), b = F(g, (s + 1) % 3);
+      const Vec3 p0 = V.row(a).transpose(), d = (V.row(b) - V.row(a)).transpose();
+      for (Eigen::Index f = 0; f < F.rows(); ++f) {
+        if ((F.row(f).array() == a).any() || (F.row(f).array() == b).any()) continue;
+        const Vec3 A = V.row(F(f, 0)).transpose(), e1 = (V.row(F(f, 1)) - V.row(F(f, 0))).transpose(),
+                   e2 = (V.row(F(f, 2)) - V.row(F(f, 0))).transpose();
+        const Vec3 pv = d.cross(e2);
+        const double det = e1.dot(pv);
+        if (!(std::abs(det) > 1e-30)) continue;
+        const Vec3 q = (p0 - A).cross(e1);
+        const double u = (p0 - A).dot(pv) / det, v = d.dot(q) / det, w = e2.dot(q) / det;
+        if (u > 1e-9 && v > 1e-9 && u + v < 1 - 1e-9 && w > 1e-9 && w < 1 - 1e-9) brute[f] = 1;
+      }
+    }
+  return brute;
+}
+
+}  // namespace
+
 TEST(Metrics, SelfIntersectionsOfAFanMatchBruteForce) {
   // A fan of 1,500 triangles around one vertex (more than the 1,024 that give a hub its own search tree,
   // issue 30) crossed by a few long triangles, some through the hub: the crossed faces found by the
@@ -107,23 +133,7 @@ TEST(Metrics, SelfIntersectionsOfAFanMatchBruteForce) {
   }
   F(k + 2, 0) = 0;  // the third shares the hub
   const std::vector<char> hit = self_intersecting_faces(V, F);
-  std::vector<char> brute(F.rows(), 0);
-  for (Eigen::Index g = 0; g < F.rows(); ++g)
-    for (int s = 0; s < 3; ++s) {
-      const int a = F(g, s), b = F(g, (s + 1) % 3);
-      const Vec3 p0 = V.row(a).transpose(), d = (V.row(b) - V.row(a)).transpose();
-      for (Eigen::Index f = 0; f < F.rows(); ++f) {
-        if ((F.row(f).array() == a).any() || (F.row(f).array() == b).any()) continue;
-        const Vec3 A = V.row(F(f, 0)).transpose(), e1 = (V.row(F(f, 1)) - V.row(F(f, 0))).transpose(),
-                   e2 = (V.row(F(f, 2)) - V.row(F(f, 0))).transpose();
-        const Vec3 pv = d.cross(e2);
-        const double det = e1.dot(pv);
-        if (!(std::abs(det) > 1e-30)) continue;
-        const Vec3 q = (p0 - A).cross(e1);
-        const double u = (p0 - A).dot(pv) / det, v = d.dot(q) / det, w = e2.dot(q) / det;
-        if (u > 1e-9 && v > 1e-9 && u + v < 1 - 1e-9 && w > 1e-9 && w < 1 - 1e-9) brute[f] = 1;
-      }
-    }
+  const std::vector<char> brute = crossed_faces_brute_force(V, F);
   EXPECT_EQ(hit, brute);
   EXPECT_GE(std::count(brute.begin(), brute.end(), 1), 4);  // the piercing triangles and fan faces they cross
 }
@@ -146,23 +156,7 @@ TEST(Metrics, SelfIntersectionsOfNeedlesMatchBruteForce) {
     F.row(i) << 3 * i, 3 * i + 1, 3 * i + 2;
   }
   const std::vector<char> hit = self_intersecting_faces(V, F);
-  std::vector<char> brute(F.rows(), 0);
-  for (Eigen::Index g = 0; g < F.rows(); ++g)
-    for (int s = 0; s < 3; ++s) {
-      const int a = F(g, s), b = F(g, (s + 1) % 3);
-      const Vec3 p0 = V.row(a).transpose(), d = (V.row(b) - V.row(a)).transpose();
-      for (Eigen::Index f = 0; f < F.rows(); ++f) {
-        if ((F.row(f).array() == a).any() || (F.row(f).array() == b).any()) continue;
-        const Vec3 A = V.row(F(f, 0)).transpose(), e1 = (V.row(F(f, 1)) - V.row(F(f, 0))).transpose(),
-                   e2 = (V.row(F(f, 2)) - V.row(F(f, 0))).transpose();
-        const Vec3 pv = d.cross(e2);
-        const double det = e1.dot(pv);
-        if (!(std::abs(det) > 1e-30)) continue;
-        const Vec3 q = (p0 - A).cross(e1);
-        const double u = (p0 - A).dot(pv) / det, v = d.dot(q) / det, w = e2.dot(q) / det;
-        if (u > 1e-9 && v > 1e-9 && u + v < 1 - 1e-9 && w > 1e-9 && w < 1 - 1e-9) brute[f] = 1;
-      }
-    }
+  const std::vector<char> brute = crossed_faces_brute_force(V, F);
   EXPECT_EQ(hit, brute);
   std::printf("  needles: %d of %d crossed\n", static_cast<int>(std::count(brute.begin(), brute.end(), 1)), k);
   EXPECT_GE(std::count(brute.begin(), brute.end(), 1), 5);
