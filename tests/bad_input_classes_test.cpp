@@ -417,3 +417,51 @@ TEST(BadInputClasses, OutOfMemoryIsReportedAsSuch) {
   RecordProperty("succeeded", ok);
   for (const auto& n : names_in(tmp.path)) EXPECT_TRUE(n == "in.ply" || n == "out.ply") << n;
 }
+
+// The CLI with the environment variable GEOTEX_MAX_MEMORY set to \p cap (resources.h).
+CliResult run_with_memory_cap(const std::string& cap, const std::string& args) {
+  TempDir tmp;
+  const std::string out = tmp / "out.txt", err = tmp / "err.txt";
+  const std::string cmd = fmt::format("GEOTEX_MAX_MEMORY={} {} {} >{} 2>{} </dev/null", cap, ::geotex::test::cli_path(),
+                                      args, out, err);
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+TEST(BadInputClasses, AMeshTooLargeForTheMemoryLeftIsRefusedBeforeItIsRead) {
+  // Issue 30: a sparse 3 GB STL of 6e7 zero-area triangles took 238 s to say "out of memory". The
+  // readers now estimate what a mesh needs from its declared counts (and a file's own size) and refuse
+  // at once, naming the estimate. A 327,680-face sphere needs about 58 MiB to read, its files 8-17 MiB:
+  // with 40 MiB allowed (the process itself holds about 14) each format is refused by the estimate, and
+  // with 1 GiB each reads.
+  TempDir tmp;
+  ASSERT_EQ(run_cli("-q generate sphere --level 4 -o " + (tmp / "s.ply")).exit_code, 0);
+  for (const char* ext : {"obj", "off", "stl"})
+    ASSERT_EQ(run_cli(fmt::format("-q noise {} -o {} --sigma 0", tmp / "s.ply", tmp / (std::string("s.") + ext))).exit_code, 0);
+  for (const char* ext : {"ply", "obj", "off", "stl"}) {
+    const std::string in = tmp / (std::string("s.") + ext);
+    const CliResult refused = run_with_memory_cap("40M", "info " + in);
+    EXPECT_TRUE(fails_with(refused, 1, "geotex: out of memory")) << ext << ": " << refused.err;
+    EXPECT_NE(refused.err.find("needs about"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("faces"), std::string::npos) << ext << ": the estimate is the mesh's: " << refused.err;
+    const CliResult read = run_with_memory_cap("1G", "info " + in);
+    EXPECT_EQ(read.exit_code, 0) << ext << ": " << read.err;
+  }
+  // A binary STL header declaring 6e7 triangles over a sparse file of 3 GB: refused before reading it.
+  const std::string big = tmp / "big.stl";
+  {
+    std::ofstream f(big, std::ios::binary);
+    const std::string header(80, '\0');
+    f.write(header.data(), 80);
+    const uint32_t n = 60000000;
+    f.write(reinterpret_cast<const char*>(&n), 4);
+  }
+  fs::resize_file(big, 84ull + 50ull * 60000000ull);
+  const CliResult r = run_with_memory_cap("1G", "info " + big);
+  EXPECT_TRUE(fails_with(r, 1, "geotex: out of memory")) << r.err;
+  EXPECT_NE(r.err.find("GiB"), std::string::npos) << r.err;
+}

@@ -68,6 +68,9 @@ int report_error(std::exception_ptr error) {
   } catch (const geotex::SolverError& e) {
     std::fprintf(stderr, "geotex: solver error: %s\n", one_line(e.what()).c_str());
     return 1;
+  } catch (const geotex::OutOfMemory& e) {
+    std::fprintf(stderr, "geotex: out of memory: %s\n", one_line(e.what()).c_str());
+    return 1;
   } catch (const geotex::Error& e) {
     std::fprintf(stderr, "geotex: error: %s\n", one_line(e.what()).c_str());
     return 1;

@@ -9,7 +9,7 @@
 PYBIND11_MODULE(_geotex, m) {
   m.doc() = "geotex: 3D shape modeling with high-level descriptors (compiled core)";
   // Typed errors: InvalidInput is a ValueError, IoError an OSError, SolverError a RuntimeError,
-  // running out of memory a MemoryError.
+  // running out of memory (OutOfMemory, std::bad_alloc) a MemoryError.
   static py::exception<geotex::Error> error(m, "Error", PyExc_RuntimeError);
   static py::exception<geotex::InvalidInput> invalid(m, "InvalidInput", PyExc_ValueError);
   static py::exception<geotex::IoError> io(m, "IoError", PyExc_OSError);
@@ -23,6 +23,8 @@ PYBIND11_MODULE(_geotex, m) {
       io(e.what());
     } catch (const geotex::SolverError& e) {
       solver(e.what());
+    } catch (const geotex::OutOfMemory& e) {  // an estimate made before the work: a MemoryError with its figures
+      PyErr_SetString(PyExc_MemoryError, e.what());
     } catch (const geotex::Interrupted&) {  // run() turns it into the SIGINT's KeyboardInterrupt; this is a fallback
       PyErr_SetNone(PyExc_KeyboardInterrupt);
     } catch (const geotex::Error& e) {

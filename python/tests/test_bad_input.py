@@ -462,6 +462,39 @@ def test_class8_out_of_memory_is_a_memory_error():
     assert "MemoryError" in p.stdout and "alive" in p.stdout, p.stdout + p.stderr
 
 
+def test_issue30_a_mesh_too_large_for_the_memory_left_is_refused_before_it_is_read(tmp_path):
+    # The readers estimate what a mesh needs from its declared counts and refuse at once with a
+    # MemoryError naming the estimate (a sparse 3 GB STL took 238 s to fail). GEOTEX_MAX_MEMORY caps what
+    # geotex may take beyond the process's resident set: 26 MiB leaves the files (8-17 MiB) readable but
+    # not the 327,680-face sphere (about 58 MiB); 1 GiB reads it.
+    path = tmp_path / "s.ply"
+    V, F = geotex.generate("sphere", level=4)
+    geotex.write_mesh(path, V, F)
+    for ext in ("obj", "off", "stl"):
+        geotex.write_mesh(tmp_path / f"s.{ext}", V, F)
+    p = run_child(f"""
+        import os
+        import geotex
+        def rss():  # the resident set now, as geotex reads it
+            for line in open("/proc/self/status"):
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) * 1024
+        for ext in ("ply", "obj", "off", "stl"):
+            os.environ["GEOTEX_MAX_MEMORY"] = str(rss() + (26 << 20))
+            try:
+                geotex.read_mesh({str(tmp_path)!r} + "/s." + ext)
+                print(ext, "read under the cap")
+            except MemoryError as e:
+                print(ext, "MemoryError", "needs about" in str(e) and "faces" in str(e))
+            os.environ["GEOTEX_MAX_MEMORY"] = "1G"
+            print(ext, "faces", len(geotex.read_mesh({str(tmp_path)!r} + "/s." + ext)[1]))
+    """)
+    assert_clean_exit(p)
+    for ext in ("ply", "obj", "off", "stl"):
+        assert f"{ext} MemoryError True" in p.stdout, p.stdout + p.stderr
+        assert f"{ext} faces {len(F)}" in p.stdout, p.stdout + p.stderr
+
+
 # ---- issue 30, items 2 and 3: error lines that name the cause; growing inputs -----------------------
 
 def test_issue30_error_lines_name_the_real_cause(tmp_path):

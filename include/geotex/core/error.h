@@ -41,6 +41,13 @@ class IoError : public Error {
   using Error::Error;
 };
 
+//! The work needs more memory than the machine has left (an estimate made before the work, or an
+//! allocation that failed). Python: a MemoryError.
+class OutOfMemory : public Error {
+ public:
+  using Error::Error;
+};
+
 //! A numerical solve failed (matrix not positive definite, no convergence, …).
 class SolverError : public Error {
  public:

@@ -1,8 +1,10 @@
 #pragma once
-//! \file resources.h What the process has used so far: peak and current resident memory, CPU time.
-//! Used by the CLI's `--stats` flag and by benchmarks that report peak memory.
+//! \file resources.h What the process has used so far (peak resident memory, CPU time; the CLI's
+//! `--stats` and the benchmarks) and what it may still take: inputs too large for the machine are
+//! refused up front with an estimate (issue 30), not after minutes of reading.
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace geotex {
@@ -15,5 +17,20 @@ double cpu_seconds();
 
 //! "1.23 GiB", "45.6 MiB", "789 KiB": a byte count for people.
 std::string format_bytes(size_t bytes);
+
+//! Memory this process can still take, in bytes: the least of the machine's available memory
+//! (/proc/meminfo MemAvailable), what the address-space limit (RLIMIT_AS) leaves beside the process's
+//! current size, what its cgroup's memory.max leaves, and what the environment variable
+//! GEOTEX_MAX_MEMORY ("2G", "500M", bytes) leaves beside the resident set; SIZE_MAX when none is known.
+size_t available_memory_bytes();
+
+//! Peak memory of reading a mesh of \p faces triangles and \p vertices vertices into a Mesh, beyond the
+//! file's own bytes (measured on a 5.2 M-face sphere and a 10^6-face fan in PLY, STL and OBJ:
+//! about 110 bytes per face and 135 per vertex; bench/bad-input.md).
+size_t mesh_read_bytes(uint64_t faces, uint64_t vertices);
+
+//! Throws OutOfMemory (error.h) naming \p what, the estimate and what is available, when \p bytes
+//! exceed available_memory_bytes(): refused in seconds instead of failing after minutes of work.
+void require_memory(const std::string& what, size_t bytes);
 
 }  // namespace geotex
