@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include "geotex/resize/resize.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 

@@ -13,6 +13,7 @@
 #include "geotex/tools/shapes.h"
 #include "geotex/texture/texture.h"
 #include "geotex/core/user_files.h"
+#include "geotex/resize/feature_file.h"
 #include "geotex/tools/viewer.h"
 #include "test_util.h"
 

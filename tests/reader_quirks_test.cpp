@@ -20,6 +20,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
 #include "geotex/core/user_files.h"
+#include "geotex/resize/feature_file.h"
 #include "geotex/texture/texture.h"
 #include "geotex/tools/shapes.h"
 #include "geotex/tools/viewer.h"

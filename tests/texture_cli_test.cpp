@@ -10,6 +10,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
 #include "geotex/texture/texture.h"
+#include "geotex/texture/transfer.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -6,6 +6,7 @@
 
 #include "geotex/core/geometry.h"
 #include "geotex/texture/texture.h"
+#include "geotex/texture/transfer.h"
 #include "geotex/toolkit/geodesic.h"
 #include "geotex/tools/shapes.h"
 

@@ -12,6 +12,7 @@
 #include "geotex/toolkit/one_form.h"
 #include "geotex/tools/shapes.h"
 #include "geotex/texture/texture.h"
+#include "geotex/texture/transfer.h"
 #include "test_util.h"
 
 using namespace geotex;

@@ -8,6 +8,7 @@
 #include "geotex/core/io.h"
 #include "geotex/tools/shapes.h"
 #include "geotex/core/user_files.h"
+#include "geotex/resize/feature_file.h"
 #include "test_util.h"
 
 using namespace geotex;

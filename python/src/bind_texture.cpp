@@ -11,6 +11,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/texture/texture.h"
+#include "geotex/texture/transfer.h"
 
 namespace geotex::python {
 

@@ -14,7 +14,6 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
-#include "geotex/resize/resize.h"
 
 namespace geotex {
 namespace fs = std::filesystem;
@@ -164,13 +163,13 @@ void handle_targets(const json& h, const MatrixX3d& X, const std::vector<int>& i
   }
 }
 
+}  // namespace
+
 void require_unit_weights(const Eigen::VectorXd& w, const std::string& name) {
   for (Eigen::Index i = 0; i < w.size(); ++i)
     if (!(w[i] >= 0 && w[i] <= 1))
       throw InvalidInput(fmt::format("{}: feature weight {} of vertex {} is not in [0, 1]", name, w[i], i));
 }
-
-}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 
@@ -236,45 +235,6 @@ Eigen::VectorXd parse_feature_weights(std::string_view text, size_t n_vertices, 
   Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
   require_unit_weights(out, name);
   return out;
-}
-
-const OptionTable<FeatureFileOptions>& FeatureFileOptions::table() {
-  using O = FeatureFileOptions;
-  static const auto t = OptionTable<O>()
-      .add("height_threshold", &O::height_threshold,
-           "feature PLY with 'height': features where |height| exceeds this many mean edge lengths", positive())
-      .add("height_dilate", &O::dilate, "feature PLY with 'height': grow the thresholded features by this many vertex rings",
-           between(0, 10000));
-  return t;
-}
-
-Eigen::VectorXd features_from_ply(const PlyData& ply, const Mesh& mesh, const FeatureFileOptions& options,
-                                  const std::string& name) {
-  const size_t n = mesh.n_vertices();
-  const PlyElement* v = ply.find("vertex");
-  if (!v || v->count != n)
-    throw InvalidInput(fmt::format("{}: needs {} vertices (the input's), has {}", name, n, v ? v->count : 0));
-  for (const char* prop : {"feature", "height"}) {
-    if (!v->scalars.count(prop)) continue;
-    const auto& s = v->scalars.at(prop);
-    if (s.size() != n)  // e.g. a property declared twice
-      throw InvalidInput(fmt::format("{}: {} values of '{}' for {} vertices", name, s.size(), prop, n));
-    Eigen::VectorXd values = Eigen::Map<const Eigen::VectorXd>(s.data(), static_cast<Eigen::Index>(n));
-    if (!values.allFinite()) throw InvalidInput(fmt::format("{}: non-finite '{}' value", name, prop));
-    if (std::string(prop) == "feature") {
-      require_unit_weights(values, name);
-      return values;
-    }
-    const double h = mean_edge_length(mesh);
-    if (!(h > 0)) throw InvalidInput(fmt::format("{}: 'height' needs a mesh with edges", name));
-    return features_from_values(mesh, values / h, options.height_threshold, options.dilate);
-  }
-  throw InvalidInput(fmt::format("{}: no vertex property \"feature\" or \"height\"", name));
-}
-
-Eigen::VectorXd read_feature_file(const fs::path& path, const Mesh& mesh, const FeatureFileOptions& options) {
-  if (lower_extension(path) == ".ply") return features_from_ply(read_ply_data(path), mesh, options, path.string());
-  return parse_feature_weights(read_text(path, kMaxTextFileBytes, "a feature file"), mesh.n_vertices(), path.string());
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -314,6 +314,8 @@ Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen
   return f;
 }
 
+namespace {
+// \p f without its connected regions (f > ½) that span more than \p max_extent of the model's extent along an axis.
 Eigen::VectorXd drop_large_regions(const Mesh& mesh, const Eigen::VectorXd& f, double max_extent) {
   const MatrixX3d X = positions(mesh);
   const Vec3 extent = X.colwise().maxCoeff() - X.colwise().minCoeff();
@@ -323,6 +325,7 @@ Eigen::VectorXd drop_large_regions(const Mesh& mesh, const Eigen::VectorXd& f, d
       for (int v : region) out[v] = 0;
   return out;
 }
+}  // namespace
 
 FeatureSummary summarize_features(const Mesh& mesh, const Eigen::VectorXd& f) {
   const int n = static_cast<int>(mesh.n_vertices());
@@ -526,15 +529,6 @@ Eigen::VectorXd features_from_height(const Mesh& mesh, const FeatureMapOptions& 
   FeatureMapOptions o = options;
   o.method = FeatureMapMethod::Height;
   return feature_map(mesh, o).weights;
-}
-
-Eigen::VectorXd features_from_adf(const Mesh& mesh, double t, int eigenpairs, double threshold, int dilate) {
-  // A NaN threshold made resize(feature_threshold=nan) run without end from Python (issue 14, class 4).
-  if (!std::isfinite(threshold)) throw InvalidInput("feature threshold must be a finite number");
-  const Eigen::VectorXd adf = auto_diffusion_function(mesh, {t, eigenpairs});
-  const double lo = adf.minCoeff(), hi = adf.maxCoeff();
-  const Eigen::VectorXd a = hi > lo ? Eigen::VectorXd((adf.array() - lo) / (hi - lo)) : Eigen::VectorXd::Zero(adf.size());
-  return features_from_values(mesh, a, threshold, dilate);
 }
 
 }  // namespace geotex

@@ -8,19 +8,10 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
-#include "geotex/tools/shapes.h"
 
 namespace geotex {
 
 namespace {
-
-// Distance in the xy-plane from p to the segment [a, b].
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d d = b - a;
-  const double len2 = d.squaredNorm();
-  const double s = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + s * d)).norm();
-}
 
 // Each vertex's share of the surface: a third of its triangles' areas.
 Eigen::VectorXd vertex_shares(const Mesh& mesh) {
@@ -32,49 +23,6 @@ Eigen::VectorXd vertex_shares(const Mesh& mesh) {
 }
 
 }  // namespace
-
-BumpyPlate bumpy_plate(const BumpyPlateOptions& o) {
-  if (o.n < 2 || o.bumps < 0 || !(o.radius > 0) || !(o.ridge_length >= 0)) throw InvalidInput("bumpy_plate: bad options");
-  BumpyPlate b;
-  b.mesh = plane(o.n, 2.0);
-  b.radius = o.radius;
-  b.height = o.height;
-  for (int i = 0; i < o.bumps; ++i)
-    for (int j = 0; j < o.bumps; ++j)
-      b.centres.emplace_back((i - 0.5 * (o.bumps - 1)) * o.spacing, (j - 0.5 * (o.bumps - 1)) * o.spacing, 0.0);
-  const Eigen::Vector2d r0(0, -0.5 * o.ridge_length), r1(0, 0.5 * o.ridge_length);
-  if (o.ridge_length > 0)
-    for (const Vec3& c : b.centres)
-      if (segment_distance(c.head<2>(), r0, r1) < 2 * o.radius) throw InvalidInput("bumpy_plate: the ridge overlaps a bump");
-  MatrixX3d X = positions(b.mesh);
-  b.truth = Eigen::VectorXd::Zero(X.rows());
-  b.ridge = Eigen::VectorXd::Zero(X.rows());
-  auto profile = [&](double r) {  // h (1 − r²/R²)², C¹ at the rim
-    const double s = 1.0 - r * r / (o.radius * o.radius);
-    return o.height * s * s;
-  };
-  for (Eigen::Index v = 0; v < X.rows(); ++v) {
-    const Eigen::Vector2d p = X.row(v).head<2>().transpose();
-    for (const Vec3& c : b.centres) {
-      const double r = (p - c.head<2>()).norm();
-      if (r < o.radius) {
-        X(v, 2) += profile(r);
-        b.truth[v] = 1;
-      }
-    }
-    if (o.ridge_length > 0) {
-      const double r = segment_distance(p, r0, r1);
-      if (r < o.radius) {
-        X(v, 2) += profile(r);
-        b.truth[v] = b.ridge[v] = 1;
-      }
-    }
-  }
-  set_positions(b.mesh, X);
-  return b;
-}
-
-BumpyPlate ridge_plate(int n) { return bumpy_plate({.n = n, .bumps = 2, .spacing = 1.0, .ridge_length = 1.2}); }
 
 BumpShape measure_bump(const MatrixX3d& X0, const MatrixX3d& X1, const Vec3& centre, double radius) {
   std::vector<int> rim;

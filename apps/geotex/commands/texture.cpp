@@ -20,6 +20,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
 #include "geotex/texture/texture.h"
+#include "geotex/texture/transfer.h"
 #include "option_flags.h"
 
 namespace geotex::cli {

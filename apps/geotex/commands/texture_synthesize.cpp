@@ -11,6 +11,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
 #include "geotex/core/user_files.h"
+#include "geotex/resize/feature_file.h"
 #include "geotex/texture/synthesis.h"
 #include "option_flags.h"
 

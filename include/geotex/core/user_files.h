@@ -51,27 +51,13 @@ HandleSet read_handles(const std::filesystem::path& path, const MatrixX3d& X, do
 // ---------------------------------------------------------------------------------------------
 // Feature weights (feature-aware resizing, thesis ch. 9)
 
-//! How a feature PLY's "height" becomes weights (features_from_values() in resize.h).
-struct FeatureFileOptions {
-  double height_threshold = 0.5;  //!< |height| threshold in mean edge lengths (option "height_threshold")
-  int dilate = 2;                 //!< grow thresholded features by this many vertex rings (option "height_dilate")
-  static const OptionTable<FeatureFileOptions>& table();
-};
-
 //! Feature weights from text: one number in [0, 1] per vertex and line; blank lines and lines starting
 //! with '#' are skipped. Returns #V weights. \throw IoError for a non-number, InvalidInput for a count
 //! other than \p n_vertices or a value outside [0, 1].
 Eigen::VectorXd parse_feature_weights(std::string_view text, size_t n_vertices, const std::string& name = "<memory>");
 
-//! Feature weights from a PLY's vertex element: property "feature" (weights in [0, 1]) or "height"
-//! (|height| / mean edge length > threshold, dilated). Returns #V weights.
-//! \throw InvalidInput if the element does not match \p mesh or has neither property.
-Eigen::VectorXd features_from_ply(const PlyData& ply, const Mesh& mesh, const FeatureFileOptions& options = {},
-                                  const std::string& name = "<memory>");
-
-//! A feature file: PLY (by extension) as features_from_ply(), anything else as parse_feature_weights().
-Eigen::VectorXd read_feature_file(const std::filesystem::path& path, const Mesh& mesh,
-                                  const FeatureFileOptions& options = {});
+//! \throw InvalidInput naming \p name unless every weight is in [0, 1].
+void require_unit_weights(const Eigen::VectorXd& weights, const std::string& name);
 
 // ---------------------------------------------------------------------------------------------
 // Point clouds (surfel reconstruction, thesis ch. 7)

@@ -145,20 +145,11 @@ Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& fiel
 //! the ADF at adf_t.
 Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& options, Eigen::VectorXd* field = nullptr);
 
-//! \p f without its connected regions (f > ½) that span more than \p max_extent of the model's extent along an axis.
-Eigen::VectorXd drop_large_regions(const Mesh& mesh, const Eigen::VectorXd& f, double max_extent);
-
 //! Features from the height over a smoothed base: feature_map() with method Height.
 Eigen::VectorXd features_from_height(const Mesh& mesh, const FeatureMapOptions& options = {});
 
 //! Features from a height field (e.g. a texture PLY's "height"): |h_i| > threshold, dilated by \p dilate rings.
 Eigen::VectorXd features_from_values(const Mesh& mesh, const Eigen::VectorXd& height, double threshold, int dilate);
-
-//! The ADF normalised to [0, 1] by its range and thresholded at \p threshold, dilated by \p dilate
-//! rings. Kept for old callers: it marks only the tips of protrusions (IoU 0.37 on the tentacle stick);
-//! feature_map() with method Adf grows them to their bases.
-Eigen::VectorXd features_from_adf(const Mesh& mesh, double t = 0.1, int eigenpairs = 100, double threshold = 0.5,
-                                  int dilate = 1);
 
 //! Grow a 0/1 feature map by \p rings vertex rings.
 Eigen::VectorXd dilate_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings);

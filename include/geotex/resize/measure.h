@@ -1,39 +1,13 @@
 #pragma once
-//! \file measure.h Test shapes and measurements for feature-aware resizing (thesis ch. 9): a plate
-//! with bumps and a ridge, and what must hold after a resize — features keep their shape (aspect,
-//! height, length, angle to the local base) and leave no crease around their rims.
+//! \file measure.h Measurements for feature-aware resizing (thesis ch. 9): what must hold after a
+//! resize — features keep their shape (aspect, height, length, angle to the local base) and leave no
+//! crease around their rims. Its test shapes (bumpy_plate(), ridge_plate()) are in tools/shapes.h.
 
 #include <vector>
 
 #include "geotex/core/mesh.h"
 
 namespace geotex {
-
-struct BumpyPlateOptions {
-  int n = 80;             //!< n × n quads over [−1, 1]²
-  int bumps = 3;          //!< bumps × bumps round bumps on a regular grid
-  double spacing = 0.6;   //!< distance between bump centres
-  double radius = 0.2;    //!< footprint radius
-  double height = 0.15;   //!< bump height (profile h (1 − r²/R²)², C¹ at the rim)
-  //! A ridge: the bump's profile swept along a segment of this length (0: none) on the y axis,
-  //! centred at the origin (rounded ends). Scaling along x would widen it.
-  double ridge_length = 0;
-};
-
-struct BumpyPlate {
-  Mesh mesh;
-  std::vector<Vec3> centres;  //!< footprint centres of the round bumps (z = 0)
-  double radius = 0, height = 0;
-  Eigen::VectorXd truth;      //!< 1 inside a footprint (bumps and ridge), else 0
-  Eigen::VectorXd ridge;      //!< 1 inside the ridge's footprint, else 0
-};
-
-//! A flat square plate with round bumps (and optionally a ridge): the test shape of feature-aware resizing.
-//! \throw InvalidInput for bad options or features that overlap.
-BumpyPlate bumpy_plate(const BumpyPlateOptions& options = {});
-
-//! The ridge plate: 2 × 2 bumps 1.0 apart and a ridge of length 1.2 between them (bumpy_plate()).
-BumpyPlate ridge_plate(int n = 80);
 
 //! Shape of one deformed bump, measured on the vertices that were in its footprint.
 struct BumpShape {

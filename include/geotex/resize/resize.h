@@ -45,7 +45,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/core/mesh.h"
 #include "geotex/core/options.h"
-#include "geotex/core/user_files.h"
+#include "geotex/resize/feature_file.h"
 #include "geotex/core/progress.h"
 #include "geotex/resize/feature_map.h"
 #include "geotex/resize/measure.h"

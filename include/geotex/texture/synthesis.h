@@ -51,6 +51,7 @@
 
 #include "geotex/core/progress.h"
 #include "geotex/texture/texture.h"
+#include "geotex/toolkit/geodesic.h"
 #include "geotex/toolkit/direction_field.h"
 
 namespace geotex {

@@ -335,5 +335,3 @@ TextureFile read_texture(const std::filesystem::path& path);
 
 }  // namespace geotex
 
-// Transfer between surfaces (Sec. 8.3.3) is declared in transfer.h, part of this header's interface.
-#include "geotex/texture/transfer.h"  // IWYU pragma: export
