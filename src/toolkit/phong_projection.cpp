@@ -125,6 +125,18 @@ bool shifted_bary(const Vec3& p, const PhongTriangle& t, double d, Vec3& bary) {
   const double tpa = ep.dot(ea), tpb = ep.dot(eb);                    // Eq. (5.62)–(5.63)
   const double den = taa * tbb - tab * tab;
   if (!(den > 1e-24 * taa * tbb) || !std::isfinite(den)) return false;
+  if (den < 1e-4 * taa * tbb) {
+    // A sliver (edges within 0.6° of each other): den = |ea|²|eb|² sin²θ cancels, its relative error
+    // eps / sin²θ (1e-9 on a needle of aspect 10^4 put its own vertex outside it, the inside test
+    // failed and the search went on over every face nearby, issue 30); the cross products lose only
+    // eps / sin θ. The same coordinates: ep × eb = u (ea × eb), ea × ep = v (ea × eb) in the plane.
+    const Vec3 n = ea.cross(eb);
+    const double nn = n.squaredNorm();
+    if (!(nn > 0)) return false;
+    const double u = ep.cross(eb).dot(n) / nn, v = ea.cross(ep).dot(n) / nn;
+    bary = {u, v, 1 - u - v};
+    return true;
+  }
   const double u = (tbb * tpa - tab * tpb) / den;  // Eq. (5.56)
   const double v = (taa * tpb - tab * tpa) / den;  // Eq. (5.57)
   bary = {u, v, 1 - u - v};                        // Eq. (5.58)

@@ -85,37 +85,10 @@ namespace {
 constexpr int kHubFaces = 1024;
 // A sliver's box is loose: a needle 0.5 long and 5e-5 wide lying diagonally has a box 0.3 on a side,
 // and 10^5 random needles' boxes hold a ball around an edge's midpoint thousands of times over (issue
-// 30). Slivers are cut into up to kMaxSlabs slabs across their longest edge, each with its own box, and
-// their edges searched piece by piece: the boxes then hug the faces.
+// 30). Slivers are cut into up to kMaxSlabs slabs across their longest edge, each with its own box
+// (sliver_slab_count, append_slab_boxes: the slabs of TriangleTree), and their edges searched piece by
+// piece: the boxes then hug the faces.
 constexpr int kMaxSlabs = 8;
-
-// Slabs for a face: 1 up to an aspect (longest edge over the height onto it) of 4, then one per 4.
-int slab_count(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-  const double width = (b - a).cross(c - a).norm() / std::max(longest, 1e-300);
-  if (!(longest > 4 * width)) return 1;
-  return static_cast<int>(std::min<double>(kMaxSlabs, std::ceil(longest / (4 * width))));
-}
-
-// Box of the part of triangle p with u·x in [s0, s1] (clipped by the two planes, Sutherland–Hodgman).
-Eigen::AlignedBox3d slab_box(const std::array<Vec3, 3>& p, const Vec3& u, double s0, double s1) {
-  std::vector<Vec3> poly(p.begin(), p.end()), next;
-  for (int side = 0; side < 2; ++side) {
-    next.clear();
-    auto inside = [&](const Vec3& x) { return side == 0 ? u.dot(x) >= s0 : u.dot(x) <= s1; };
-    const double s = side == 0 ? s0 : s1;
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const Vec3 &x = poly[i], &y = poly[(i + 1) % poly.size()];
-      if (inside(x)) next.push_back(x);
-      if (inside(x) != inside(y)) next.push_back(x + (s - u.dot(x)) / u.dot(y - x) * (y - x));
-    }
-    poly.swap(next);
-  }
-  Eigen::AlignedBox3d box;
-  box.setEmpty();
-  for (const Vec3& x : poly) box.extend(x);
-  return box;
-}
 
 // A bounding-volume tree over boxes, searched by box overlap: the boxes of a long edge's pieces are
 // tighter than the balls around them that TriangleTree::faces_near takes (a diagonal piece's box has a
@@ -200,22 +173,8 @@ void build_slab_tree(FaceGroup& g, const MatrixX3d& V, const MatrixX3i& F, const
     Eigen::AlignedBox3d whole(p[0]);
     whole.extend(p[1]).extend(p[2]);
     g.box.extend(whole);
-    if (slabs[f] == 1) {
-      boxes.push_back(whole);
-      g.piece_face.push_back(f);
-      continue;
-    }
-    int e = 0;  // the longest edge, p[e] to p[e + 1]: the third vertex projects between its ends
-    for (int k = 1; k < 3; ++k)
-      if ((p[(k + 1) % 3] - p[k]).squaredNorm() > (p[(e + 1) % 3] - p[e]).squaredNorm()) e = k;
-    const Vec3 u = (p[(e + 1) % 3] - p[e]).normalized();
-    const double t0 = u.dot(p[e]), t1 = u.dot(p[(e + 1) % 3]), pad = 1e-12 * (t1 - t0);
-    for (int j = 0; j < slabs[f]; ++j) {
-      const Eigen::AlignedBox3d b = slab_box(p, u, t0 + (t1 - t0) * j / slabs[f], t0 + (t1 - t0) * (j + 1) / slabs[f]);
-      if (b.isEmpty()) continue;
-      boxes.push_back(Eigen::AlignedBox3d(b.min().array() - pad, b.max().array() + pad));
-      g.piece_face.push_back(f);
-    }
+    append_slab_boxes(p[0], p[1], p[2], slabs[f], boxes);
+    g.piece_face.resize(boxes.size(), f);
   }
   g.tree = std::make_unique<BoxTree>(std::move(boxes));
 }
@@ -262,7 +221,8 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
   if (F.rows() == 0) return hit;
   std::vector<int> slabs(F.rows());
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    slabs[f] = slab_count(V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(), V.row(F(f, 2)).transpose());
+    slabs[f] = sliver_slab_count(V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(), V.row(F(f, 2)).transpose(),
+                                 kMaxSlabs);
   // Every edge once (as the pair (a, b), a < b, with the most pieces any of its faces asks), then the
   // faces with a slab box meeting a piece's box: the only ones it can cross.
   std::vector<SearchEdge> edges;
