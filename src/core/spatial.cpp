@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <queue>
@@ -227,6 +228,39 @@ TriangleTree::Hit TriangleTree::closest(const Vec3& p) const {
     }
   }
   return best;
+}
+
+std::vector<int> morton_order(const MatrixX3d& P, std::span<const int> rows, const Eigen::AlignedBox3d& box) {
+  const int m = static_cast<int>(rows.size());
+  const Vec3 lo = box.isEmpty() ? Vec3(Vec3::Zero()) : Vec3(box.min());
+  const Vec3 size = box.isEmpty() ? Vec3(Vec3::Zero()) : Vec3(box.sizes());
+  std::vector<std::pair<uint32_t, int>> keyed(m);
+  for (int k = 0; k < m; ++k) {
+    uint32_t key = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double t = size[axis] > 0 ? (P(rows[k], axis) - lo[axis]) / size[axis] : 0.0;
+      const uint32_t q = static_cast<uint32_t>(std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) * 1023.0);
+      for (int bit = 0; bit < 10; ++bit) key |= ((q >> bit) & 1u) << (3 * bit + axis);
+    }
+    keyed[k] = {key, k};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<int> order(m);
+  for (int k = 0; k < m; ++k) order[k] = keyed[k].second;
+  return order;
+}
+
+std::vector<TriangleTree::Hit> TriangleTree::closest(const MatrixX3d& P, std::span<const int> rows) const {
+  std::vector<Hit> out(rows.size());
+  if (nodes_.empty()) {
+    for (Hit& h : out) h.sq_distance = std::numeric_limits<double>::infinity();
+    return out;
+  }
+  const std::vector<int> order = morton_order(P, rows, nodes_[0].box);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (int j = 0; j < static_cast<int>(order.size()); ++j)
+    out[order[j]] = closest(Vec3(P.row(rows[order[j]]).transpose()));
+  return out;
 }
 
 void TriangleTree::faces_near(const Vec3& p, double radius, std::vector<int>& out) const {

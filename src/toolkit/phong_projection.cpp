@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <span>
 
 #include "geotex/core/error.h"
@@ -415,8 +416,17 @@ PhongHit PhongProjector::project(const Vec3& p) const {
 
 std::vector<PhongHit> PhongProjector::project(const MatrixX3d& P) const {
   std::vector<PhongHit> out(P.rows());
+  if (tree_.node_count() == 0) {
 #pragma omp parallel for schedule(dynamic, 256)
-  for (Eigen::Index i = 0; i < P.rows(); ++i) out[i] = project(Vec3(P.row(i).transpose()));
+    for (Eigen::Index i = 0; i < P.rows(); ++i) out[i] = project(Vec3(P.row(i).transpose()));
+    return out;
+  }
+  // Along a Morton curve: nearby points share the tree's nodes in cache (same hits, in any order).
+  std::vector<int> rows(P.rows());
+  std::iota(rows.begin(), rows.end(), 0);
+  const std::vector<int> order = morton_order(P, rows, tree_.node_box(0));
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Eigen::Index j = 0; j < P.rows(); ++j) out[order[j]] = project(Vec3(P.row(order[j]).transpose()));
   return out;
 }
 

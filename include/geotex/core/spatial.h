@@ -28,6 +28,11 @@ int sliver_slab_count(const Vec3& a, const Vec3& b, const Vec3& c, int max_slabs
 //! the triangle's own box. The boxes together hold the triangle.
 void append_slab_boxes(const Vec3& a, const Vec3& b, const Vec3& c, int slabs, std::vector<Eigen::AlignedBox3d>& out);
 
+//! The entries k of \p rows ordered along a Morton curve through the points P.row(rows[k]) in \p box
+//! (10 bits an axis; points outside it on its faces): searches made in this order meet the nodes of
+//! a tree over the box in cache. \return a permutation of 0 … #rows − 1.
+std::vector<int> morton_order(const MatrixX3d& P, std::span<const int> rows, const Eigen::AlignedBox3d& box);
+
 //! A bounding-volume tree over a triangle mesh's faces. A sliver face is held as up to 8 slabs, each
 //! with its own tight box (sliver_slab_count), under a budget of 4 references per face on average:
 //! the searches below then meet the faces near a point, not every needle whose loose box holds it
@@ -46,6 +51,11 @@ class TriangleTree {
   };
   //! Closest point on the surface. Thread-safe (const).
   Hit closest(const Vec3& p) const;
+  //! The closest points of the rows \p rows of \p P (#P by 3), one hit per entry of rows, each the
+  //! hit of closest(P.row(i)). Searched in parallel (OpenMP) along a Morton curve through the points:
+  //! nearby searches share the tree's nodes in cache (points in file order, e.g. random needles',
+  //! wait on memory most of the time).
+  std::vector<Hit> closest(const MatrixX3d& P, std::span<const int> rows) const;
 
   //! Faces one of whose boxes comes within \p radius of p (candidates for other queries; each once).
   void faces_near(const Vec3& p, double radius, std::vector<int>& out) const;
