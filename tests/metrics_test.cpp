@@ -263,3 +263,22 @@ TEST(Metrics, SelfIntersectionsOfNeedlesMatchBruteForce) {
   std::printf("  needles: %d of %d crossed\n", static_cast<int>(std::count(brute.begin(), brute.end(), 1)), k);
   EXPECT_GE(std::count(brute.begin(), brute.end(), 1), 5);
 }
+
+TEST(Metrics, SelfIntersectionsOfADenseSoupMatchBruteForce) {
+  // 500 random triangles of about a third of the box's side: most faces are crossed, so the first
+  // search (one piece in 8) flags more than a quarter of them and the rest search the faces left.
+  const int k = 500;
+  MatrixX3d V(3 * k, 3);
+  MatrixX3i F(k, 3);
+  Rng rng(13);
+  for (int i = 0; i < k; ++i) {
+    const Vec3 c(rng.uniform(), rng.uniform(), rng.uniform());
+    for (int j = 0; j < 3; ++j)
+      V.row(3 * i + j) = (c + 0.3 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))).transpose();
+    F.row(i) << 3 * i, 3 * i + 1, 3 * i + 2;
+  }
+  const std::vector<char> hit = self_intersecting_faces(V, F);
+  const std::vector<char> brute = crossed_faces_brute_force(V, F);
+  EXPECT_EQ(hit, brute);
+  EXPECT_GE(std::count(brute.begin(), brute.end(), 1), k / 2);
+}

@@ -180,13 +180,16 @@ void build_slab_tree(FaceGroup& g, const MatrixX3d& V, const MatrixX3i& F, const
   g.tree = std::make_unique<BoxTree>(std::move(boxes));
 }
 
-std::vector<FaceGroup> face_groups(const MatrixX3d& V, const MatrixX3i& F, const std::vector<int>& slabs) {
+// The groups of the faces not marked in \p skip (empty: every face); hubs by the valence in all of F.
+std::vector<FaceGroup> face_groups(const MatrixX3d& V, const MatrixX3i& F, const std::vector<int>& slabs,
+                                   const std::vector<char>& skip) {
   std::vector<int> count(V.rows(), 0);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) ++count[F(f, k)];
   std::vector<std::vector<int>> members(1);
   std::vector<int> hubs(1, -1), group_of(V.rows(), -1);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (!skip.empty() && skip[f]) continue;
     int hub = F(f, 0);
     for (int k = 1; k < 3; ++k)
       if (count[F(f, k)] > count[hub]) hub = F(f, k);
@@ -271,15 +274,16 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
     }
     std::sort(searches.begin(), searches.end(), [](const Search& x, const Search& y) { return x.key < y.key; });
   }
-  const std::vector<FaceGroup> groups = face_groups(V, F, slabs);
   constexpr double kEps = 1e-9;
   // A face found crossed is not tested again (a textured soup of 10^5 needles crosses 98% of its faces,
   // most of them from hundreds of edges; issue 30): the flags are shared, set and read relaxed (a
-  // face tested twice by two threads at once is flagged twice, the same).
-#pragma omp parallel
-  {
-#pragma omp for schedule(dynamic, 4096)
+  // face tested twice by two threads at once is flagged twice, the same). One search in 8 (spread
+  // evenly along the curve) goes first; if it flagged a quarter of the faces or more, the others
+  // search trees over the faces not yet flagged only.
+  auto search = [&](const std::vector<FaceGroup>& groups, bool first) {
+#pragma omp parallel for schedule(dynamic, 4096)
     for (size_t s = 0; s < searches.size(); ++s) {
+      if ((s % 8 == 0) != first) continue;
       const int a = edges[searches[s].edge].a, b = edges[searches[s].edge].b, m = edges[searches[s].edge].pieces;
       const int piece = searches[s].piece;
       const Vec3 p0 = V.row(a).transpose(), d = (V.row(b) - V.row(a)).transpose();
@@ -305,7 +309,11 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
         if (g.hub != a && g.hub != b && g.tree && g.box.intersects(q))
           g.tree->overlapping(q, [&](int t) { test(g.piece_face[t]); });
     }
-  }
+  };
+  const std::vector<FaceGroup> groups = face_groups(V, F, slabs, {});
+  search(groups, true);
+  if (4 * std::count(hit.begin(), hit.end(), 1) >= F.rows()) search(face_groups(V, F, slabs, hit), false);
+  else search(groups, false);
   return hit;
 }
 
