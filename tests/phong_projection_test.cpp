@@ -243,6 +243,39 @@ TEST(PhongProjection, FarAndMixedPointsMatchBruteForce) {
   }
 }
 
+TEST(PhongProjection, NeedlesProjectOntoThemselves) {
+  // Points on a soup of needles (aspect 100 to 10^4) are their own Phong projections (d = 0). The
+  // barycentric coordinates of the shifted triangle once came from its Gram determinant, whose
+  // cancellation put a needle's own vertex 1e-9 outside it: no projection found, and the search went
+  // on over every face within the radius, doubled four times (issue 30: minutes on 10^5 needles).
+  const int k = 2000;
+  MatrixX3d V(3 * k, 3);
+  MatrixX3i F(k, 3);
+  Rng rng(5);
+  for (int i = 0; i < k; ++i) {
+    const Vec3 a(rng.uniform(), rng.uniform(), rng.uniform()), d = random_unit(rng);
+    const Vec3 w = d.cross(random_unit(rng)).normalized();
+    V.row(3 * i) = a.transpose();
+    V.row(3 * i + 1) = (a + 0.5 * d).transpose();
+    V.row(3 * i + 2) = (a + 0.25 * d + std::pow(10.0, rng.uniform(-4.3, -2.3)) * w).transpose();
+    F.row(i) << 3 * i, 3 * i + 1, 3 * i + 2;
+  }
+  const Mesh m = make_mesh(V, F);
+  const PhongProjector proj(m);
+  MatrixX3d P(V.rows() + k, 3);
+  P.topRows(V.rows()) = V;
+  for (int i = 0; i < k; ++i) {  // a point inside each needle
+    const double s = rng.uniform(), t = rng.uniform() * (1 - s);
+    P.row(V.rows() + i) = (1 - s - t) * V.row(3 * i) + s * V.row(3 * i + 1) + t * V.row(3 * i + 2);
+  }
+  const std::vector<PhongHit> hits = proj.project(P);
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    ASSERT_TRUE(hits[i].found) << "point " << i;
+    EXPECT_LT(std::abs(hits[i].d), 1e-12) << "point " << i;
+    EXPECT_LT((hits[i].point - P.row(i).transpose()).norm(), 1e-12) << "point " << i;
+  }
+}
+
 TEST(PhongProjectionCli, ProjectsOntoABaseAndRejectsBadInput) {
   geotex::test::TempDir dir;
   const TexturedShape s = make_shape("spiky-sphere", 0);

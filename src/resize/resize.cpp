@@ -728,11 +728,15 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   // bases); stop when no constraint plane changes (flat bases: the solution would be the same).
   for (int round = 0; round < o.refinements && Fb.rows() > 0; ++round) {
     const TriangleTree tree(Cp, Fb);
+    std::vector<int> rows;
+    for (int i = 0; i < n; ++i)
+      if (p[i] > 0) rows.push_back(i);
+    const std::vector<TriangleTree::Hit> hits = tree.closest(out, rows);
     double change = 0;
 #pragma omp parallel for schedule(static) reduction(max : change)
-    for (int i = 0; i < n; ++i) {
-      if (p[i] <= 0) continue;
-      const TriangleTree::Hit hit = tree.closest(out.row(i).transpose());
+    for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
+      const int i = rows[k];
+      const TriangleTree::Hit& hit = hits[k];
       const Eigen::Vector3i F = Fb.row(hit.face);
       Vec3 nv = hit.bary[0] * Vec3(Nv.row(F[0])) + hit.bary[1] * Vec3(Nv.row(F[1])) + hit.bary[2] * Vec3(Nv.row(F[2]));
       if (nv.norm() < 1e-12) continue;
@@ -905,10 +909,14 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   };
   auto project = [&](const MatrixX3d& Y) {
     const TriangleTree tree(C, F);
+    std::vector<int> rows;
+    for (int i = 0; i < n; ++i)
+      if (f[i] < 1 && !mesh.is_isolated(mesh.vertex_handle(i))) rows.push_back(i);
+    const std::vector<TriangleTree::Hit> hits = tree.closest(Y, rows);
 #pragma omp parallel for schedule(static)
-    for (int i = 0; i < n; ++i) {
-      if (f[i] >= 1 || mesh.is_isolated(mesh.vertex_handle(i))) continue;
-      const TriangleTree::Hit hit = tree.closest(Y.row(i).transpose());
+    for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
+      const int i = rows[k];
+      const TriangleTree::Hit& hit = hits[k];
       const Eigen::Vector3i tri = F.row(hit.face);
       Vec3 nv = hit.bary[0] * Vec3(Nc.row(tri[0])) + hit.bary[1] * Vec3(Nc.row(tri[1])) + hit.bary[2] * Vec3(Nc.row(tri[2]));
       if (nv.norm() < 1e-12) continue;

@@ -110,7 +110,11 @@ LaplaceSpectrum laplace_spectrum(const Mesh& mesh, int count) {
   // All λ ≥ 0: a small negative shift makes K − σM positive definite and picks the smallest λ.
   const double sigma = -1e-6 * (K.diagonal().array() / m.array()).mean();
   ShiftInvertOp op(K, m);
-  const int ncv = std::min(n, std::max(3 * count, count + 40));  // room for multiple eigenvalues (spheres)
+  // The Krylov basis: room for multiple eigenvalues (spheres) and for convergence without many
+  // restarts, but each Lanczos step orthogonalises against all of it: n × ncv reads, twice or more,
+  // so ncv² n per factorisation. On 10^5 vertices that is most of the time (a fan: 300 vectors,
+  // converged in one factorisation, 13 s; 160 vectors, three restarts, 8.6 s; issue 30).
+  const int ncv = std::min(n, count + std::max(40, 3 * count / 5));
   Spectra::SymEigsShiftSolver<ShiftInvertOp> eigs(op, count, ncv, sigma);
   eigs.init();
   eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10, Spectra::SortRule::SmallestAlge);

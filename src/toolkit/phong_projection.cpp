@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <span>
 
 #include "geotex/core/error.h"
@@ -125,6 +126,18 @@ bool shifted_bary(const Vec3& p, const PhongTriangle& t, double d, Vec3& bary) {
   const double tpa = ep.dot(ea), tpb = ep.dot(eb);                    // Eq. (5.62)–(5.63)
   const double den = taa * tbb - tab * tab;
   if (!(den > 1e-24 * taa * tbb) || !std::isfinite(den)) return false;
+  if (den < 1e-4 * taa * tbb) {
+    // A sliver (edges within 0.6° of each other): den = |ea|²|eb|² sin²θ cancels, its relative error
+    // eps / sin²θ (1e-9 on a needle of aspect 10^4 put its own vertex outside it, the inside test
+    // failed and the search went on over every face nearby, issue 30); the cross products lose only
+    // eps / sin θ. The same coordinates: ep × eb = u (ea × eb), ea × ep = v (ea × eb) in the plane.
+    const Vec3 n = ea.cross(eb);
+    const double nn = n.squaredNorm();
+    if (!(nn > 0)) return false;
+    const double u = ep.cross(eb).dot(n) / nn, v = ea.cross(ep).dot(n) / nn;
+    bary = {u, v, 1 - u - v};
+    return true;
+  }
   const double u = (tbb * tpa - tab * tpb) / den;  // Eq. (5.56)
   const double v = (taa * tpb - tab * tpa) / den;  // Eq. (5.57)
   bary = {u, v, 1 - u - v};                        // Eq. (5.58)
@@ -403,8 +416,17 @@ PhongHit PhongProjector::project(const Vec3& p) const {
 
 std::vector<PhongHit> PhongProjector::project(const MatrixX3d& P) const {
   std::vector<PhongHit> out(P.rows());
+  if (tree_.node_count() == 0) {
 #pragma omp parallel for schedule(dynamic, 256)
-  for (Eigen::Index i = 0; i < P.rows(); ++i) out[i] = project(Vec3(P.row(i).transpose()));
+    for (Eigen::Index i = 0; i < P.rows(); ++i) out[i] = project(Vec3(P.row(i).transpose()));
+    return out;
+  }
+  // Along a Morton curve: nearby points share the tree's nodes in cache (same hits, in any order).
+  std::vector<int> rows(P.rows());
+  std::iota(rows.begin(), rows.end(), 0);
+  const std::vector<int> order = morton_order(P, rows, tree_.node_box(0));
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Eigen::Index j = 0; j < P.rows(); ++j) out[order[j]] = project(Vec3(P.row(order[j]).transpose()));
   return out;
 }
 

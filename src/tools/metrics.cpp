@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -85,37 +86,10 @@ namespace {
 constexpr int kHubFaces = 1024;
 // A sliver's box is loose: a needle 0.5 long and 5e-5 wide lying diagonally has a box 0.3 on a side,
 // and 10^5 random needles' boxes hold a ball around an edge's midpoint thousands of times over (issue
-// 30). Slivers are cut into up to kMaxSlabs slabs across their longest edge, each with its own box, and
-// their edges searched piece by piece: the boxes then hug the faces.
+// 30). Slivers are cut into up to kMaxSlabs slabs across their longest edge, each with its own box
+// (sliver_slab_count, append_slab_boxes: the slabs of TriangleTree), and their edges searched piece by
+// piece: the boxes then hug the faces.
 constexpr int kMaxSlabs = 8;
-
-// Slabs for a face: 1 up to an aspect (longest edge over the height onto it) of 4, then one per 4.
-int slab_count(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-  const double width = (b - a).cross(c - a).norm() / std::max(longest, 1e-300);
-  if (!(longest > 4 * width)) return 1;
-  return static_cast<int>(std::min<double>(kMaxSlabs, std::ceil(longest / (4 * width))));
-}
-
-// Box of the part of triangle p with u·x in [s0, s1] (clipped by the two planes, Sutherland–Hodgman).
-Eigen::AlignedBox3d slab_box(const std::array<Vec3, 3>& p, const Vec3& u, double s0, double s1) {
-  std::vector<Vec3> poly(p.begin(), p.end()), next;
-  for (int side = 0; side < 2; ++side) {
-    next.clear();
-    auto inside = [&](const Vec3& x) { return side == 0 ? u.dot(x) >= s0 : u.dot(x) <= s1; };
-    const double s = side == 0 ? s0 : s1;
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const Vec3 &x = poly[i], &y = poly[(i + 1) % poly.size()];
-      if (inside(x)) next.push_back(x);
-      if (inside(x) != inside(y)) next.push_back(x + (s - u.dot(x)) / u.dot(y - x) * (y - x));
-    }
-    poly.swap(next);
-  }
-  Eigen::AlignedBox3d box;
-  box.setEmpty();
-  for (const Vec3& x : poly) box.extend(x);
-  return box;
-}
 
 // A bounding-volume tree over boxes, searched by box overlap: the boxes of a long edge's pieces are
 // tighter than the balls around them that TriangleTree::faces_near takes (a diagonal piece's box has a
@@ -200,33 +174,22 @@ void build_slab_tree(FaceGroup& g, const MatrixX3d& V, const MatrixX3i& F, const
     Eigen::AlignedBox3d whole(p[0]);
     whole.extend(p[1]).extend(p[2]);
     g.box.extend(whole);
-    if (slabs[f] == 1) {
-      boxes.push_back(whole);
-      g.piece_face.push_back(f);
-      continue;
-    }
-    int e = 0;  // the longest edge, p[e] to p[e + 1]: the third vertex projects between its ends
-    for (int k = 1; k < 3; ++k)
-      if ((p[(k + 1) % 3] - p[k]).squaredNorm() > (p[(e + 1) % 3] - p[e]).squaredNorm()) e = k;
-    const Vec3 u = (p[(e + 1) % 3] - p[e]).normalized();
-    const double t0 = u.dot(p[e]), t1 = u.dot(p[(e + 1) % 3]), pad = 1e-12 * (t1 - t0);
-    for (int j = 0; j < slabs[f]; ++j) {
-      const Eigen::AlignedBox3d b = slab_box(p, u, t0 + (t1 - t0) * j / slabs[f], t0 + (t1 - t0) * (j + 1) / slabs[f]);
-      if (b.isEmpty()) continue;
-      boxes.push_back(Eigen::AlignedBox3d(b.min().array() - pad, b.max().array() + pad));
-      g.piece_face.push_back(f);
-    }
+    append_slab_boxes(p[0], p[1], p[2], slabs[f], boxes);
+    g.piece_face.resize(boxes.size(), f);
   }
   g.tree = std::make_unique<BoxTree>(std::move(boxes));
 }
 
-std::vector<FaceGroup> face_groups(const MatrixX3d& V, const MatrixX3i& F, const std::vector<int>& slabs) {
+// The groups of the faces not marked in \p skip (empty: every face); hubs by the valence in all of F.
+std::vector<FaceGroup> face_groups(const MatrixX3d& V, const MatrixX3i& F, const std::vector<int>& slabs,
+                                   const std::vector<char>& skip) {
   std::vector<int> count(V.rows(), 0);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) ++count[F(f, k)];
   std::vector<std::vector<int>> members(1);
   std::vector<int> hubs(1, -1), group_of(V.rows(), -1);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (!skip.empty() && skip[f]) continue;
     int hub = F(f, 0);
     for (int k = 1; k < 3; ++k)
       if (count[F(f, k)] > count[hub]) hub = F(f, k);
@@ -262,7 +225,8 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
   if (F.rows() == 0) return hit;
   std::vector<int> slabs(F.rows());
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    slabs[f] = slab_count(V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(), V.row(F(f, 2)).transpose());
+    slabs[f] = sliver_slab_count(V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(), V.row(F(f, 2)).transpose(),
+                                 kMaxSlabs);
   // Every edge once (as the pair (a, b), a < b, with the most pieces any of its faces asks), then the
   // faces with a slab box meeting a piece's box: the only ones it can cross.
   std::vector<SearchEdge> edges;
@@ -310,13 +274,16 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
     }
     std::sort(searches.begin(), searches.end(), [](const Search& x, const Search& y) { return x.key < y.key; });
   }
-  const std::vector<FaceGroup> groups = face_groups(V, F, slabs);
   constexpr double kEps = 1e-9;
-#pragma omp parallel
-  {
-    std::vector<int> mine;  // faces this thread found crossed
-#pragma omp for schedule(dynamic, 4096)
+  // A face found crossed is not tested again (a textured soup of 10^5 needles crosses 98% of its faces,
+  // most of them from hundreds of edges; issue 30): the flags are shared, set and read relaxed (a
+  // face tested twice by two threads at once is flagged twice, the same). One search in 8 (spread
+  // evenly along the curve) goes first; if it flagged a quarter of the faces or more, the others
+  // search trees over the faces not yet flagged only.
+  auto search = [&](const std::vector<FaceGroup>& groups, bool first) {
+#pragma omp parallel for schedule(dynamic, 4096)
     for (size_t s = 0; s < searches.size(); ++s) {
+      if ((s % 8 == 0) != first) continue;
       const int a = edges[searches[s].edge].a, b = edges[searches[s].edge].b, m = edges[searches[s].edge].pieces;
       const int piece = searches[s].piece;
       const Vec3 p0 = V.row(a).transpose(), d = (V.row(b) - V.row(a)).transpose();
@@ -325,6 +292,7 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
       q.extend(Vec3(piece + 1 == m ? Vec3(V.row(b).transpose()) : Vec3(p0 + double(piece + 1) / m * d)));
       q = Eigen::AlignedBox3d(q.min().array() - pad, q.max().array() + pad);
       auto test = [&](int f) {
+        if (std::atomic_ref<char>(hit[f]).load(std::memory_order_relaxed)) return;
         const int i = F(f, 0), j = F(f, 1), k = F(f, 2);
         if (a == i || a == j || a == k || b == i || b == j || b == k) return;
         const Vec3 A = V.row(i).transpose(), e1 = (V.row(j) - V.row(i)).transpose(),
@@ -334,15 +302,18 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
         if (!(std::abs(det) > 1e-30)) return;
         const Vec3 t = p0 - A, qv = t.cross(e1);
         const double u = t.dot(pv) / det, v = d.dot(qv) / det, w = e2.dot(qv) / det;
-        if (u > kEps && v > kEps && u + v < 1 - kEps && w > kEps && w < 1 - kEps) mine.push_back(f);
+        if (u > kEps && v > kEps && u + v < 1 - kEps && w > kEps && w < 1 - kEps)
+          std::atomic_ref<char>(hit[f]).store(1, std::memory_order_relaxed);
       };
       for (const FaceGroup& g : groups)
         if (g.hub != a && g.hub != b && g.tree && g.box.intersects(q))
           g.tree->overlapping(q, [&](int t) { test(g.piece_face[t]); });
     }
-#pragma omp critical
-    for (int f : mine) hit[f] = 1;
-  }
+  };
+  const std::vector<FaceGroup> groups = face_groups(V, F, slabs, {});
+  search(groups, true);
+  if (4 * std::count(hit.begin(), hit.end(), 1) >= F.rows()) search(face_groups(V, F, slabs, hit), false);
+  else search(groups, false);
   return hit;
 }
 
