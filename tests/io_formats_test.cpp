@@ -468,3 +468,55 @@ TEST(GrowingFiles, ReadersStopAtWhatTheFileHeldWhenOpened) {
     if (ext != "obj") EXPECT_EQ(rep.file_vertices, m.n_vertices()) << ext;
   }
 }
+
+// Issue 30, item 3, through standard input: a pipe has no size to snapshot. A PLY (or OFF) is read up to
+// its declared counts, whether the writer goes on fast (it is cut off: SIGPIPE) or appends a line now and
+// then (a writer still busy, tail -f); a file given as `< FILE` is read as large as it was at the start.
+TEST(GrowingFiles, StandardInputStopsAtTheDeclaredCounts) {
+  TempDir tmp;
+  const Mesh m = float_sphere();
+  const std::string cli = test::cli_path();
+  WriteOptions ascii;
+  ascii.binary = false;
+  write_mesh(m, tmp / "a.ply", ascii);
+  write_mesh(m, tmp / "b.ply");
+  write_mesh(m, tmp / "a.off");
+  for (const std::string f : {"a.ply", "b.ply", "a.off"}) {
+    // A fast writer: 256 MiB of rows after the mesh. Main read them all (the writer finished, status 0).
+    const std::string rc = tmp / (f + ".writer");
+    const auto fast = sh("(cat " + (tmp / f) + "; yes '1 2 3' | head -c 268435456; echo $? > " + rc + ") | " + cli +
+                             " info - --json",
+                         tmp);
+    ASSERT_EQ(fast.exit_code, 0) << f << ": " << fast.err;
+    EXPECT_EQ(nlohmann::json::parse(fast.out)["vertices"].get<size_t>(), m.n_vertices()) << f;
+    EXPECT_EQ(read_file(rc), "141\n") << f << ": the writer was not cut off (SIGPIPE), so all of it was read";
+    // A writer that never ends, appending a line every 0.2 s: main waited for its end (the 120 s guard).
+    const auto slow = sh("(cat " + (tmp / f) + "; while printf '1 2 3\\n'; do sleep 0.2; done) | timeout 120 " + cli +
+                             " info - --json",
+                         tmp);
+    ASSERT_EQ(slow.exit_code, 0) << f << ": " << slow.err;
+    EXPECT_EQ(nlohmann::json::parse(slow.out)["faces"].get<size_t>(), m.n_faces()) << f;
+  }
+  // `< FILE` while another process appends to it (whole lines, more vertices of an OBJ).
+  write_mesh(m, tmp / "g.obj", ascii);
+  std::atomic<bool> stop{false};
+  std::atomic<size_t> appended{0};
+  std::thread writer([&] {
+    FILE* out = std::fopen((tmp / "g.obj").c_str(), "ab");
+    std::string chunk;
+    for (int i = 0; i < 512; ++i) chunk += "v 1 2 3\n";
+    std::setvbuf(out, nullptr, _IONBF, 0);
+    while (!stop && appended < (size_t(256) << 20)) {
+      std::fwrite(chunk.data(), 1, chunk.size(), out);
+      appended += chunk.size();
+    }
+    std::fclose(out);
+  });
+  while (appended == 0) std::this_thread::yield();
+  const auto r = sh(cli + " info - --json < " + (tmp / "g.obj"), tmp);
+  stop = true;
+  writer.join();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["faces"].get<size_t>(), m.n_faces());
+  EXPECT_LT(nlohmann::json::parse(r.out)["vertices"].get<size_t>(), m.n_vertices() + (size_t(64) << 20) / 8);
+}

@@ -525,3 +525,39 @@ def test_issue30_a_growing_file_is_read_as_it_was_opened(tmp_path):
             t.join()
         assert np.array_equal(F2, F)
         assert len(V2) < len(V) + (64 << 20) // 8
+
+
+def test_issue30_standard_input_stops_at_the_declared_counts(tmp_path):
+    # A pipe has no size to snapshot: read_mesh("-") reads a PLY up to its declared elements while the
+    # writer goes on (main read until the writer stopped: never, here; the 120 s wait is only a hang guard).
+    import threading
+    V, F = geotex.generate("sphere", level=1)
+    for name, binary in (("a.ply", False), ("b.ply", True)):
+        path = tmp_path / name
+        geotex.write_mesh(str(path), V, F, binary=binary)
+        child = subprocess.Popen([sys.executable, "-c", "import geotex; V, F = geotex.read_mesh('-'); print(len(V), len(F))"],
+                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=False)
+        cut_off = []
+
+        def write():
+            try:
+                child.stdin.write(path.read_bytes())
+                child.stdin.flush()
+                while True:  # a writer that never stops by itself
+                    child.stdin.write(b"1 2 3\n" * 16)
+                    child.stdin.flush()
+            except (BrokenPipeError, ValueError, OSError):
+                cut_off.append(True)
+
+        t = threading.Thread(target=write, daemon=True)
+        t.start()
+        try:
+            child.wait(timeout=120)  # not communicate(): it would close the child's standard input
+        except subprocess.TimeoutExpired:
+            child.kill()
+            pytest.fail(f"{name}: read_mesh('-') still reading after 120 s of a writer that never stops")
+        t.join(10)
+        out, err = child.stdout.read(), child.stderr.read()
+        assert child.returncode == 0, err.decode()
+        assert out.decode().split() == [str(len(V)), str(len(F))], out
+        assert cut_off, name

@@ -1141,14 +1141,58 @@ Mesh read_mesh_from_bytes(std::string_view data, MeshFormat format, const ReadOp
   return mesh;
 }
 
+namespace {
+bool is_binary_ply(std::string_view data) {
+  const size_t header_end = data.find("end_header");
+  return without_bom(data).substr(0, 3) == "ply" && header_end != std::string_view::npos &&
+         data.substr(0, header_end).find("format binary") != std::string_view::npos;
+}
+
+// Whether the start of a stream already holds a whole mesh of a format that declares its size: a PLY's
+// elements, an OFF's vertices and faces, a .glb's length. A text line is whole only up to its end
+// ("1.5" may be the start of "1.53"). OBJ and STL declare nothing (nor does gzip): they are read to
+// the stream's end, up to kMaxStreamBytes.
+bool holds_declared_mesh(std::string_view data) {
+  if (data.size() >= 12 && data.substr(0, 4) == "glTF") {
+    uint32_t length;
+    std::memcpy(&length, data.data() + 8, 4);
+    return data.size() >= length;
+  }
+  const bool ply = without_bom(data).substr(0, 3) == "ply";
+  const size_t last_line = data.find_last_of('\n');
+  if (last_line == std::string_view::npos) return false;
+  const std::string_view lines = is_binary_ply(data) ? data : data.substr(0, last_line + 1);
+  try {
+    if (ply) {
+      parse_ply("-", lines);
+      return true;
+    }
+    if (sniff_format(data) != MeshFormat::Off) return false;
+    ReadReport rep;
+    parse_off("-", lines, rep);
+    return true;
+  } catch (const Error&) {
+    return false;  // not yet (or not readable: the read to the end says why)
+  }
+}
+}  // namespace
+
 Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* report) {
   if (path == kStdioPath) {
-    const std::string data = detail::read_stdin(kMaxStreamBytes);
-    if (data.empty()) throw IoError("standard input (-): nothing was read (an empty pipe)");
-    std::string_view content = data;
+    const detail::StdinBytes in = detail::read_stdin(kMaxStreamBytes, holds_declared_mesh);
+    if (in.data.empty()) throw IoError("standard input (-): nothing was read (an empty pipe)");
+    std::string_view content = in.data;
     std::string unpacked;
     if (detail::is_gzip_magic(content)) content = unpacked = gunzip(content, "standard input (-)");
-    return read_mesh_from_bytes(content, sniff_format(content), options, report, "-");
+    // The part of a line that followed the mesh is not a cut last line of it.
+    if (in.stopped_early && !is_binary_ply(content) && content.find_last_of('\n') != std::string_view::npos)
+      content = content.substr(0, content.find_last_of('\n') + 1);
+    ReadReport rep;
+    Mesh mesh = read_mesh_from_bytes(content, sniff_format(content), options, &rep, "-");
+    if (in.stopped_early)
+      rep.notes.push_back("standard input: read up to the mesh's declared end; what followed was not read");
+    if (report) *report = std::move(rep);
+    return mesh;
   }
   const MeshFormat format = format_from_path(path);
   const std::string data = read_file_bytes(path);
