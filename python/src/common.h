@@ -235,6 +235,9 @@ auto interruptible(const InterruptGuard& guard, F&& f) -> decltype(f()) {
 //! arrived during the call is raised before any result is returned.
 template <class F>
 auto run(const CallOptions& call, F&& f) -> decltype(f()) {
+  // A Ctrl-C during the conversions before this (the GIL held, Python's handler only recorded it):
+  // KeyboardInterrupt now, not after the whole computation.
+  raise_pending_signals();
   ThreadScope threads(call.threads);
   InterruptGuard guard;
   try {

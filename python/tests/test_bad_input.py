@@ -561,3 +561,28 @@ def test_issue30_standard_input_stops_at_the_declared_counts(tmp_path):
         assert child.returncode == 0, err.decode()
         assert out.decode().split() == [str(len(V)), str(len(F))], out
         assert cut_off, name
+
+
+def test_issue30_ctrl_c_stops_render_before_it_writes(tmp_path):
+    # Issue 30 item 7: render had no cancellation point; a SIGINT during it raised KeyboardInterrupt only
+    # after the whole picture was drawn and written. Now it stops while drawing: no file is written.
+    out = tmp_path / "big.png"
+    p = run_child(f"""
+        import os, signal, threading
+        import geotex
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # see test_class1_ctrl_c_...
+        V, F = geotex.generate("sphere", level=3)
+        sent = []
+        def interrupt():
+            sent.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+        threading.Timer(0.5, interrupt).start()
+        try:
+            geotex.render(V, F, {str(out)!r}, width=4096, height=4096)
+            print("finished", "after the signal" if sent else "before the signal")
+        except KeyboardInterrupt:
+            print("interrupted")
+    """, timeout=600)
+    assert_clean_exit(p)
+    assert p.stdout.strip() == "interrupted", p.stdout + p.stderr
+    assert not out.exists(), "the picture was drawn and written before the interrupt was raised"
