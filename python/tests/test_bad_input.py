@@ -492,6 +492,18 @@ def test_issue30_error_lines_name_the_real_cause(tmp_path):
         bad[0, 0] = value
         with pytest.raises(geotex.InvalidInput, match=f"vertex index {value} out of range"):
             geotex.info(V, bad)
+    # ... and so are the other index arrays: edges to draw (main cast them to int: 2**32 + 1 became vertex 1,
+    # a wrong line drawn without a word), edge pairs to score, deformation handles (main: a TypeError
+    # of the binding, the value not named)
+    for dtype, value in ((np.int64, 2**32 + 1), (np.uint64, 2**64 - 1), (np.int64, -1)):
+        edges = np.array([[0, 1], [1, 2]], dtype=dtype)
+        edges[1, 1] = value
+        with pytest.raises(geotex.InvalidInput, match=f"edges: row 1 has vertex index {value} out of range"):
+            geotex.render(V, F, edges=edges, width=32, height=32)
+        with pytest.raises(geotex.InvalidInput, match=f"row 1 has vertex index {value} out of range"):
+            geotex.score_edge_labels(edges, edges[:1])
+        with pytest.raises(geotex.InvalidInput, match=f"handles: row 1 has vertex id {value} out of range"):
+            geotex.deform(V, F, handles=np.array([0, value], dtype=dtype), targets=V[:2])
 
 
 def test_issue30_a_growing_file_is_read_as_it_was_opened(tmp_path):
