@@ -422,6 +422,26 @@ TEST(ErrorLines, IndentedAsciiStlIsReadAsAscii) {
   EXPECT_EQ(run_cli("info " + (tmp / "i.stl")).exit_code, 0);
 }
 
+// An index a PLY stores as a double is printed as the integer it is, not as 1.8446744073709552e+19.
+TEST(ErrorLines, IndicesStoredAsDoublesArePrintedAsExactIntegers) {
+  TempDir tmp;
+  write_file(tmp / "f.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 1\nproperty list uchar double vertex_indices\nend_header\n"
+                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 18446744073709551615\n");
+  write_file(tmp / "e.ply", "ply\nformat ascii 1.0\nelement edge 1\nproperty double vertex1\nproperty double vertex2\n"
+                            "property int label\nend_header\n0 18446744073709551615 1\n");
+  write_mesh(float_sphere(), tmp / "s.ply");
+  // 2^64 - 1 has no double: the value read is 2^64, shown whole.
+  const auto f = run_cli("info " + (tmp / "f.ply"));
+  EXPECT_EQ(f.exit_code, 1);
+  EXPECT_NE(f.err.find("vertex index 18446744073709551616,"), std::string::npos) << f.err;
+  const auto e = run_cli("render " + (tmp / "s.ply") + " -o " + (tmp / "r.png") + " --edges " + (tmp / "e.ply"));
+  EXPECT_EQ(e.exit_code, 1);
+  EXPECT_NE(e.err.find("vertex 0 or 18446744073709551616,"), std::string::npos) << e.err;
+  EXPECT_EQ(detail::exact_number(4294967297.0), "4294967297");
+  EXPECT_EQ(detail::exact_number(2.5), "2.5");
+}
+
 // Issue 30, item 3: a file that keeps growing is read as it was when opened.
 TEST(GrowingFiles, ReadersStopAtWhatTheFileHeldWhenOpened) {
   TempDir tmp;

@@ -492,6 +492,12 @@ def test_issue30_error_lines_name_the_real_cause(tmp_path):
         bad[0, 0] = value
         with pytest.raises(geotex.InvalidInput, match=f"vertex index {value} out of range"):
             geotex.info(V, bad)
+    # an index stored as a double in a PLY: the integer it is (2**64 - 1 reads as 2**64), not 1.8e+19
+    (tmp_path / "fd.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar double vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 18446744073709551615\n")
+    with pytest.raises(geotex.IoError, match="vertex index 18446744073709551616, not"):
+        geotex.read_mesh(str(tmp_path / "fd.ply"))
     # ... and so are the other index arrays: edges to draw (main cast them to int: 2**32 + 1 became vertex 1,
     # a wrong line drawn without a word), edge pairs to score, deformation handles (main: a TypeError
     # of the binding, the value not named)

@@ -29,6 +29,12 @@ namespace geotex {
 
 namespace fs = std::filesystem;
 
+std::string detail::exact_number(double v) {
+  // Up to 2^70 the digits are few; fmt's fixed format is exact (no printf-style rounding to 17 digits).
+  if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 0x1p70) return fmt::format("{:.0f}", v);
+  return fmt::format("{}", v);
+}
+
 namespace {
 
 std::string lower(std::string s) {
@@ -740,7 +746,8 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
       for (size_t k = 0; k < poly.size(); ++k) {
         const double v = L->items[L->offsets[f] + k];
         if (!integral_index(v, poly[k]))
-          throw IoError(fmt::format("{}: face {} has vertex index {}, not an integer index", path.string(), f, v));
+          throw IoError(fmt::format("{}: face {} has vertex index {}, not an integer index", path.string(), f,
+                                    detail::exact_number(v)));
       }
       soup.add_polygon(poly.data(), poly.size());
     }
@@ -766,7 +773,7 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
         int64_t v;
         if (!integral_index(L->items[i], v))
           throw IoError(fmt::format("{}: triangle strip {} has vertex index {}, not an integer index", path.string(), s,
-                                    L->items[i]));
+                                    detail::exact_number(L->items[i])));
         if (v < 0) flush();
         else run.push_back(v);
       }
@@ -1239,7 +1246,8 @@ EdgeValues read_edge_values(const fs::path& path, const std::string& property) {
   // are indices (a cast of anything else to int is undefined behaviour).
   auto index = [&](double v, size_t row) {
     if (!(v >= 0 && v <= std::numeric_limits<int>::max() && v == std::floor(v)))
-      throw IoError(fmt::format("{}: edge {} has vertex index {}, not a non-negative integer", path.string(), row, v));
+      throw IoError(fmt::format("{}: edge {} has vertex index {}, not a non-negative integer", path.string(), row,
+                                detail::exact_number(v)));
     return static_cast<int>(v);
   };
   EdgeValues out;
