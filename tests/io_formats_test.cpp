@@ -422,6 +422,26 @@ TEST(ErrorLines, IndentedAsciiStlIsReadAsAscii) {
   EXPECT_EQ(run_cli("info " + (tmp / "i.stl")).exit_code, 0);
 }
 
+// An index a PLY stores as a double is printed as the integer it is, not as 1.8446744073709552e+19.
+TEST(ErrorLines, IndicesStoredAsDoublesArePrintedAsExactIntegers) {
+  TempDir tmp;
+  write_file(tmp / "f.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 1\nproperty list uchar double vertex_indices\nend_header\n"
+                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 18446744073709551615\n");
+  write_file(tmp / "e.ply", "ply\nformat ascii 1.0\nelement edge 1\nproperty double vertex1\nproperty double vertex2\n"
+                            "property int label\nend_header\n0 18446744073709551615 1\n");
+  write_mesh(float_sphere(), tmp / "s.ply");
+  // 2^64 - 1 has no double: the value read is 2^64, shown whole.
+  const auto f = run_cli("info " + (tmp / "f.ply"));
+  EXPECT_EQ(f.exit_code, 1);
+  EXPECT_NE(f.err.find("vertex index 18446744073709551616,"), std::string::npos) << f.err;
+  const auto e = run_cli("render " + (tmp / "s.ply") + " -o " + (tmp / "r.png") + " --edges " + (tmp / "e.ply"));
+  EXPECT_EQ(e.exit_code, 1);
+  EXPECT_NE(e.err.find("vertex 0 or 18446744073709551616,"), std::string::npos) << e.err;
+  EXPECT_EQ(detail::exact_number(4294967297.0), "4294967297");
+  EXPECT_EQ(detail::exact_number(2.5), "2.5");
+}
+
 // Issue 30, item 3: a file that keeps growing is read as it was when opened.
 TEST(GrowingFiles, ReadersStopAtWhatTheFileHeldWhenOpened) {
   TempDir tmp;
@@ -467,4 +487,56 @@ TEST(GrowingFiles, ReadersStopAtWhatTheFileHeldWhenOpened) {
     EXPECT_LT(rep.file_vertices, m.n_vertices() + (size_t(64) << 20) / 8) << ext;
     if (ext != "obj") EXPECT_EQ(rep.file_vertices, m.n_vertices()) << ext;
   }
+}
+
+// Issue 30, item 3, through standard input: a pipe has no size to snapshot. A PLY (or OFF) is read up to
+// its declared counts, whether the writer goes on fast (it is cut off: SIGPIPE) or appends a line now and
+// then (a writer still busy, tail -f); a file given as `< FILE` is read as large as it was at the start.
+TEST(GrowingFiles, StandardInputStopsAtTheDeclaredCounts) {
+  TempDir tmp;
+  const Mesh m = float_sphere();
+  const std::string cli = test::cli_path();
+  WriteOptions ascii;
+  ascii.binary = false;
+  write_mesh(m, tmp / "a.ply", ascii);
+  write_mesh(m, tmp / "b.ply");
+  write_mesh(m, tmp / "a.off");
+  for (const std::string f : {"a.ply", "b.ply", "a.off"}) {
+    // A fast writer: 256 MiB of rows after the mesh. Main read them all (the writer finished, status 0).
+    const std::string rc = tmp / (f + ".writer");
+    const auto fast = sh("(cat " + (tmp / f) + "; yes '1 2 3' | head -c 268435456; echo $? > " + rc + ") | " + cli +
+                             " info - --json",
+                         tmp);
+    ASSERT_EQ(fast.exit_code, 0) << f << ": " << fast.err;
+    EXPECT_EQ(nlohmann::json::parse(fast.out)["vertices"].get<size_t>(), m.n_vertices()) << f;
+    EXPECT_EQ(read_file(rc), "141\n") << f << ": the writer was not cut off (SIGPIPE), so all of it was read";
+    // A writer that never ends, appending a line every 0.2 s: main waited for its end (the 120 s guard).
+    const auto slow = sh("(cat " + (tmp / f) + "; while printf '1 2 3\\n'; do sleep 0.2; done) | timeout 120 " + cli +
+                             " info - --json",
+                         tmp);
+    ASSERT_EQ(slow.exit_code, 0) << f << ": " << slow.err;
+    EXPECT_EQ(nlohmann::json::parse(slow.out)["faces"].get<size_t>(), m.n_faces()) << f;
+  }
+  // `< FILE` while another process appends to it (whole lines, more vertices of an OBJ).
+  write_mesh(m, tmp / "g.obj", ascii);
+  std::atomic<bool> stop{false};
+  std::atomic<size_t> appended{0};
+  std::thread writer([&] {
+    FILE* out = std::fopen((tmp / "g.obj").c_str(), "ab");
+    std::string chunk;
+    for (int i = 0; i < 512; ++i) chunk += "v 1 2 3\n";
+    std::setvbuf(out, nullptr, _IONBF, 0);
+    while (!stop && appended < (size_t(256) << 20)) {
+      std::fwrite(chunk.data(), 1, chunk.size(), out);
+      appended += chunk.size();
+    }
+    std::fclose(out);
+  });
+  while (appended == 0) std::this_thread::yield();
+  const auto r = sh(cli + " info - --json < " + (tmp / "g.obj"), tmp);
+  stop = true;
+  writer.join();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["faces"].get<size_t>(), m.n_faces());
+  EXPECT_LT(nlohmann::json::parse(r.out)["vertices"].get<size_t>(), m.n_vertices() + (size_t(64) << 20) / 8);
 }

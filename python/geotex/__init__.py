@@ -289,7 +289,8 @@ def deform(mesh: MeshLike, F: Any = None, handles: Optional[Sequence[int]] = Non
     if handles is None or targets is None:
         raise TypeError("deform() needs handles (vertex ids) and targets (#handles×3 positions)")
     V, F = _arrays(mesh, F)
-    return _geotex.deform(V, F, [int(h) for h in handles], targets, options)
+    # An array of any integer dtype: the library checks each id exactly (2**64 - 1 is named, not wrapped).
+    return _geotex.deform(V, F, np.asarray(handles) if len(handles) else np.zeros(0, dtype=np.int64), targets, options)
 
 
 @with_options("ParametrizationOptions")

@@ -3,6 +3,8 @@
 
 #include "common.h"
 
+#include <limits>
+
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
@@ -134,10 +136,8 @@ void bind_core(py::module_& m) {
 
   m.def("score_edge_labels", [](py::handle labelled, py::handle truth) {
         const auto pairs = [](py::handle a, const char* what) {
-          const py::array arr = py::array::ensure(a);
-          if (!arr || arr.ndim() != 2 || arr.shape(1) != 2 || (arr.dtype().kind() != 'i' && arr.dtype().kind() != 'u'))
-            throw InvalidInput(std::string(what) + ": expected an N x 2 array of vertex indices");
-          return py::cast<MatrixX2i>(arr);
+          // Any vertex index an int holds; beyond that named exactly, not wrapped by a cast.
+          return MatrixX2i(to_indices(a, std::numeric_limits<int>::max(), 2, what, "vertex index"));
         };
         const LabelScore s = score_edge_labels(pairs(labelled, "labelled"), pairs(truth, "truth"));
         return py::dict(py::arg("precision") = s.precision, py::arg("recall") = s.recall, py::arg("f1") = s.f1);

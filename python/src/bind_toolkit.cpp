@@ -42,10 +42,13 @@ void bind_toolkit(py::module_& m) {
         return VArray(run(call, [&] { return smooth(mesh, o); }));
       });
 
-  m.def("deform", [](py::handle V, py::handle F, const std::vector<int>& handles, py::handle targets, py::dict kw) {
+  m.def("deform", [](py::handle V, py::handle F, py::handle handle_ids, py::handle targets, py::dict kw) {
         CallOptions call = call_options(kw);
         const EditOptions o = to_options<EditOptions>(kw, call);
         const Mesh mesh = to_mesh(V, F);
+        const Eigen::VectorXi ids = to_indices(handle_ids, static_cast<Eigen::Index>(mesh.n_vertices()), 0,
+                                               "handles", "vertex id");
+        const std::vector<int> handles(ids.data(), ids.data() + ids.size());
         const MatrixX3d T = to_points(targets, "targets");
         return VArray(run(call, [&] { return laplacian_edit(mesh, handles, T, o); }));
       });

@@ -38,9 +38,8 @@ MeshLayers layers_of(const Mesh& mesh, py::handle field, py::handle edges, const
   } else {
     if (!a || a.ndim() != 2 || a.shape(1) != 2 || (a.dtype().kind() != 'i' && a.dtype().kind() != 'u'))
       throw InvalidInput("edges: expected an N x 2 array of vertex indices or one label per edge");
-    l.segments = py::cast<MatrixX2i>(a);
-    if (l.segments.size() && (l.segments.minCoeff() < 0 || l.segments.maxCoeff() >= static_cast<int>(mesh.n_vertices())))
-      throw InvalidInput("edges: a vertex index is out of range");
+    // Checked as int64/uint64 (a cast to int would wrap 2^32 + 1 to 1: a wrong edge drawn, no error).
+    l.segments = to_indices(a, static_cast<Eigen::Index>(mesh.n_vertices()), 2, "edges", "vertex index");
   }
   l.labels = Eigen::VectorXi::Ones(l.segments.rows());
   return l;

@@ -56,38 +56,48 @@ MatrixX3d to_points(py::handle a, const char* what) {
   return X;
 }
 
-MatrixX3i to_faces(py::handle a, Eigen::Index n_vertices, const char* what) {
+Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic> to_indices(py::handle a, Eigen::Index n, int columns,
+                                                               const char* what, const char* index_name) {
   const py::array arr = as_array(a, what);
-  check_n_by_3(arr, what);
+  if (columns == 3) {
+    check_n_by_3(arr, what);
+  } else if (columns > 0 ? arr.ndim() != 2 || arr.shape(1) != columns : arr.ndim() != 1) {
+    throw InvalidInput(columns > 0 ? fmt::format("{}: expected an N x {} array of integers", what, columns)
+                                   : fmt::format("{}: expected a one-dimensional array of integers", what));
+  }
   const char kind = arr.dtype().kind();
   if (kind != 'i' && kind != 'u')
-    throw InvalidInput(fmt::format("{}: vertex indices must be integers, got dtype {}", what,
+    throw InvalidInput(fmt::format("{}: {} values must be integers, got dtype {}", what, index_name,
                                    std::string(py::str(arr.dtype()))));
-  // Read as int64 (or uint64) first, so that an index that does not fit an int is seen, not wrapped.
-  MatrixX3i F(arr.shape(0), 3);
-  // The index is printed as the integer it is (2^64 - 1 stays 18446744073709551615): no floating
-  // point on the way.
+  const py::ssize_t rows = arr.ndim() > 0 ? arr.shape(0) : 0, cols = columns > 0 ? columns : 1;
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic> out(rows, cols);
+  // Read as int64 (or uint64) first, so that an index that does not fit an int is seen, not wrapped, and
+  // printed as the integer it is (2^64 - 1 stays 18446744073709551615): no floating point on the way.
   auto out_of_range = [&](py::ssize_t i, const std::string& v) {
-    throw InvalidInput(fmt::format("{}: row {} has vertex index {} out of range [0, {})", what, i, v, n_vertices));
+    throw InvalidInput(fmt::format("{}: row {} has {} {} out of range [0, {})", what, i, index_name, v, n));
   };
   if (kind == 'u') {
     const auto d = py::array_t<uint64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
-    for (py::ssize_t i = 0; i < d.shape(0); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const uint64_t v = d.data()[3 * i + k];
-        if (v >= static_cast<uint64_t>(n_vertices)) out_of_range(i, std::to_string(v));
-        F(i, k) = static_cast<int>(v);
+    for (py::ssize_t i = 0; i < rows; ++i)
+      for (py::ssize_t k = 0; k < cols; ++k) {
+        const uint64_t v = d.data()[cols * i + k];
+        if (v >= static_cast<uint64_t>(n)) out_of_range(i, std::to_string(v));
+        out(i, k) = static_cast<int>(v);
       }
   } else {
     const auto d = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
-    for (py::ssize_t i = 0; i < d.shape(0); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const int64_t v = d.data()[3 * i + k];
-        if (v < 0 || v >= static_cast<int64_t>(n_vertices)) out_of_range(i, std::to_string(v));
-        F(i, k) = static_cast<int>(v);
+    for (py::ssize_t i = 0; i < rows; ++i)
+      for (py::ssize_t k = 0; k < cols; ++k) {
+        const int64_t v = d.data()[cols * i + k];
+        if (v < 0 || v >= static_cast<int64_t>(n)) out_of_range(i, std::to_string(v));
+        out(i, k) = static_cast<int>(v);
       }
   }
-  return F;
+  return out;
+}
+
+MatrixX3i to_faces(py::handle a, Eigen::Index n_vertices, const char* what) {
+  return to_indices(a, n_vertices, 3, what, "vertex index");
 }
 
 Eigen::VectorXd to_vector(py::handle a, Eigen::Index n, const char* what) {

@@ -39,6 +39,11 @@ MatrixX3d to_points(py::handle a, const char* what);
 //! #N by 3 vertex indices from an integer array-like: every index in [0, n_vertices). Floats, bools
 //! and indices that do not fit are refused (no silent narrowing). \throw InvalidInput.
 MatrixX3i to_faces(py::handle a, Eigen::Index n_vertices, const char* what);
+//! #N by \p columns integers in [0, n) (\p columns 0: a one-dimensional array, #N by 1), from an integer
+//! array-like; out-of-range values are named exactly ("row 0 has vertex index 18446744073709551615 out of
+//! range [0, 12)"), never wrapped or rounded. \throw InvalidInput.
+Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic> to_indices(py::handle a, Eigen::Index n, int columns,
+                                                               const char* what, const char* index_name);
 //! A vector of #n finite reals. \throw InvalidInput.
 Eigen::VectorXd to_vector(py::handle a, Eigen::Index n, const char* what);
 //! A mesh from positions and faces (both checked as above); faces dropped by make_mesh() raise a
@@ -235,6 +240,9 @@ auto interruptible(const InterruptGuard& guard, F&& f) -> decltype(f()) {
 //! arrived during the call is raised before any result is returned.
 template <class F>
 auto run(const CallOptions& call, F&& f) -> decltype(f()) {
+  // A Ctrl-C during the conversions before this (the GIL held, Python's handler only recorded it):
+  // KeyboardInterrupt now, not after the whole computation.
+  raise_pending_signals();
   ThreadScope threads(call.threads);
   InterruptGuard guard;
   try {

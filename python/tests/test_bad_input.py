@@ -525,6 +525,24 @@ def test_issue30_error_lines_name_the_real_cause(tmp_path):
         bad[0, 0] = value
         with pytest.raises(geotex.InvalidInput, match=f"vertex index {value} out of range"):
             geotex.info(V, bad)
+    # an index stored as a double in a PLY: the integer it is (2**64 - 1 reads as 2**64), not 1.8e+19
+    (tmp_path / "fd.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar double vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 18446744073709551615\n")
+    with pytest.raises(geotex.IoError, match="vertex index 18446744073709551616, not"):
+        geotex.read_mesh(str(tmp_path / "fd.ply"))
+    # ... and so are the other index arrays: edges to draw (main cast them to int: 2**32 + 1 became vertex 1,
+    # a wrong line drawn without a word), edge pairs to score, deformation handles (main: a TypeError
+    # of the binding, the value not named)
+    for dtype, value in ((np.int64, 2**32 + 1), (np.uint64, 2**64 - 1), (np.int64, -1)):
+        edges = np.array([[0, 1], [1, 2]], dtype=dtype)
+        edges[1, 1] = value
+        with pytest.raises(geotex.InvalidInput, match=f"edges: row 1 has vertex index {value} out of range"):
+            geotex.render(V, F, edges=edges, width=32, height=32)
+        with pytest.raises(geotex.InvalidInput, match=f"row 1 has vertex index {value} out of range"):
+            geotex.score_edge_labels(edges, edges[:1])
+        with pytest.raises(geotex.InvalidInput, match=f"handles: row 1 has vertex id {value} out of range"):
+            geotex.deform(V, F, handles=np.array([0, value], dtype=dtype), targets=V[:2])
 
 
 def test_issue30_a_growing_file_is_read_as_it_was_opened(tmp_path):
@@ -558,3 +576,64 @@ def test_issue30_a_growing_file_is_read_as_it_was_opened(tmp_path):
             t.join()
         assert np.array_equal(F2, F)
         assert len(V2) < len(V) + (64 << 20) // 8
+
+
+def test_issue30_standard_input_stops_at_the_declared_counts(tmp_path):
+    # A pipe has no size to snapshot: read_mesh("-") reads a PLY up to its declared elements while the
+    # writer goes on (main read until the writer stopped: never, here; the 120 s wait is only a hang guard).
+    import threading
+    V, F = geotex.generate("sphere", level=1)
+    for name, binary in (("a.ply", False), ("b.ply", True)):
+        path = tmp_path / name
+        geotex.write_mesh(str(path), V, F, binary=binary)
+        child = subprocess.Popen([sys.executable, "-c", "import geotex; V, F = geotex.read_mesh('-'); print(len(V), len(F))"],
+                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=False)
+        cut_off = []
+
+        def write():
+            try:
+                child.stdin.write(path.read_bytes())
+                child.stdin.flush()
+                while True:  # a writer that never stops by itself
+                    child.stdin.write(b"1 2 3\n" * 16)
+                    child.stdin.flush()
+            except (BrokenPipeError, ValueError, OSError):
+                cut_off.append(True)
+
+        t = threading.Thread(target=write, daemon=True)
+        t.start()
+        try:
+            child.wait(timeout=120)  # not communicate(): it would close the child's standard input
+        except subprocess.TimeoutExpired:
+            child.kill()
+            pytest.fail(f"{name}: read_mesh('-') still reading after 120 s of a writer that never stops")
+        t.join(10)
+        out, err = child.stdout.read(), child.stderr.read()
+        assert child.returncode == 0, err.decode()
+        assert out.decode().split() == [str(len(V)), str(len(F))], out
+        assert cut_off, name
+
+
+def test_issue30_ctrl_c_stops_render_before_it_writes(tmp_path):
+    # Issue 30 item 7: render had no cancellation point; a SIGINT during it raised KeyboardInterrupt only
+    # after the whole picture was drawn and written. Now it stops while drawing: no file is written.
+    out = tmp_path / "big.png"
+    p = run_child(f"""
+        import os, signal, threading
+        import geotex
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # see test_class1_ctrl_c_...
+        V, F = geotex.generate("sphere", level=3)
+        sent = []
+        def interrupt():
+            sent.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+        threading.Timer(0.5, interrupt).start()
+        try:
+            geotex.render(V, F, {str(out)!r}, width=4096, height=4096)
+            print("finished", "after the signal" if sent else "before the signal")
+        except KeyboardInterrupt:
+            print("interrupted")
+    """, timeout=600)
+    assert_clean_exit(p)
+    assert p.stdout.strip() == "interrupted", p.stdout + p.stderr
+    assert not out.exists(), "the picture was drawn and written before the interrupt was raised"

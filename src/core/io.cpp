@@ -30,6 +30,12 @@ namespace geotex {
 
 namespace fs = std::filesystem;
 
+std::string detail::exact_number(double v) {
+  // Up to 2^70 the digits are few; fmt's fixed format is exact (no printf-style rounding to 17 digits).
+  if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 0x1p70) return fmt::format("{:.0f}", v);
+  return fmt::format("{}", v);
+}
+
 namespace {
 
 std::string lower(std::string s) {
@@ -757,7 +763,8 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
       for (size_t k = 0; k < poly.size(); ++k) {
         const double v = L->items[L->offsets[f] + k];
         if (!integral_index(v, poly[k]))
-          throw IoError(fmt::format("{}: face {} has vertex index {}, not an integer index", path.string(), f, v));
+          throw IoError(fmt::format("{}: face {} has vertex index {}, not an integer index", path.string(), f,
+                                    detail::exact_number(v)));
       }
       soup.add_polygon(poly.data(), poly.size());
     }
@@ -783,7 +790,7 @@ Soup soup_from_ply(const fs::path& path, const PlyData& ply, ReadReport& rep) {
         int64_t v;
         if (!integral_index(L->items[i], v))
           throw IoError(fmt::format("{}: triangle strip {} has vertex index {}, not an integer index", path.string(), s,
-                                    L->items[i]));
+                                    detail::exact_number(L->items[i])));
         if (v < 0) flush();
         else run.push_back(v);
       }
@@ -1178,16 +1185,58 @@ void check_binary_stl_memory(const fs::path& path) {
   require_memory(fmt::format("{}: reading {} faces and about {} vertices", path.string(), n, n / 2),
                  static_cast<size_t>(st.st_size) + mesh_read_bytes(n, n / 2));
 }
+
+bool is_binary_ply(std::string_view data) {
+  const size_t header_end = data.find("end_header");
+  return without_bom(data).substr(0, 3) == "ply" && header_end != std::string_view::npos &&
+         data.substr(0, header_end).find("format binary") != std::string_view::npos;
+}
+
+// Whether the start of a stream already holds a whole mesh of a format that declares its size: a PLY's
+// elements, an OFF's vertices and faces, a .glb's length. A text line is whole only up to its end
+// ("1.5" may be the start of "1.53"). OBJ and STL declare nothing (nor does gzip): they are read to
+// the stream's end, up to kMaxStreamBytes.
+bool holds_declared_mesh(std::string_view data) {
+  if (data.size() >= 12 && data.substr(0, 4) == "glTF") {
+    uint32_t length;
+    std::memcpy(&length, data.data() + 8, 4);
+    return data.size() >= length;
+  }
+  const bool ply = without_bom(data).substr(0, 3) == "ply";
+  const size_t last_line = data.find_last_of('\n');
+  if (last_line == std::string_view::npos) return false;
+  const std::string_view lines = is_binary_ply(data) ? data : data.substr(0, last_line + 1);
+  try {
+    if (ply) {
+      parse_ply("-", lines);
+      return true;
+    }
+    if (sniff_format(data) != MeshFormat::Off) return false;
+    ReadReport rep;
+    parse_off("-", lines, rep);
+    return true;
+  } catch (const Error&) {
+    return false;  // not yet (or not readable: the read to the end says why)
+  }
+}
 }  // namespace
 
 Mesh read_mesh(const fs::path& path, const ReadOptions& options, ReadReport* report) {
   if (path == kStdioPath) {
-    const std::string data = detail::read_stdin(kMaxStreamBytes);
-    if (data.empty()) throw IoError("standard input (-): nothing was read (an empty pipe)");
-    std::string_view content = data;
+    const detail::StdinBytes in = detail::read_stdin(kMaxStreamBytes, holds_declared_mesh);
+    if (in.data.empty()) throw IoError("standard input (-): nothing was read (an empty pipe)");
+    std::string_view content = in.data;
     std::string unpacked;
     if (detail::is_gzip_magic(content)) content = unpacked = gunzip(content, "standard input (-)");
-    return read_mesh_from_bytes(content, sniff_format(content), options, report, "-");
+    // The part of a line that followed the mesh is not a cut last line of it.
+    if (in.stopped_early && !is_binary_ply(content) && content.find_last_of('\n') != std::string_view::npos)
+      content = content.substr(0, content.find_last_of('\n') + 1);
+    ReadReport rep;
+    Mesh mesh = read_mesh_from_bytes(content, sniff_format(content), options, &rep, "-");
+    if (in.stopped_early)
+      rep.notes.push_back("standard input: read up to the mesh's declared end; what followed was not read");
+    if (report) *report = std::move(rep);
+    return mesh;
   }
   const MeshFormat format = format_from_path(path);
   if (format == MeshFormat::Stl && !is_gzip_path(path)) check_binary_stl_memory(path);
@@ -1235,7 +1284,8 @@ EdgeValues read_edge_values(const fs::path& path, const std::string& property) {
   // are indices (a cast of anything else to int is undefined behaviour).
   auto index = [&](double v, size_t row) {
     if (!(v >= 0 && v <= std::numeric_limits<int>::max() && v == std::floor(v)))
-      throw IoError(fmt::format("{}: edge {} has vertex index {}, not a non-negative integer", path.string(), row, v));
+      throw IoError(fmt::format("{}: edge {} has vertex index {}, not a non-negative integer", path.string(), row,
+                                detail::exact_number(v)));
     return static_cast<int>(v);
   };
   EdgeValues out;

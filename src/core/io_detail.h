@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,8 +18,16 @@ bool starts_ascii_stl(std::string_view data);
 // Whether \p data starts with the gzip magic bytes 1f 8b.
 bool is_gzip_magic(std::string_view data);
 
-// Standard input, read to its end, at most \p max_bytes. \throw IoError beyond that or on a read error.
-std::string read_stdin(size_t max_bytes);
+// Standard input as read by read_stdin(): its bytes, and whether reading stopped before the stream's end.
+struct StdinBytes {
+  std::string data;
+  bool stopped_early = false;  // \p complete said the bytes hold a whole mesh while the stream went on
+};
+// Standard input, at most \p max_bytes: a regular file (`< FILE`) as large as it was when reading began;
+// a pipe to its end, or until \p complete(bytes so far) says they hold a whole mesh (asked as the bytes
+// double, and whenever the writer pauses): a writer that never stops cannot keep the reader busy.
+// A cancellation point while it waits. \throw IoError beyond \p max_bytes or on a read error.
+StdinBytes read_stdin(size_t max_bytes, const std::function<bool(std::string_view)>& complete = {});
 
 // The triangles of a glTF asset as a soup: #V*3 positions (scene coordinates) and #T*3 indices.
 struct GltfSoup {

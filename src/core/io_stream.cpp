@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include <poll.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -12,6 +14,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
+#include "geotex/core/progress.h"
 #include "io_detail.h"
 
 namespace geotex {
@@ -49,22 +52,69 @@ bool is_gzip_magic(std::string_view data) {
   return data.size() >= 2 && static_cast<unsigned char>(data[0]) == 0x1f && static_cast<unsigned char>(data[1]) == 0x8b;
 }
 
-std::string read_stdin(size_t max_bytes) {
+StdinBytes read_stdin(size_t max_bytes, const std::function<bool(std::string_view)>& complete) {
   if (::isatty(STDIN_FILENO))
     throw IoError("standard input (-) is a terminal; pipe a mesh into it (geotex generate cube -o - | geotex info -)");
-  std::string data;
+  auto too_large = [&] {
+    return IoError(fmt::format("standard input (-): more than {}, the limit for a stream", human_bytes(max_bytes)));
+  };
+  StdinBytes out;
+  std::string& data = out.data;
   std::vector<char> chunk(1 << 16);
-  for (;;) {
-    const ssize_t n = ::read(STDIN_FILENO, chunk.data(), chunk.size());
-    if (n < 0) {
-      if (errno == EINTR) continue;
+  auto read_some = [&](size_t len) -> size_t {
+    for (;;) {
+      const ssize_t n = ::read(STDIN_FILENO, chunk.data(), len);
+      if (n >= 0) return static_cast<size_t>(n);
+      if (errno == EINTR) {
+        check_interrupt();
+        continue;
+      }
+      if (errno == EAGAIN) return SIZE_MAX;  // a non-blocking pipe with nothing yet: wait in poll()
       throw IoError(fmt::format("standard input (-): read failed ({})", std::strerror(errno)));
     }
-    if (n == 0) return data;
-    if (data.size() + static_cast<size_t>(n) > max_bytes)
-      throw IoError(fmt::format("standard input (-): more than {}, the limit for a stream", human_bytes(max_bytes)));
-    data.append(chunk.data(), static_cast<size_t>(n));
+  };
+  // `< FILE`: the file as large as it was now (a file another process appends to is a snapshot, as
+  // read_regular_file() reads files by name).
+  struct stat st {};
+  if (::fstat(STDIN_FILENO, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+    const off_t at = ::lseek(STDIN_FILENO, 0, SEEK_CUR);
+    const uint64_t left = static_cast<uint64_t>(st.st_size) - static_cast<uint64_t>(std::max<off_t>(at, 0));
+    if (left > max_bytes) throw too_large();
+    while (data.size() < left) {
+      const size_t n = read_some(std::min<size_t>(chunk.size(), left - data.size()));
+      if (n == 0 || n == SIZE_MAX) break;
+      data.append(chunk.data(), n);
+    }
+    return out;
   }
+  // A pipe: whether the bytes hold a whole mesh is asked when they have doubled since the last answer
+  // (the parses cost at most twice one parse of everything) and when the writer pauses for 100 ms (tail -f).
+  size_t checked = 0, next_check = size_t(1) << 16;
+  auto whole = [&] {
+    if (!complete || data.size() == checked) return false;
+    checked = data.size();
+    next_check = 2 * data.size();
+    return complete(data);
+  };
+  for (;;) {
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    const int ready = ::poll(&p, 1, 100);
+    if (ready < 0 && errno != EINTR) throw IoError(fmt::format("standard input (-): poll failed ({})", std::strerror(errno)));
+    check_interrupt();
+    if (ready <= 0 && !whole()) continue;  // nothing for 100 ms, and not a whole mesh yet
+    if (ready <= 0) break;
+    const size_t n = read_some(chunk.size());
+    if (n == SIZE_MAX) continue;
+    if (n == 0) return out;
+    if (data.size() + n > max_bytes) {
+      if (whole()) break;
+      throw too_large();
+    }
+    data.append(chunk.data(), n);
+    if (data.size() >= next_check && whole()) break;
+  }
+  out.stopped_early = true;  // the loop ends here only when the bytes so far hold a whole mesh
+  return out;
 }
 
 }  // namespace detail

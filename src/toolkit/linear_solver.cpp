@@ -12,6 +12,7 @@
 #endif
 
 #include "geotex/core/error.h"
+#include "geotex/core/progress.h"
 
 namespace geotex {
 
@@ -149,7 +150,10 @@ SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
 
+// A factorization is one call into CHOLMOD that cannot stop halfway: every entry is a cancellation point,
+// so a loop of solves (time steps, shift-invert Lanczos, robust passes) stops at its next one.
 void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ordering) {
+  check_interrupt();
   if (A.rows() != A.cols()) throw SolverError("SpdSolver: matrix is not square");
   if (block_size < 1 || A.rows() % block_size != 0)
     throw SolverError(fmt::format("SpdSolver: {} unknowns are not {} blocks", A.rows(), block_size));
@@ -176,6 +180,7 @@ void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ord
 }
 
 void SpdSolver::factorize(const SparseMatrix& A) {
+  check_interrupt();
   if (!impl_->analyzed || A.rows() != impl_->n) analyze(A);
   Eigen::VectorXd diag;
   if (impl_->permuted()) {
@@ -203,6 +208,7 @@ void SpdSolver::factorize(const SparseMatrix& A) {
 }
 
 Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
+  check_interrupt();
   if (!impl_->factorized) throw SolverError("SpdSolver: solve() before factorize()");
   if (B.rows() != impl_->n) throw SolverError("SpdSolver: right-hand side has the wrong size");
   Eigen::MatrixXd X;

@@ -11,6 +11,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/progress.h"
 
 namespace geotex {
 
@@ -524,6 +525,7 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
   Eigen::VectorXd p = g;
   double gamma = g.squaredNorm();
   while (res.iterations < o.max_iterations && gamma > 0) {
+    check_interrupt();
     apply_A(p, q);
     const double qq = q.squaredNorm();
     if (!(qq > 0)) break;

@@ -9,6 +9,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/progress.h"
 #include "geotex/toolkit/linear_solver.h"
 
 namespace geotex {
@@ -87,6 +88,7 @@ SimplifiedMesh simplify(const Mesh& mesh, int target_vertices) {
   std::vector<std::pair<double, int>> order;
   std::vector<char> touched;
   while (in_faces > target_vertices) {
+    check_interrupt();
     order.clear();
     for (auto h : m.halfedges())
       if (!m.status(m.edge_handle(h)).deleted()) order.emplace_back(cost(h), h.idx());

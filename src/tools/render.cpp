@@ -14,6 +14,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
+#include "geotex/core/progress.h"
 #include "geotex/core/spatial.h"
 
 namespace geotex {
@@ -227,6 +228,22 @@ Vec3 label_colour(int label) {
   return palette[((std::max(label, 1) - 1) % n + n) % n];
 }
 
+namespace {
+// \p n copies of \p v, written a slice at a time with a cancellation point between slices: first touching
+// the pages of 4096² samples took seconds (of a Ctrl-C's wait) on a loaded machine.
+template <class T>
+std::vector<T> filled(size_t n, T v) {
+  constexpr size_t kSlice = size_t(1) << 20;
+  std::vector<T> out;
+  out.reserve(n);
+  for (size_t i = 0; i < n; i += kSlice) {
+    check_interrupt();
+    out.insert(out.end(), std::min(kSlice, n - i), v);
+  }
+  return out;
+}
+}  // namespace
+
 Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLayers& layers) {
   require_valid(mesh, "mesh to render");
   if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
@@ -272,14 +289,18 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
   const double cx = 0.5 * cam.width * k, cy = 0.5 * cam.height * k;
   std::vector<Projected> P(nv);
   for (Eigen::Index i = 0; i < nv; ++i) P[i] = project(cam, V.row(i).transpose(), cx, cy, scale);
-  std::vector<float> depth(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
-  std::vector<int> face_at(static_cast<size_t>(W) * H, -1);
+  std::vector<float> depth = filled(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
+  std::vector<int> face_at = filled(static_cast<size_t>(W) * H, -1);
   const int bands = std::max(1, std::min(H, 64));
+  // Ctrl-C (Python): the workers skip what is left once the caller's flag is set (progress.h).
+  const std::atomic<bool>* stop = InterruptScope::current();
+  check_interrupt();
 #pragma omp parallel for schedule(dynamic)
   for (int b = 0; b < bands; ++b) {
     const int y_begin = static_cast<int>(static_cast<int64_t>(H) * b / bands);
     const int y_end = static_cast<int>(static_cast<int64_t>(H) * (b + 1) / bands);
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      if (f % 4096 == 0 && interrupt_requested(stop)) break;
       const Projected &a = P[F(f, 0)], &bb = P[F(f, 1)], &c = P[F(f, 2)];
       const double ymin = std::min({a.y, bb.y, c.y}), ymax = std::max({a.y, bb.y, c.y});
       int y0 = std::max(y_begin, static_cast<int>(std::ceil(ymin - 0.5)));
@@ -326,16 +347,17 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
     }
   }
 
+  check_interrupt();
   // Shade every covered sample: Lambert + Blinn-Phong, one key light above-left of the camera.
   const MatrixX3d N = o.smooth ? vertex_normals(mesh) : face_normals(mesh);
   const Vec3 view_dir = -cam.forward;
   const Vec3 light = (view_dir + 0.55 * cam.up - 0.35 * cam.right).normalized();
   const Vec3 half = (light + view_dir).normalized();
-  std::vector<float> colour(static_cast<size_t>(W) * H * 3);
+  std::vector<float> colour = filled(static_cast<size_t>(W) * H * 3, 0.0f);
   size_t covered = 0;
 #pragma omp parallel for reduction(+ : covered) schedule(static)
   for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
+    for (int x = 0; x < W && !interrupt_requested(stop); ++x) {
       const size_t idx = static_cast<size_t>(y) * W + x;
       const int f = face_at[idx];
       Vec3 c = o.background;
@@ -368,6 +390,7 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
       }
       for (int j = 0; j < 3; ++j) colour[3 * idx + j] = static_cast<float>(c[j]);
     }
+  check_interrupt();
   out.covered_pixels = static_cast<size_t>(std::llround(static_cast<double>(covered) / (k * k)));
 
   // Edge lines: disks stamped along each segment, hidden where the surface lies in front.
@@ -377,6 +400,7 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
     const double radius = 0.5 * o.line_width * k;
     const int r = static_cast<int>(std::ceil(radius));
     for (Eigen::Index s = 0; s < layers.segments.rows(); ++s) {
+      if (s % 1024 == 0) check_interrupt();
       const Projected &a = P[layers.segments(s, 0)], &b = P[layers.segments(s, 1)];
       const Vec3 lc = label_colour(layers.segment_labels.size() ? layers.segment_labels[s] : 1);
       const double len = std::hypot(b.x - a.x, b.y - a.y);

@@ -135,7 +135,7 @@ void edge_labels_from(const PlyElement& e, const std::string& property, const fs
     auto is_index = [&](double v) { return v >= 0 && v < static_cast<double>(n_vertices) && v == std::floor(v); };
     if (!is_index(a[i]) || !is_index(b[i]))
       throw InvalidInput(fmt::format("{}: edge {} refers to vertex {} or {}, but the mesh has {} vertices", path.string(),
-                                     i, a[i], b[i], n_vertices));
+                                     i, detail::exact_number(a[i]), detail::exact_number(b[i]), n_vertices));
     keep.push_back(static_cast<int>(i));
   }
   const Eigen::Index old = layers.segments.rows();

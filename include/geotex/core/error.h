@@ -20,6 +20,10 @@ inline std::string without_nul(std::string_view message) {
   }
   return out;
 }
+
+//! \p v as a message shows a number read from a file: an integral value (an index stored as a float or
+//! double) as its exact integer, 18446744073709551616 rather than 1.8446744073709552e+19; others shortest.
+std::string exact_number(double v);
 }  // namespace detail
 
 //! Base of every geotex error.

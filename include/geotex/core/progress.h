@@ -43,6 +43,13 @@ class InterruptScope {
 //! every few milliseconds of work); a no-op inside an OpenMP parallel region, which an exception must not leave.
 void check_interrupt();
 
+//! For loops inside an OpenMP parallel region, which no exception may leave and whose workers have no
+//! InterruptScope of their own: take the calling thread's flag before the region (InterruptScope::current()),
+//! skip the remaining work once interrupt_requested(flag), and call check_interrupt() after the region.
+inline bool interrupt_requested(const std::atomic<bool>* flag) noexcept {
+  return flag && flag->load(std::memory_order_relaxed);
+}
+
 //! A progress report, which is also a cancellation point.
 inline void report(const ProgressFn& fn, double fraction, std::string_view stage) {
   check_interrupt();
