@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include <sys/stat.h>
@@ -519,6 +521,17 @@ TEST(GrowingFiles, StandardInputStopsAtTheDeclaredCounts) {
   }
   // `< FILE` while another process appends to it (whole lines, more vertices of an OBJ).
   write_mesh(m, tmp / "g.obj", ascii);
+  {
+    // Page-aligned whole-page appends: a page is the unit in which a reader sees a regular file grow (a
+    // write across two pages can be seen half done, a line cut, which the reader rightly calls truncated).
+    const size_t size = std::filesystem::file_size(tmp / "g.obj");
+    size_t pad = (4096 - size % 4096) % 4096;
+    if (pad == 1) pad += 4096;
+    if (pad > 0) {
+      std::ofstream f(tmp / "g.obj", std::ios::app | std::ios::binary);
+      f << '#' << std::string(pad - 2, ' ') << '\n';
+    }
+  }
   std::atomic<bool> stop{false};
   std::atomic<size_t> appended{0};
   std::thread writer([&] {
@@ -534,9 +547,15 @@ TEST(GrowingFiles, StandardInputStopsAtTheDeclaredCounts) {
   });
   while (appended == 0) std::this_thread::yield();
   const auto r = sh(cli + " info - --json < " + (tmp / "g.obj"), tmp);
+  const size_t at_exit = appended;  // what had been appended when geotex was done
   stop = true;
   writer.join();
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["faces"].get<size_t>(), m.n_faces());
-  EXPECT_LT(nlohmann::json::parse(r.out)["vertices"].get<size_t>(), m.n_vertices() + (size_t(64) << 20) / 8);
+  // Read no further than the file had grown when geotex finished (8 bytes per appended vertex line); the
+  // bound is taken when geotex exits, not fixed, so a loaded machine that starts geotex late does not fail it.
+  EXPECT_LE(nlohmann::json::parse(r.out)["vertices"].get<size_t>(), m.n_vertices() + at_exit / 8);
+  if (at_exit >= (size_t(256) << 20))
+    GTEST_SKIP() << "the writer reached its 256 MiB before geotex finished: this run did not show that a growing "
+                    "file stops the read";
 }
