@@ -95,7 +95,11 @@ size_t available_memory_bytes() {
     avail = std::min<uint64_t>(avail, lim.rlim_cur > used ? lim.rlim_cur - used : 0);
   }
   if (const uint64_t max = cgroup_value("/sys/fs/cgroup/memory.max"); max > 0) {
-    const uint64_t used = cgroup_value("/sys/fs/cgroup/memory.current");
+    // The cgroup's use counts its page cache, which the kernel gives back under pressure: a cgroup that
+    // has read many files sits near its limit without being short of memory.
+    const uint64_t current = cgroup_value("/sys/fs/cgroup/memory.current");
+    const uint64_t cache = number_after("/sys/fs/cgroup/memory.stat", "file", 1);
+    const uint64_t used = current > cache ? current - cache : 0;
     avail = std::min<uint64_t>(avail, max > used ? max - used : 0);
   }
   return static_cast<size_t>(std::min<uint64_t>(avail, std::numeric_limits<size_t>::max()));
