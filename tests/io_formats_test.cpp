@@ -2,6 +2,7 @@
 // what a reader says names the real cause, and it reads what a file held when it was opened.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -444,6 +445,38 @@ TEST(ErrorLines, IndicesStoredAsDoublesArePrintedAsExactIntegers) {
   EXPECT_EQ(detail::exact_number(2.5), "2.5");
 }
 
+// A writer appending "v 1 2 3" lines to \p path, 4 KiB at a time with \p pause between appends (none: as
+// fast as it can), up to 256 MiB or until stop(): a file that keeps growing while it is read.
+class Appender {
+ public:
+  explicit Appender(const std::string& path, std::chrono::microseconds pause = {}) : writer_([this, path, pause] {
+    FILE* out = std::fopen(path.c_str(), "ab");
+    std::string chunk;
+    for (int i = 0; i < 512; ++i) chunk += "v 1 2 3\n";  // 4 KiB appends, whole lines
+    std::setvbuf(out, nullptr, _IONBF, 0);
+    while (!stop_ && appended_ < kLimit) {
+      std::fwrite(chunk.data(), 1, chunk.size(), out);
+      appended_ += chunk.size();
+      if (pause.count() > 0) std::this_thread::sleep_for(pause);
+    }
+    std::fclose(out);
+  }) {
+    while (appended_ == 0) std::this_thread::yield();
+  }
+  ~Appender() { stop(); }
+  void stop() {
+    stop_ = true;
+    if (writer_.joinable()) writer_.join();
+  }
+  size_t appended() const { return appended_; }
+  static constexpr size_t kLimit = size_t(256) << 20;
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::atomic<size_t> appended_{0};
+  std::thread writer_;
+};
+
 // Issue 30, item 3: a file that keeps growing is read as it was when opened.
 TEST(GrowingFiles, ReadersStopAtWhatTheFileHeldWhenOpened) {
   TempDir tmp;
@@ -453,36 +486,20 @@ TEST(GrowingFiles, ReadersStopAtWhatTheFileHeldWhenOpened) {
     WriteOptions o;
     o.binary = false;
     write_mesh(m, f, o);
-    std::atomic<bool> stop{false};
-    std::atomic<size_t> appended{0};
-    // A writer appending (after the PLY's counts, more vertices to the OBJ) as fast as it can while
-    // the file is read, up to 256 MiB.
-    std::thread writer([&] {
-      FILE* out = std::fopen(f.c_str(), "ab");
-      std::string chunk;
-      for (int i = 0; i < 512; ++i) chunk += "v 1 2 3\n";  // 4 KiB appends, whole lines
-      std::setvbuf(out, nullptr, _IONBF, 0);
-      while (!stop && appended < (size_t(256) << 20)) {
-        std::fwrite(chunk.data(), 1, chunk.size(), out);
-        appended += chunk.size();
-      }
-      std::fclose(out);
-    });
-    while (appended == 0) std::this_thread::yield();
+    // A writer appending (after the PLY's counts, more vertices to the OBJ) while the file is read.
+    Appender writer(f);
     ReadReport rep;
     Mesh r;
     try {
       r = read_mesh(f, {}, &rep);
     } catch (const IoError& e) {
       // The size at open may end inside an appended line (OBJ): a truncated file, said as such.
-      stop = true;
-      writer.join();
+      writer.stop();
       EXPECT_EQ(ext, "obj") << e.what();
       EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
       continue;
     }
-    stop = true;
-    writer.join();
+    writer.stop();
     // The vertices the file had when it was opened: at most a few chunks more than written first
     // (OBJ), exactly the declared ones (PLY, OFF), and never the whole appended stream.
     EXPECT_EQ(r.n_faces(), m.n_faces()) << ext;
@@ -532,30 +549,17 @@ TEST(GrowingFiles, StandardInputStopsAtTheDeclaredCounts) {
       f << '#' << std::string(pad - 2, ' ') << '\n';
     }
   }
-  std::atomic<bool> stop{false};
-  std::atomic<size_t> appended{0};
-  std::thread writer([&] {
-    FILE* out = std::fopen((tmp / "g.obj").c_str(), "ab");
-    std::string chunk;
-    for (int i = 0; i < 512; ++i) chunk += "v 1 2 3\n";
-    std::setvbuf(out, nullptr, _IONBF, 0);
-    while (!stop && appended < (size_t(256) << 20)) {
-      std::fwrite(chunk.data(), 1, chunk.size(), out);
-      appended += chunk.size();
-    }
-    std::fclose(out);
-  });
-  while (appended == 0) std::this_thread::yield();
+  // 4 MiB/s: still growing when geotex is done (as fast as it can, it reached 256 MiB before geotex started).
+  Appender writer(tmp / "g.obj", std::chrono::milliseconds(1));
   const auto r = sh(cli + " info - --json < " + (tmp / "g.obj"), tmp);
-  const size_t at_exit = appended;  // what had been appended when geotex was done
-  stop = true;
-  writer.join();
+  const size_t at_exit = writer.appended();  // what had been appended when geotex was done
+  writer.stop();
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["faces"].get<size_t>(), m.n_faces());
   // Read no further than the file had grown when geotex finished (8 bytes per appended vertex line); the
   // bound is taken when geotex exits, not fixed, so a loaded machine that starts geotex late does not fail it.
   EXPECT_LE(nlohmann::json::parse(r.out)["vertices"].get<size_t>(), m.n_vertices() + at_exit / 8);
-  if (at_exit >= (size_t(256) << 20))
+  if (at_exit >= Appender::kLimit)
     GTEST_SKIP() << "the writer reached its 256 MiB before geotex finished: this run did not show that a growing "
                     "file stops the read";
 }
