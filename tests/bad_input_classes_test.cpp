@@ -460,3 +460,25 @@ TEST(BadInputClasses, AMeshTooLargeForTheMemoryLeftIsRefusedBeforeItIsRead) {
   EXPECT_TRUE(fails_with(r, 1, "geotex: out of memory")) << r.err;
   EXPECT_NE(r.err.find("GiB"), std::string::npos) << r.err;
 }
+
+TEST(BadInputClasses, AFactorizationTooLargeForTheMemoryLeftIsRefusedAfterItsAnalysis) {
+  // Issue 30: `deform` of a 2.6 M-vertex sphere was killed for memory after 190 s. The symbolic analysis
+  // knows the Cholesky factor's size; one the machine cannot hold is refused there, with the estimate.
+  // The 41k-vertex sphere's linear edit factors 122,886 unknowns into about 0.5 GiB: refused under a
+  // 400 MiB cap (the process holds about 250 MiB then); the 2.5k-vertex sphere fits under the same cap.
+  TempDir tmp;
+  const std::string handles = tmp / "h.json";
+  std::ofstream(handles) << R"({"handles": [{"vertices": [0], "translate": [0.1, 0, 0]}, {"vertices": [1], "translate": [0, 0, 0]}]})";
+  for (int level : {1, 3}) {
+    const std::string in = tmp / fmt::format("s{}.ply", level), out = tmp / fmt::format("d{}.ply", level);
+    ASSERT_EQ(run_cli(fmt::format("-q generate sphere --level {} -o {}", level, in)).exit_code, 0);
+    const CliResult r = run_with_memory_cap("400M", fmt::format("deform {} --handles {} -o {}", in, handles, out));
+    if (level == 1) {
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      continue;
+    }
+    EXPECT_TRUE(fails_with(r, 1, "geotex: out of memory: factoring a 122886 x 122886 system")) << r.err;
+    EXPECT_NE(r.err.find("refused before the work"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}

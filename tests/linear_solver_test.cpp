@@ -1,5 +1,8 @@
 // SpdSolver: plain and coordinate-blocked analysis solve the same systems.
 
+#include <cstdlib>
+
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "geotex/core/error.h"
@@ -168,4 +171,26 @@ TEST(SpdSolver, NumericallySingularMatrixIsRefusedOnEveryKernel) {
     const Eigen::VectorXd b = Eigen::VectorXd::Ones(n);
     EXPECT_LT((A * s.solve(b) - b).norm(), 1e-8 * n) << n;
   }
+}
+
+TEST(SpdSolver, AFactorBeyondTheMemoryLeftIsRefusedByItsAnalysis) {
+  // The symbolic analysis knows the factor's size (issue 30): with no memory left beside the process's
+  // resident set (GEOTEX_MAX_MEMORY below it), the analysis refuses with the estimate; without the cap
+  // the same system factors.
+  const SparseMatrix A = stacked_system(icosphere(2), 5);
+  ::setenv("GEOTEX_MAX_MEMORY", "1", 1);
+  SpdSolver capped;
+  std::string what;
+  try {
+    capped.analyze(A);
+  } catch (const OutOfMemory& e) {
+    what = e.what();
+  }
+  ::unsetenv("GEOTEX_MAX_MEMORY");
+  if (std::string(SpdSolver::backend()) != "cholmod-supernodal") GTEST_SKIP() << "the estimate is CHOLMOD's analysis";
+  EXPECT_NE(what.find(fmt::format("factoring a {} x {} system", A.rows(), A.rows())), std::string::npos) << what;
+  EXPECT_NE(what.find("needs about"), std::string::npos) << what;
+  SpdSolver free;
+  free.compute(A);
+  EXPECT_TRUE(free.solve(Eigen::VectorXd::Ones(A.rows())).allFinite());
 }

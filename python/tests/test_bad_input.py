@@ -462,6 +462,32 @@ def test_class8_out_of_memory_is_a_memory_error():
     assert "MemoryError" in p.stdout and "alive" in p.stdout, p.stdout + p.stderr
 
 
+def test_issue30_a_factorization_too_large_for_the_memory_left_is_refused_after_its_analysis():
+    # deform of a 2.6 M-vertex sphere was killed for memory after 190 s: the symbolic analysis now knows
+    # the Cholesky factor's size and refuses one that does not fit with a MemoryError naming it. The
+    # 41k-vertex sphere's linear edit needs about 0.5 GiB for its factor: refused with 150 MiB left beside
+    # the process; the 2.5k-vertex sphere's fits.
+    p = run_child("""
+        import os
+        import geotex
+        def rss():
+            for line in open("/proc/self/status"):
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) * 1024
+        for level in (1, 3):
+            V, F = geotex.generate("sphere", level=level)
+            os.environ["GEOTEX_MAX_MEMORY"] = str(rss() + (150 << 20))
+            try:
+                X = geotex.deform(V, F, handles=[0, 1], targets=V[[0, 1]] + [[0.1, 0, 0], [0, 0, 0]])
+                print(level, "deformed", X.shape == V.shape)
+            except MemoryError as e:
+                print(level, "MemoryError", f"factoring a {3 * len(V)} x {3 * len(V)} system" in str(e), "needs about" in str(e))
+    """)
+    assert_clean_exit(p)
+    assert "1 deformed True" in p.stdout, p.stdout + p.stderr
+    assert "3 MemoryError True True" in p.stdout, p.stdout + p.stderr
+
+
 def test_issue30_a_mesh_too_large_for_the_memory_left_is_refused_before_it_is_read(tmp_path):
     # The readers estimate what a mesh needs from its declared counts and refuse at once with a
     # MemoryError naming the estimate (a sparse 3 GB STL took 238 s to fail). GEOTEX_MAX_MEMORY caps what

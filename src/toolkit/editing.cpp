@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include <fmt/format.h>
 #include <Eigen/Geometry>
@@ -275,13 +277,26 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
   // plus a translation, with (s, h, t) = (A_iᵀ A_i)⁻¹ A_iᵀ b_i the least-squares fit (Eq. 5.24) of the
   // rest 1-ring A_i to the unknown one b_i. Each row block is L_i X' − T_i(X') δ_i = 0; unknowns are
   // ordered x-block, y-block, z-block.
+  // G is assembled row by row: row d·n + i holds the 3k coordinates of i's closed ring (k vertices),
+  // columns e·n + j in order (e the coordinate, j the ring's vertices sorted).
   const Rings rings(mesh);
-  std::vector<std::vector<Triplet>> local(n);
+  const RowSparseMatrix Lr = L_;
+  RowSparseMatrix G(3 * n, 3 * n);
+  {
+    std::vector<int64_t> start(3 * static_cast<size_t>(n) + 1, 0);
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < n; ++i) start[size_t(d) * n + i + 1] = 3 * rings.size(i);
+    for (size_t r = 0; r < 3 * static_cast<size_t>(n); ++r) start[r + 1] += start[r];
+    if (start.back() > std::numeric_limits<int>::max())
+      throw OutOfMemory(fmt::format("the linear method's system for {} vertices has {} nonzeros, more than a "
+                                    "sparse matrix's 32-bit indices hold", n, start.back()));
+    G.resizeNonZeros(static_cast<Eigen::Index>(start.back()));
+    for (size_t r = 0; r <= 3 * static_cast<size_t>(n); ++r) G.outerIndexPtr()[r] = static_cast<int>(start[r]);
+  }
 #pragma omp parallel for schedule(dynamic, 256)
   for (int i = 0; i < n; ++i) {
     const int k = rings.size(i);
     const int* ids = rings.begin(i);
-    std::vector<Triplet>& t = local[i];
     Eigen::MatrixXd A(3 * k, 7);
     for (int r = 0; r < k; ++r) {
       const double x = X_(ids[r], 0), y = X_(ids[r], 1), z = X_(ids[r], 2);
@@ -295,24 +310,30 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
     Dm << dx, 0, dz, -dy, 0, 0, 0,
           dy, -dz, 0, dx, 0, 0, 0,
           dz, dy, -dx, 0, 0, 0, 0;
-    const Eigen::MatrixXd Td = Dm * Pinv;  // 3 by 3k: T_i(X') δ_i as a function of the ring's coordinates
-    t.reserve(9 * k);
-    for (int d = 0; d < 3; ++d)
-      for (int r = 0; r < k; ++r)
-        for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + ids[r], -Td(d, 3 * r + e));
+    // Row block of vertex i: L_i on its own coordinate minus T_i(X') δ_i (3 by 3k, by ring position).
+    Eigen::MatrixXd M = -(Dm * Pinv);
+    std::vector<int> order(k);
+    for (int r = 0; r < k; ++r) order[r] = r;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return ids[a] < ids[b]; });
+    int p = 0;  // L's row and the sorted ring, walked together (the Laplacian lives on the ring)
+    for (RowSparseMatrix::InnerIterator it(Lr, i); it; ++it) {
+      while (p < k && ids[order[p]] < it.col()) ++p;
+      if (p < k && ids[order[p]] == it.col())
+        for (int d = 0; d < 3; ++d) M(d, 3 * order[p] + d) += it.value();
+    }
+    for (int d = 0; d < 3; ++d) {
+      int at = G.outerIndexPtr()[size_t(d) * n + i];
+      for (int e = 0; e < 3; ++e)
+        for (int r : order) {
+          G.innerIndexPtr()[at] = e * n + ids[r];
+          G.valuePtr()[at++] = M(d, 3 * r + e);
+        }
+    }
   }
-  std::vector<Triplet> all;
-  for (int d = 0; d < 3; ++d)
-    for (int col = 0; col < L_.outerSize(); ++col)
-      for (SparseMatrix::InnerIterator it(L_, col); it; ++it)
-        all.emplace_back(d * n + it.row(), d * n + it.col(), it.value());
-  for (auto& t : local) all.insert(all.end(), t.begin(), t.end());
-  SparseMatrix G(3 * n, 3 * n);
-  G.setFromTriplets(all.begin(), all.end());
   Eigen::VectorXd w3(3 * n);
   for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = Wd.diagonal();
   try {
-    linear_solver_.compute(G, w3);
+    linear_solver_.compute(std::move(G), w3);
   } catch (const SolverError& e) {
     throw SolverError(fmt::format("{}: {}", pin_msg, e.what()));
   }

@@ -1,6 +1,7 @@
 #include "geotex/toolkit/linear_solver.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <new>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/progress.h"
+#include "geotex/core/resources.h"
 
 namespace geotex {
 
@@ -52,6 +54,23 @@ constexpr int kNestedDissectionVertices = 300000;
 // Eigen (issue 14, class 8). Out of memory is std::bad_alloc everywhere in geotex.
 void check_cholmod(const cholmod_common& c) {
   if (c.status == CHOLMOD_OUT_OF_MEMORY) throw std::bad_alloc();
+}
+
+// The symbolic analysis knows the numeric factor's size: its values (xsize), the largest update block
+// (maxcsize) and the row indices (ssize). A factorization the machine cannot hold is refused here, in
+// seconds, with the estimate (issue 30): a 2.6 M-vertex `deform` was killed for memory after 190 s.
+// CHOLMOD's 32-bit indices address 2^31 − 1 values: a larger factor crashed in the factorization (a 2.6 M-
+// vertex linear edit, 2.6e9 values), so it is refused here too.
+void require_factor_memory(const cholmod_factor* L, const cholmod_common& c, Eigen::Index n) {
+  if (c.status == CHOLMOD_TOO_LARGE || (L && L->is_super && std::max(L->xsize, L->ssize) > size_t(INT32_MAX)))
+    throw OutOfMemory(fmt::format("factoring a {} x {} system needs a Cholesky factor of {:.2g} values, more than "
+                                  "its 32-bit indices address (2^31); the mesh is too large for this method",
+                                  n, n, L ? std::max(double(L->xsize), c.lnz) : c.lnz));
+  if (!L || !L->is_super) return;
+  const double bytes = 8.0 * (double(L->xsize) + double(L->maxcsize)) + double(sizeof(int)) * double(L->ssize);
+  require_memory(fmt::format("factoring a {} x {} system ({:.2g} nonzeros and {:.2g} flops in its Cholesky factor)",
+                             n, n, c.lnz, c.fl),
+                 bytes >= 1.8e19 ? SIZE_MAX : static_cast<size_t>(bytes));
 }
 #endif
 
@@ -171,6 +190,7 @@ void SpdSolver::analyze(const SparseMatrix& A, int block_size, BlockOrdering ord
     impl_->chol.analyzePattern(A);
   }
   check_cholmod(c);
+  require_factor_memory(impl_->chol.factor(), c, A.rows());
 #else
   impl_->chol.analyzePattern(A);
 #endif
@@ -234,31 +254,112 @@ const char* SpdSolver::backend() {
 #endif
 }
 
-void LeastSquaresSolver::compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size, int dense_row_nnz) {
-  if (d.size() != G.cols()) throw SolverError("LeastSquaresSolver: the diagonal must have one entry per unknown");
-  // Row lengths, then the long rows as columns of U and the rest as G_s.
-  const SparseMatrix Gr = G;  // column major: count per row
-  Eigen::VectorXi nnz = Eigen::VectorXi::Zero(G.rows());
-  for (int c = 0; c < Gr.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator it(Gr, c); it; ++it) ++nnz[it.row()];
-  std::vector<int> long_index(G.rows(), -1);
-  int m = 0;
-  for (Eigen::Index r = 0; r < G.rows(); ++r)
-    if (nnz[r] > dense_row_nnz) long_index[r] = m++;
-  std::vector<Triplet> ts, tu;
-  for (int c = 0; c < Gr.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator it(Gr, c); it; ++it) {
-      if (long_index[it.row()] < 0) ts.emplace_back(it.row(), c, it.value());
-      else tu.emplace_back(c, long_index[it.row()], it.value());
+namespace {
+
+// The lower triangle of GᵀG over the rows of G that \p keep (row-major G, sorted columns), one column at
+// a time in parallel: column j gathers G(r, j) · G(r, c) for c ≥ j over the rows r of its column, its
+// diagonal entry first (stored even when zero, for LeastSquaresSolver::factor to rewrite). Linear
+// in the products, without the triplets and the full product Eigen's GᵀG builds (a 164k-vertex linear
+// edit: 5.3 s and 2× the memory; issue 30).
+SparseMatrix lower_normal_matrix(const RowSparseMatrix& G, const std::vector<char>& keep) {
+  const int nc = static_cast<int>(G.cols()), nr = static_cast<int>(G.rows());
+  // G's kept rows by column (the transpose's pattern, rows ascending).
+  std::vector<int> cstart(nc + 1, 0);
+  for (int r = 0; r < nr; ++r)
+    if (keep[r])
+      for (RowSparseMatrix::InnerIterator it(G, r); it; ++it) ++cstart[it.col() + 1];
+  for (int c = 0; c < nc; ++c) cstart[c + 1] += cstart[c];
+  std::vector<int> crow(cstart[nc]);
+  std::vector<double> cval(cstart[nc]);
+  {
+    std::vector<int> next(cstart.begin(), cstart.end() - 1);
+    for (int r = 0; r < nr; ++r)
+      if (keep[r])
+        for (RowSparseMatrix::InnerIterator it(G, r); it; ++it) {
+          crow[next[it.col()]] = r;
+          cval[next[it.col()]++] = it.value();
+        }
+  }
+  // Columns in chunks; each chunk's entries, then concatenated in order.
+  const int chunks = std::max(1, std::min(nc, 1024));
+  std::vector<std::vector<int>> chunk_rows(chunks);
+  std::vector<std::vector<double>> chunk_vals(chunks);
+  std::vector<int> count(nc, 0);
+  const int* outer = G.outerIndexPtr();
+  const int* inner = G.innerIndexPtr();
+  const double* value = G.valuePtr();
+#pragma omp parallel
+  {
+    std::vector<double> acc(nc, 0.0);
+    std::vector<char> seen(nc, 0);
+    std::vector<int> touched;
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < chunks; ++k) {
+      const int j0 = static_cast<int>(int64_t(nc) * k / chunks), j1 = static_cast<int>(int64_t(nc) * (k + 1) / chunks);
+      for (int j = j0; j < j1; ++j) {
+        touched.assign(1, j);
+        seen[j] = 1;
+        for (int p = cstart[j]; p < cstart[j + 1]; ++p) {
+          const int r = crow[p];
+          const double v = cval[p];
+          const int* first = std::lower_bound(inner + outer[r], inner + outer[r + 1], j);
+          for (const int* q = first; q != inner + outer[r + 1]; ++q) {
+            const int c = *q;
+            if (!seen[c]) { seen[c] = 1; touched.push_back(c); }
+            acc[c] += v * value[q - inner];
+          }
+        }
+        std::sort(touched.begin(), touched.end());
+        count[j] = static_cast<int>(touched.size());
+        for (int c : touched) {
+          chunk_rows[k].push_back(c);
+          chunk_vals[k].push_back(acc[c]);
+          acc[c] = 0;
+          seen[c] = 0;
+        }
+      }
     }
-  SparseMatrix Gs(G.rows(), G.cols());
-  Gs.setFromTriplets(ts.begin(), ts.end());
-  U_.resize(G.cols(), m);
+  }
+  SparseMatrix A(nc, nc);
+  int64_t nnz = 0;
+  for (int c = 0; c < nc; ++c) nnz += count[c];
+  A.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  A.outerIndexPtr()[0] = 0;
+  for (int c = 0; c < nc; ++c) A.outerIndexPtr()[c + 1] = A.outerIndexPtr()[c] + count[c];
+  int64_t at = 0;
+  for (int k = 0; k < chunks; ++k) {
+    std::copy(chunk_rows[k].begin(), chunk_rows[k].end(), A.innerIndexPtr() + at);
+    std::copy(chunk_vals[k].begin(), chunk_vals[k].end(), A.valuePtr() + at);
+    at += static_cast<int64_t>(chunk_rows[k].size());
+  }
+  return A;
+}
+
+}  // namespace
+
+void LeastSquaresSolver::compute(RowSparseMatrix G, const Eigen::VectorXd& d, int block_size, int dense_row_nnz) {
+  if (d.size() != G.cols()) throw SolverError("LeastSquaresSolver: the diagonal must have one entry per unknown");
+  check_interrupt();
+  G_ = std::move(G);
+  G_.makeCompressed();
+  // The long rows become the columns of U; the rest make up S's GᵀG.
+  std::vector<char> keep(G_.rows(), 1);
+  std::vector<Triplet> tu;
+  int m = 0;
+  for (Eigen::Index r = 0; r < G_.rows(); ++r) {
+    if (G_.outerIndexPtr()[r + 1] - G_.outerIndexPtr()[r] <= dense_row_nnz) continue;
+    keep[r] = 0;
+    for (RowSparseMatrix::InnerIterator it(G_, r); it; ++it) tu.emplace_back(it.col(), m, it.value());
+    ++m;
+  }
+  U_.resize(G_.cols(), m);
   U_.setFromTriplets(tu.begin(), tu.end());
-  GtG_ = Gs.transpose() * Gs;
-  G_ = G;
+  S_ = lower_normal_matrix(G_, keep);
+  gtg_diagonal_.resize(S_.cols());
+  for (Eigen::Index j = 0; j < S_.cols(); ++j) gtg_diagonal_[j] = S_.valuePtr()[S_.outerIndexPtr()[j]];
   d_ = d;
-  base_.analyze(GtG_ + SparseMatrix(d.asDiagonal()), block_size);
+  set_diagonal(0.0);
+  base_.analyze(S_, block_size);
   factor();
 }
 
@@ -268,25 +369,25 @@ void LeastSquaresSolver::refactor(const Eigen::VectorXd& d) {
   factor();
 }
 
+// S's diagonal: GᵀG's plus d plus \p shift, written in place (each column's first entry).
+void LeastSquaresSolver::set_diagonal(double shift) {
+  for (Eigen::Index j = 0; j < S_.cols(); ++j)
+    S_.valuePtr()[S_.outerIndexPtr()[j]] = gtg_diagonal_[j] + d_[j] + shift;
+}
+
 void LeastSquaresSolver::factor() {
   const Eigen::Index m = U_.cols();
-  SparseMatrix D(G_.cols(), G_.cols());
-  std::vector<Triplet> td;
-  for (Eigen::Index i = 0; i < d_.size(); ++i) td.emplace_back(i, i, d_[i]);
-  D.setFromTriplets(td.begin(), td.end());
-  SparseMatrix S = GtG_ + D;
+  set_diagonal(0.0);
   regularized_ = false;
   try {
-    base_.factorize(S);
+    base_.factorize(S_);
   } catch (const SolverError&) {
     if (m == 0) throw;
     // Taking the long rows out may leave S singular (an unknown only they constrain): factor it with a
     // tiny shift; solve() refines against the true matrix.
-    const double shift = 1e-8 * std::max(S.diagonal().cwiseAbs().mean(), 1e-300);
-    SparseMatrix I(S.rows(), S.cols());
-    I.setIdentity();
-    S += shift * I;
-    base_.factorize(S);
+    const double mean = S_.cols() ? (gtg_diagonal_ + d_).cwiseAbs().mean() : 0.0;
+    set_diagonal(1e-8 * std::max(mean, 1e-300));
+    base_.factorize(S_);
     regularized_ = true;
   }
   if (m > 0) {

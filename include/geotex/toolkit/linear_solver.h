@@ -11,6 +11,7 @@
 namespace geotex {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
+using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 using Triplet = Eigen::Triplet<double>;
 
 //! Fill-reducing ordering of a blocked analysis (SpdSolver::analyze with block_size > 1).
@@ -60,7 +61,10 @@ class LeastSquaresSolver {
  public:
   //! \param G #rows by #unknowns; \param d #unknowns non-negative diagonal; \param block_size as SpdSolver::analyze.
   //! \throw SolverError if GᵀG + diag(d) is singular.
-  void compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512);
+  void compute(RowSparseMatrix G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512);
+  void compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512) {
+    compute(RowSparseMatrix(G), d, block_size, dense_row_nnz);
+  }
   //! Factor GᵀG + diag(\p d) for the G of the last compute() and a new diagonal, reusing its analysis.
   void refactor(const Eigen::VectorXd& d);
   //! \return (GᵀG + diag(d))⁻¹ B.
@@ -71,8 +75,10 @@ class LeastSquaresSolver {
  private:
   SpdSolver base_;
   void factor();  // S = GsᵀGs + diag(d), then the capacitance matrix
-  SparseMatrix G_;            // kept for the refinement step (products only)
-  SparseMatrix GtG_;          // G_sᵀG_s: the short rows' normal matrix
+  void set_diagonal(double shift);
+  RowSparseMatrix G_;         // kept for the refinement step (products only)
+  SparseMatrix S_;            // G_sᵀG_s + diag(d), the short rows' normal matrix: its lower triangle
+  Eigen::VectorXd gtg_diagonal_;  // G_sᵀG_s's diagonal
   Eigen::VectorXd d_;
   SparseMatrix U_;            // #unknowns by #long rows
   Eigen::MatrixXd Z_;         // S⁻¹ U
