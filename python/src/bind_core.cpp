@@ -48,6 +48,7 @@ const EnumNames<NormalWeighting>& weighting_names() {
 
 void bind_core(py::module_& m) {
   register_table<NoiseOptions>("NoiseOptions");
+  register_results("RunTime", &run_time_results);
   m.def("_result_tables", [] {
     py::dict d;
     for (const auto& [name, describe] : result_tables()) d[py::str(name)] = describe();

@@ -18,4 +18,10 @@ nlohmann::json array_json(const Eigen::MatrixXd& a) {
   return j;
 }
 
+const ResultTable<RunTime>& run_time_results() {
+  static const auto t =
+      ResultTable<RunTime>().add("seconds", [](const RunTime& r) { return r.seconds; }, "wall time of the call", "s");
+  return t;
+}
+
 }  // namespace geotex

@@ -26,8 +26,9 @@
 
 namespace geotex {
 
-//! How a field is shown: Python's type of it (Array: a numpy array; Record: a dict of named values).
-enum class ResultKind { Bool, Int, Real, Text, Texts, Reals, Ints, Array, Record };
+//! How a field is shown: Python's type of it (Array: a numpy array of doubles, IntArray: of integers;
+//! Record: a dict of named values).
+enum class ResultKind { Bool, Int, Real, Text, Texts, Reals, Ints, Array, Record, IntArray };
 
 //! The description of one result field.
 struct ResultFieldInfo {
@@ -60,14 +61,29 @@ class ResultTable {
     fields_.push_back(std::move(f));
     return *this;
   }
-  //! A numeric array field (a vector or a matrix; converted to doubles).
+  //! A numeric array field (a vector or a matrix; held as doubles, shown as integers when it is of integers).
   template <class G>
   ResultTable& array(std::string name, G get, std::string help, std::string unit = {}, bool in_report = true) {
+    using T = typename std::decay_t<std::invoke_result_t<G, const R&>>::Scalar;
     Field f;
-    f.info = {std::move(name), ResultKind::Array, std::move(help), std::move(unit), in_report};
+    f.info = {std::move(name), std::is_integral_v<T> ? ResultKind::IntArray : ResultKind::Array, std::move(help),
+              std::move(unit), in_report};
     f.array = [get](const R& r) -> Eigen::MatrixXd { return get(r).template cast<double>(); };
     f.json = [a = f.array](const R& r) { return array_json(a(r)); };
     fields_.push_back(std::move(f));
+    return *this;
+  }
+
+  //! The fields of \p table, read from the part of a result that \p get returns (e.g. a summary it holds).
+  template <class S, class G>
+  ResultTable& part(const ResultTable<S>& table, G get) {
+    for (const auto& p : table.fields()) {
+      Field f;
+      f.info = p.info;
+      f.json = [json = p.json, get](const R& r) { return json(get(r)); };
+      if (p.array) f.array = [array = p.array, get](const R& r) { return array(get(r)); };
+      fields_.push_back(std::move(f));
+    }
     return *this;
   }
 
@@ -97,5 +113,11 @@ class ResultTable {
 
   std::vector<Field> fields_;
 };
+
+//! What a front end adds to a result it timed (the CLI and Python time the same library call).
+struct RunTime {
+  double seconds = 0;  //!< wall time of the library call
+};
+const ResultTable<RunTime>& run_time_results();
 
 }  // namespace geotex
