@@ -86,7 +86,8 @@ void bind_denoise(py::module_& m) {
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
     DenoiseRun info{"surfel"};
-    const SurfelDenoiseResult r = run(call, [&] { return timed(info.seconds, [&] { return surfel_denoise(mesh, o); }); });
+    const SurfelDenoiseResult r =
+        run(call, [&] { return timed(info.seconds, [&] { return surfel_denoise(mesh, o); }); });
     SurfelDenoiseOptions used = o;
     used.t_start_deg = r.t_start_deg;
     return denoise_result(r.mesh, r.edge_labels, info, r, surfel_denoise_results(), used);

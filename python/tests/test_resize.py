@@ -48,6 +48,19 @@ def test_auto_is_the_feature_map_of_the_library(plate):
     assert np.abs(a - c).max() > 1e-3
 
 
+def test_the_result_is_the_resized_mesh_with_the_map_it_used(plate):
+    V, F = plate
+    fm = geotex.feature_map(V, F)
+    r = geotex.resize(V, F, scale=(2, 1, 1))
+    assert isinstance(r, geotex.ResizeResult) and isinstance(r, geotex.MeshResult)
+    assert np.array_equal(r.F, F) and r.V.shape == V.shape
+    assert np.array_equal(r.features, fm.weights) and r.detector == fm.detector  # the same map as feature_map()
+    assert (r.marked_fraction, r.marked_vertices, r.regions) == (fm.marked_fraction, fm.marked_vertices, fm.regions)
+    given = geotex.resize(V, F, scale=(2, 1, 1), features=fm.weights)
+    assert given.detector == "none" and np.array_equal(given.features, fm.weights)  # weights given: no detector
+    assert geotex.info(r)["faces"] == len(F)  # a result is a mesh
+
+
 def test_user_weights_and_feature_files(plate, tmp_path):
     V, F = plate
     f = geotex.feature_map(V, F, features="height").weights
@@ -95,7 +108,8 @@ def test_deformed_copy_instead_of_a_map(plate):
     f = geotex.feature_map(V, F).weights
     lo, hi = V.min(axis=0), V.max(axis=0)
     D = (lo + hi) / 2 + (V - (lo + hi) / 2) * np.array([2.0, 1.0, 1.0])  # scale=(2, 1, 1) about the box centre
-    assert np.allclose(geotex.resize(V, F, D, features=f).V, geotex.resize(V, F, scale=(2, 1, 1), features=f).V, atol=1e-9)
+    by_map = geotex.resize(V, F, scale=(2, 1, 1), features=f)
+    assert np.allclose(geotex.resize(V, F, D, features=f).V, by_map.V, atol=1e-9)
     with pytest.raises(geotex.InvalidInput, match="not both"):
         geotex.resize(V, F, D, scale=(2, 1, 1)).V
     with pytest.raises(geotex.InvalidInput, match="deformation"):
