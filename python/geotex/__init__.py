@@ -200,7 +200,9 @@ def write_mesh(path: Union[str, os.PathLike], mesh: MeshLike, F: Any = None, bin
 
 def info(mesh: MeshLike, F: Any = None) -> dict:
     """Counts, boundary loops, components, Euler characteristic, genus, mean edge length, area,
-    volume, bounding box (as `geotex info`)."""
+    volume, bounding box: a dict with the keys of `geotex info --json` but those about the file (both
+    from one C++ table, `_geotex._result_tables()["MeshSummary"]`; genus and volume are None where
+    they do not apply)."""
     return _geotex.info(*_arrays(mesh, F))
 
 

@@ -59,13 +59,18 @@ _RESULT_TYPES = {"bool": "bool", "int": "int", "float": "float", "str": "str", "
                  "int_array": "np.ndarray"}
 
 
+def _field_type(f: dict) -> str:
+    t = _RESULT_TYPES[f["kind"]]
+    return f"Optional[{t}]" if f["optional"] else t
+
+
 def result_classes() -> str:
     """The typed result classes, from the C++ result tables (the ones the CLI's --report is written from)."""
     from . import _RESULT_CLASSES, _geotex
     tables = _geotex._result_tables()
     out = []
     for name, (base, parts) in _RESULT_CLASSES.items():
-        fields = "".join(f"    {f['name']}: {_RESULT_TYPES[f['kind']]}\n" for t in parts for f in tables[t])
+        fields = "".join(f"    {f['name']}: {_field_type(f)}\n" for t in parts for f in tables[t])
         out.append(f"\nclass {name}({base}):\n{fields}    parameters: Dict[str, Any]\n")
     return "".join(out) + "\n"
 

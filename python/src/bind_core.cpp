@@ -17,24 +17,10 @@ namespace geotex::python {
 
 namespace {
 
+// The fields of `geotex info --json` but those about the file (core/results.h).
 py::dict summary_dict(const Mesh& m) {
-  const MeshSummary s = summarize(m);
   py::dict d;
-  d["vertices"] = s.vertices;
-  d["edges"] = s.edges;
-  d["faces"] = s.faces;
-  d["components"] = s.components;
-  d["boundary_loops"] = s.boundary_loops;
-  d["closed"] = s.closed;
-  d["euler_characteristic"] = s.euler;
-  d["genus"] = s.genus >= 0 ? py::object(py::int_(s.genus)) : py::object(py::none());
-  d["mean_edge_length"] = s.mean_edge;
-  d["area"] = s.area;
-  d["volume"] = s.closed ? py::object(py::float_(s.volume)) : py::object(py::none());
-  d["isolated_vertices"] = s.isolated_vertices;
-  d["zero_area_faces"] = s.zero_area_faces;
-  d["bbox_min"] = py::make_tuple(s.box.min[0], s.box.min[1], s.box.min[2]);
-  d["bbox_max"] = py::make_tuple(s.box.max[0], s.box.max[1], s.box.max[2]);
+  put_results(d, summarize(m), mesh_summary_results());
   return d;
 }
 
@@ -49,6 +35,7 @@ const EnumNames<NormalWeighting>& weighting_names() {
 void bind_core(py::module_& m) {
   register_table<NoiseOptions>("NoiseOptions");
   register_results("RunTime", &run_time_results);
+  register_results("MeshSummary", &mesh_summary_results);
   m.def("_result_tables", [] {
     py::dict d;
     for (const auto& [name, describe] : result_tables()) d[py::str(name)] = describe();

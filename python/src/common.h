@@ -165,7 +165,7 @@ void put_results(py::dict& d, const R& r, const ResultTable<R>& table) {
 }
 
 //! The result tables the Python side sees (for its typed result classes and stubs), by name:
-//! [{name, kind, help, unit, in_report}].
+//! [{name, kind, help, unit, in_report, optional}].
 std::map<std::string, std::function<py::list()>>& result_tables();
 template <class R>
 void register_results(const std::string& name, const ResultTable<R>& (*table)()) {
@@ -180,6 +180,7 @@ void register_results(const std::string& name, const ResultTable<R>& (*table)())
       d["help"] = f.info.help;
       d["unit"] = f.info.unit;
       d["in_report"] = f.info.in_report;
+      d["optional"] = f.info.optional;
       fields.append(d);
     }
     return fields;

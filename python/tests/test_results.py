@@ -151,3 +151,21 @@ def test_every_report_key_of_every_command_is_a_field_of_the_python_result(repor
         else:
             assert got == want, key
     assert r.seconds > 0 and rep["seconds"] > 0
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+@pytest.mark.parametrize("shape,level", [("torus", 1), ("bumpy-plate", 0)])  # closed (a volume, a genus), open
+def test_info_says_what_the_cli_says_of_a_mesh(tmp_path, shape, level):
+    V, F = geotex.generate(shape, level=level)
+    geotex.write_mesh(tmp_path / "m.ply", V, F)
+    p = subprocess.run([CLI, "info", "--json", str(tmp_path / "m.ply")], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    info = geotex.info(V, F)
+    declared = {f["name"] for f in geotex._geotex._result_tables()["MeshSummary"]}
+    # The file's own keys (its name, format, what the reader did) are the CLI's; the rest is the summary.
+    assert set(j) - {"file", "format", "read", "manifold", "consistently_oriented"} == declared == set(info)
+    for key in declared:
+        want = info[key]
+        assert j[key] == (pytest.approx(want, rel=1e-12) if isinstance(want, float) else want), key
+    assert (info["volume"] is None) == (not info["closed"])

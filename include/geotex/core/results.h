@@ -16,6 +16,7 @@
 //!   }
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -37,6 +38,7 @@ struct ResultFieldInfo {
   std::string help;        //!< one line
   std::string unit;        //!< e.g. "s", "deg", "mean edge lengths"; empty when dimensionless or obvious
   bool in_report = true;   //!< false: Python only (per-vertex arrays the CLI writes as files, old spellings)
+  bool optional = false;   //!< may be absent: null in JSON, None in Python (e.g. a volume of an open mesh)
 };
 
 //! A #rows by #cols numeric array as JSON: a flat list for one column, else a list of rows.
@@ -51,13 +53,22 @@ class ResultTable {
     std::function<Eigen::MatrixXd(const R&)> array;  //!< Array fields only: the values as a matrix
   };
   //! A field of a plain type, its kind from the getter's return type: bool, an integer, double,
-  //! std::string, std::vector of double, int or std::string; or nlohmann::json (a Record).
+  //! std::string, std::vector of double, int or std::string; or nlohmann::json (a Record); or a
+  //! std::optional of one of these (an optional field).
   template <class G>
   ResultTable& add(std::string name, G get, std::string help, std::string unit = {}, bool in_report = true) {
     using T = std::decay_t<std::invoke_result_t<G, const R&>>;
     Field f;
-    f.info = {std::move(name), kind_of<T>(), std::move(help), std::move(unit), in_report};
-    f.json = [get](const R& r) { return nlohmann::json(get(r)); };
+    if constexpr (is_optional<T>::value) {
+      f.info = {std::move(name), kind_of<typename T::value_type>(), std::move(help), std::move(unit), in_report, true};
+      f.json = [get](const R& r) {
+        const T v = get(r);
+        return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+      };
+    } else {
+      f.info = {std::move(name), kind_of<T>(), std::move(help), std::move(unit), in_report};
+      f.json = [get](const R& r) { return nlohmann::json(get(r)); };
+    }
     fields_.push_back(std::move(f));
     return *this;
   }
@@ -99,6 +110,11 @@ class ResultTable {
 
  private:
   template <class T>
+  struct is_optional : std::false_type {};
+  template <class T>
+  struct is_optional<std::optional<T>> : std::true_type {};
+
+  template <class T>
   static constexpr ResultKind kind_of() {
     if constexpr (std::is_same_v<T, bool>) return ResultKind::Bool;
     else if constexpr (std::is_integral_v<T>) return ResultKind::Int;
@@ -119,5 +135,9 @@ struct RunTime {
   double seconds = 0;  //!< wall time of the library call
 };
 const ResultTable<RunTime>& run_time_results();
+
+struct MeshSummary;  // core/geometry.h
+//! summarize()'s counts and measures: what `geotex info --json` and Python's info() say of a mesh.
+const ResultTable<MeshSummary>& mesh_summary_results();
 
 }  // namespace geotex
