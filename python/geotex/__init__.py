@@ -225,7 +225,8 @@ def add_noise(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
 
 def compare(result: MeshLike, F: Any = None, V_truth: Any = None, F_truth: Any = None) -> dict:
     """Mean face-normal error (degrees), Ev and Hausdorff distance of a result against the truth
-    (`geotex compare`): compare(V, F, V_truth, F_truth) or compare(result_mesh, None, truth_mesh)."""
+    (`geotex compare`): compare(V, F, V_truth, F_truth) or compare(result_mesh, None, truth_mesh).
+    A dict with the keys of `geotex compare --json` but the file names."""
     if F is None:
         V, F = _arrays(result)
     else:
@@ -236,7 +237,8 @@ def compare(result: MeshLike, F: Any = None, V_truth: Any = None, F_truth: Any =
 
 
 def score_edge_labels(labelled: Any, truth: Any) -> dict:
-    """Precision, recall and F1 of labelled edges (#×2 vertex pairs) against the true ones."""
+    """Precision, recall and F1 of labelled edges (#×2 vertex pairs) against the true ones, and the counts
+    (labelled, truth_sharp_edges, true_positive): `geotex compare --labels --json`'s edge_labels."""
     return _geotex.score_edge_labels(labelled, truth)
 
 

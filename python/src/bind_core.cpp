@@ -11,6 +11,7 @@
 #include "geotex/core/output.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
+#include "geotex/tools/results.h"
 #include "geotex/tools/shapes.h"
 
 namespace geotex::python {
@@ -36,6 +37,8 @@ void bind_core(py::module_& m) {
   register_table<NoiseOptions>("NoiseOptions");
   register_results("RunTime", &run_time_results);
   register_results("MeshSummary", &mesh_summary_results);
+  register_results("Comparison", &comparison_results);
+  register_results("LabelScore", &label_score_results);
   m.def("_result_tables", [] {
     py::dict d;
     for (const auto& [name, describe] : result_tables()) d[py::str(name)] = describe();
@@ -108,16 +111,8 @@ void bind_core(py::module_& m) {
           py::gil_scoped_release release;
           c = compare_meshes(result, truth);
         }
-        py::dict d;
-        d["mean_normal_error_deg"] = c.mean_normal_error_deg;
-        d["max_normal_error_deg"] = c.max_normal_error_deg;
-        d["faces_matched_by"] = c.faces_by_index ? "index" : "closest-face";
-        d["ev"] = c.ev;
-        d["ev_relative"] = c.ev_relative;
-        d["hausdorff"] = c.hausdorff;
-        d["hausdorff_relative"] = c.hausdorff_relative;
-        d["mean_distance"] = c.mean_distance;
-        d["bbox_diagonal"] = c.diagonal;
+        py::dict d;  // the keys of `geotex compare --json` but the file names (tools/results.h)
+        put_results(d, c, comparison_results());
         return d;
       },
       py::arg("V"), py::arg("F"), py::arg("V_truth"), py::arg("F_truth"));
@@ -127,8 +122,9 @@ void bind_core(py::module_& m) {
           // Any vertex index an int holds; beyond that named exactly, not wrapped by a cast.
           return MatrixX2i(to_indices(a, std::numeric_limits<int>::max(), 2, what, "vertex index"));
         };
-        const LabelScore s = score_edge_labels(pairs(labelled, "labelled"), pairs(truth, "truth"));
-        return py::dict(py::arg("precision") = s.precision, py::arg("recall") = s.recall, py::arg("f1") = s.f1);
+        py::dict d;  // compare --json's edge_labels but the angle (tools/results.h)
+        put_results(d, score_edge_labels(pairs(labelled, "labelled"), pairs(truth, "truth")), label_score_results());
+        return d;
       },
       py::arg("labelled"), py::arg("truth"));
 

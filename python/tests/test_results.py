@@ -169,3 +169,33 @@ def test_info_says_what_the_cli_says_of_a_mesh(tmp_path, shape, level):
         want = info[key]
         assert j[key] == (pytest.approx(want, rel=1e-12) if isinstance(want, float) else want), key
     assert (info["volume"] is None) == (not info["closed"])
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+def test_compare_says_what_the_cli_says(tmp_path, noisy):
+    V, F = geotex.generate("cube", level=1)
+    r = geotex.denoise(*noisy, method="mrf", iterations=3)
+    geotex.write_mesh(tmp_path / "r.ply", r)
+    geotex.write_mesh(tmp_path / "t.ply", V, F)
+    labels = tmp_path / "labels.ply"
+    p = subprocess.run([CLI, "-q", "denoise", str(tmp_path / "r.ply"), "--method", "mrf", "--iterations", "1",
+                        "-o", str(tmp_path / "o.ply"), "--edges", str(labels)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    p = subprocess.run([CLI, "compare", "--json", str(tmp_path / "r.ply"), str(tmp_path / "t.ply"), "--labels",
+                        str(labels)], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    tables = geotex._geotex._result_tables()
+    c = geotex.compare(r.V, r.F, V, F)
+    assert set(j) - {"result", "truth", "edge_labels"} == {f["name"] for f in tables["Comparison"]} == set(c)
+    for key, want in c.items():
+        assert j[key] == (pytest.approx(want, rel=1e-12) if isinstance(want, float) else want), key
+    # The labels' score: the CLI scores the edges labelled above 1/2 against the truth's above 30 degrees.
+    E = geotex.edges(V, F)
+    truth = E[np.abs(geotex.dihedral_angles(V, F)) > np.radians(j["edge_labels"]["truth_angle_deg"])]
+    again = geotex.denoise(r, method="mrf", iterations=1)
+    s = geotex.score_edge_labels(again.edges[again.edge_labels > 0.5], truth)
+    assert set(j["edge_labels"]) - {"truth_angle_deg"} == {f["name"] for f in tables["LabelScore"]} == set(s)
+    for key, want in s.items():
+        assert j["edge_labels"][key] == pytest.approx(want, rel=1e-12), key
+    assert s["labelled"] > 0 and s["truth_sharp_edges"] > 0  # a score of something
