@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "geotex/core/error.h"
+#include "geotex/core/results.h"
 
 namespace geotex::cli {
 
@@ -73,6 +74,13 @@ std::string printable(std::string_view text, size_t max_chars) {
 void info(const std::string& line) {
   // A line is one line: an output named with ESC or a newline in it is shown escaped (issue 30).
   if (!globals().quiet) std::fprintf(stderr, "%s\n", printable(line).c_str());
+}
+
+void write_report(const std::string& path, nlohmann::json result, double seconds, nlohmann::json parameters) {
+  result.update(run_time_results().report({seconds}));
+  result["parameters"] = std::move(parameters);
+  write_text_atomic(path, result.dump(2) + "\n");
+  info("wrote " + path);
 }
 
 Mesh load_mesh(const std::string& path, ReadReport* report, bool strict) {

@@ -123,6 +123,9 @@ inline constexpr std::chrono::seconds kLogProgressInterval{5};
 //! \p text with control bytes shown as \xNN (a name or a file's bytes cannot disturb the terminal or forge a
 //! line), cut after about \p max_chars with "..." appended.
 std::string printable(std::string_view text, size_t max_chars = std::string::npos);
+//! Write a --report: \p result (a result table's report(), core/results.h) with the run's "seconds" and
+//! "parameters" (options_json() of the options used), as JSON; says "wrote PATH".
+void write_report(const std::string& path, nlohmann::json result, double seconds, nlohmann::json parameters);
 void info(const std::string& line);  // stderr unless quiet; the line printable()
 
 //! The candidate closest to \p name by edit distance (dashes aside), or "" when none is within a slip

@@ -38,6 +38,8 @@ __all__ = [
     "smooth", "deform", "parametrize", "phong_project", "one_form_fit", "one_form_to_vertices",
     "auto_diffusion_function",
     "MeshResult", "DenoiseResult", "AutoDenoiseResult", "MrfResult", "SurfelDenoiseResult",
+    "TextureResult", "TexturedResult", "TextureExtraction", "TransferResult", "AtlasResult", "SynthesisResult",
+    "ResizeResult", "FeatureMap",
     "denoise", "denoise_auto", "denoise_mrf", "denoise_mrf_normal", "denoise_surfel", "denoise_methods", "point_surfels", "pca_normals",
     "texture_extract", "texture_apply", "texture_edit", "texture_animate", "texture_transfer", "texture_atlas",
     "texture_synthesize", "read_texture", "write_texture",
@@ -92,20 +94,52 @@ class DenoiseResult(MeshResult):
     used), method and seconds, then the fields of its method (the keys of `geotex denoise --report`)."""
 
 
-def _result_class(name: str, base: type) -> type:
-    """A result class whose docstring lists the fields of the C++ result table `name` (the same table
-    the CLI's --report is written from)."""
-    lines = [base.__doc__ or "", "", "Fields of the method (as `--report` has them, except those marked Python only):"]
-    for f in _RESULT_TABLES[name]:
+class TextureResult(Result):
+    """A texture: V_base, F (its base mesh), height (#V), tilt (#E, in edges() order), lean (#V radians, or
+    empty for the thesis' encoding) and edges."""
+
+
+class TexturedResult(MeshResult):
+    """A texture applied to a target: V, F (the textured target, refined where it was coarser), texture
+    (the target's TextureResult), parameters (the options used)."""
+
+
+# Each typed result class: its base and the C++ result tables its fields come from, the same tables the
+# command's --report is written from (geotex/core/results.h; _stubgen types the stubs from this).
+_RESULT_CLASSES = {
+    "AutoDenoiseResult": ("DenoiseResult", ("DenoiseRun", "AutoDenoiseResult")),
+    "MrfResult": ("DenoiseResult", ("DenoiseRun", "MrfResult")),
+    "SurfelDenoiseResult": ("DenoiseResult", ("DenoiseRun", "SurfelDenoiseResult")),
+    "TextureExtraction": ("TextureResult", ("TextureExtraction", "RunTime")),
+    "TransferResult": ("TexturedResult", ("TransferResult", "RunTime")),
+    "AtlasResult": ("TexturedResult", ("AtlasResult", "RunTime")),
+    "SynthesisResult": ("MeshResult", ("SynthesisResult", "SynthesisQuality", "RunTime")),
+    "ResizeResult": ("MeshResult", ("ResizeResult", "RunTime")),
+    "FeatureMap": ("Result", ("FeatureMap",)),
+}
+
+
+def _result_class(name: str) -> type:
+    """The result class `name`, its docstring listing the fields of its C++ result tables."""
+    base_name, tables = _RESULT_CLASSES[name]
+    base = globals()[base_name]
+    lines = [base.__doc__ or "", "", "Fields (as `--report` has them, except those marked Python only):"]
+    for f in (f for t in tables for f in _RESULT_TABLES[t]):
         unit = f" [{f['unit']}]" if f["unit"] else ""
         only = "" if f["in_report"] else " (Python only)"
         lines.append(f"    {f['name']}: {f['help']}{unit}{only}")
     return type(name, (base,), {"__doc__": "\n".join(lines) + "\n", "__module__": __name__})
 
 
-AutoDenoiseResult = _result_class("AutoDenoiseResult", DenoiseResult)
-MrfResult = _result_class("MrfResult", DenoiseResult)
-SurfelDenoiseResult = _result_class("SurfelDenoiseResult", DenoiseResult)
+AutoDenoiseResult = _result_class("AutoDenoiseResult")
+MrfResult = _result_class("MrfResult")
+SurfelDenoiseResult = _result_class("SurfelDenoiseResult")
+TextureExtraction = _result_class("TextureExtraction")
+TransferResult = _result_class("TransferResult")
+AtlasResult = _result_class("AtlasResult")
+SynthesisResult = _result_class("SynthesisResult")
+ResizeResult = _result_class("ResizeResult")
+FeatureMap = _result_class("FeatureMap")
 
 
 
@@ -166,7 +200,9 @@ def write_mesh(path: Union[str, os.PathLike], mesh: MeshLike, F: Any = None, bin
 
 def info(mesh: MeshLike, F: Any = None) -> dict:
     """Counts, boundary loops, components, Euler characteristic, genus, mean edge length, area,
-    volume, bounding box (as `geotex info`)."""
+    volume, bounding box: a dict with the keys of `geotex info --json` but those about the file (both
+    from one C++ table, `_geotex._result_tables()["MeshSummary"]`; genus and volume are None where
+    they do not apply)."""
     return _geotex.info(*_arrays(mesh, F))
 
 
@@ -189,7 +225,8 @@ def add_noise(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
 
 def compare(result: MeshLike, F: Any = None, V_truth: Any = None, F_truth: Any = None) -> dict:
     """Mean face-normal error (degrees), Ev and Hausdorff distance of a result against the truth
-    (`geotex compare`): compare(V, F, V_truth, F_truth) or compare(result_mesh, None, truth_mesh)."""
+    (`geotex compare`): compare(V, F, V_truth, F_truth) or compare(result_mesh, None, truth_mesh).
+    A dict with the keys of `geotex compare --json` but the file names."""
     if F is None:
         V, F = _arrays(result)
     else:
@@ -200,7 +237,8 @@ def compare(result: MeshLike, F: Any = None, V_truth: Any = None, F_truth: Any =
 
 
 def score_edge_labels(labelled: Any, truth: Any) -> dict:
-    """Precision, recall and F1 of labelled edges (#×2 vertex pairs) against the true ones."""
+    """Precision, recall and F1 of labelled edges (#×2 vertex pairs) against the true ones, and the counts
+    (labelled, truth_sharp_edges, true_positive): `geotex compare --labels --json`'s edge_labels."""
     return _geotex.score_edge_labels(labelled, truth)
 
 
@@ -283,7 +321,7 @@ def smooth(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
 
 @with_options("EditOptions")
 def deform(mesh: MeshLike, F: Any = None, handles: Optional[Sequence[int]] = None, targets: Any = None,
-           **options: Any) -> np.ndarray:
+           **options: Any) -> ResizeResult:
     """Laplacian surface editing (Eq. 5.15–5.24, `geotex deform`): handle vertex ids and their
     #handles×3 targets. Returns #V×3 positions."""
     if handles is None or targets is None:
@@ -424,8 +462,8 @@ def _texture(texture: TextureLike) -> Tuple[Any, Any, Any, Any, Any]:
     return field("V_base"), field("F"), field("height"), field("tilt"), field("lean", None)
 
 
-def _texture_result(d: dict) -> Result:
-    return Result(**d)
+def _texture_result(d: dict) -> TextureResult:
+    return TextureResult(**d)
 
 
 def _base_arrays(base: Any, F: Any) -> Tuple[Any, Any]:
@@ -439,20 +477,19 @@ def _base_arrays(base: Any, F: Any) -> Tuple[Any, Any]:
 
 
 @with_options("TextureExtractOptions")
-def texture_extract(mesh: MeshLike, F: Any = None, base: Any = None, **options: Any) -> Result:
+def texture_extract(mesh: MeshLike, F: Any = None, base: Any = None, **options: Any) -> TextureExtraction:
     """Extract a height-and-tilt texture from a textured mesh (Eq. 8.4–8.7; `geotex texture extract`).
 
     base: the base mesh, as #V×3 positions over the textured mesh's faces (the vertex correspondence) or
     as a mesh of any connectivity (the textured vertices are projected onto it along its Phong normals);
     None (default): the automatic base (Sec. 8.3.1), set by the base options (an option of the automatic
     base given with a base raises InvalidInput).
-    Returns a texture Result (V_base, F, height, tilt, lean, edges) with base_source ('given',
-    'projected', 'automatic'), median_off_normal_deg, fit_iterative, fit_iterations, max_error and
-    height_only_error (largest reconstruction error in mean edges, with and without the tilt) and
-    parameters."""
+    Returns a TextureExtraction: the texture (V_base, F, height, tilt, lean, edges), the fields of
+    `geotex texture extract --report` (base_source 'given', 'projected' or 'automatic', max_error and
+    height_only_error, ...: help(geotex.TextureExtraction)) and parameters."""
     V, F = _arrays(mesh, F)
     Vb, Fb = _base_arrays(base, None)
-    return _texture_result(_geotex.texture_extract(V, F, Vb, Fb, options))
+    return TextureExtraction(**_geotex.texture_extract(V, F, Vb, Fb, options))
 
 
 @with_options("TextureApplyOptions")
@@ -469,7 +506,7 @@ def texture_apply(texture: TextureLike, base: Any = None, **options: Any) -> Res
 
 
 @with_options("TextureEditOptions")
-def texture_edit(texture: TextureLike, **options: Any) -> Result:
+def texture_edit(texture: TextureLike, **options: Any) -> TextureResult:
     """Edit a texture (Sec. 8.4.1; `geotex texture edit`): op 'set-tilt', 'wrap', 'wiggle' or
     'scale-height'. Returns the edited texture (a texture Result on the same base) with parameters."""
     return _texture_result(_geotex.texture_edit(*_texture(texture), options))
@@ -485,51 +522,51 @@ def texture_animate(texture: TextureLike, **options: Any) -> Result:
 @with_options("TransferOptions")
 def texture_transfer(texture: TextureLike, target: MeshLike, F_target: Any = None,
                      source_near: Optional[Sequence[float]] = None, target_near: Optional[Sequence[float]] = None,
-                     **options: Any) -> Result:
+                     **options: Any) -> TransferResult:
     """Transfer a geodesic disk of a texture onto a geodesic disk of another base (Sec. 8.3.3;
     `geotex texture transfer`). The disks are centred at source_center / target_center, or at the
     vertex nearest to the point source_near / target_near (x, y, z). A refined target raises a
-    UserWarning. Returns a Result: V, F (the textured target; refined where it was coarser), texture
-    (the target's texture Result), source_center, target_center, source_patch, target_patch,
-    target_vertices, added_vertices, height_factor, falloff, warnings, parameters, and the damage:
-    folded, self_intersecting (faces of the textured target), base_folded, base_self_intersecting
-    (the bare target's own), excess_folded, excess_self_intersecting (beyond them; a UserWarning above
-    damage_warning)."""
+    UserWarning. Returns a TransferResult: V, F (the textured target; refined where it was coarser),
+    texture (the target's TextureResult), parameters, and the fields of `geotex texture transfer
+    --report` (help(geotex.TransferResult)): the centres and patches, counts, and the damage (folded,
+    self_intersecting faces of the textured target, the bare target's own, the excess beyond them; a
+    UserWarning above damage_warning)."""
     Vt, Ft = _arrays(target, F_target)
     r = _geotex.texture_transfer(*_texture(texture), Vt, Ft, source_near, target_near, options)
     r["texture"] = _texture_result(r["texture"])
-    return Result(**r)
+    return TransferResult(**r)
 
 
 @with_options("AtlasOptions")
 def texture_atlas(texture: TextureLike, target: MeshLike, F_target: Any = None,
-                  source_near: Optional[Sequence[float]] = None, **options: Any) -> Result:
+                  source_near: Optional[Sequence[float]] = None, **options: Any) -> AtlasResult:
     """Cover a whole surface with copies of one texture disk, blended where they overlap (`geotex
     texture atlas`). The source disk is centred at source_center or at the vertex nearest to
-    source_near. Returns a Result: V, F (the textured target), texture, source_center, centers,
-    coverage (#V: largest disk weight, 0 uncovered), owner, added_vertices, height_factor, warnings,
-    parameters, and the damage counts as texture_transfer() has them."""
+    source_near. Returns an AtlasResult: V, F (the textured target), texture, parameters, and the
+    fields of `geotex texture atlas --report` (help(geotex.AtlasResult)): centers, coverage (#V:
+    largest disk weight, 0 uncovered), owner, counts, and the damage as texture_transfer() has it."""
     Vt, Ft = _arrays(target, F_target)
     r = _geotex.texture_atlas(*_texture(texture), Vt, Ft, source_near, options)
     r["texture"] = _texture_result(r["texture"])
-    return Result(**r)
+    return AtlasResult(**r)
 
 
 @with_options("SynthesisOptions")
 def texture_synthesize(texture: TextureLike, target: MeshLike, F_target: Any = None, weight: Any = None,
-                       direction_guide: Any = None, **options: Any) -> Result:
+                       direction_guide: Any = None, **options: Any) -> SynthesisResult:
     """Grow a texture like the exemplar texture over the whole target (`geotex texture synthesize`):
     patch-based, oriented by a smooth direction field (docs/synthesis.md). weight: #V_target values in
     [0, 1], where texture grows; direction_guide: #V_target×3 guide directions (else the `direction`
-    option). Returns a Result: V (the textured target), F and V_base (the target used, refined where it
-    was coarser), height, tilt, lean, field, owner, centers, scale, patch_radius, added_vertices,
-    warnings."""
+    option). Returns a SynthesisResult: V (the textured target), F and V_base (the target used, refined
+    where it was coarser), height, tilt, lean, parameters, and the fields of `geotex texture synthesize
+    --report` (help(geotex.SynthesisResult)): field, owner, centers, scale, counts, the damage, the
+    quality measures of synthesis_quality() (bench/synthesis.md) and seconds."""
     Vb, F, h, t, lean = _texture(texture)
     Vt, Ft = _arrays(target, F_target)
-    return Result(**_geotex.texture_synthesize(Vb, F, h, t, lean, Vt, Ft, weight, direction_guide, options))
+    return SynthesisResult(**_geotex.texture_synthesize(Vb, F, h, t, lean, Vt, Ft, weight, direction_guide, options))
 
 
-def read_texture(path: Union[str, os.PathLike]) -> Result:
+def read_texture(path: Union[str, os.PathLike]) -> TextureResult:
     """Read a texture file (PLY: base mesh, vertex height and lean, edge tilt; as the CLI writes it).
     Returns a texture Result: V_base, F, height, tilt, lean, edges."""
     return _texture_result(_geotex.read_texture(_path(path)))
@@ -542,14 +579,16 @@ def write_texture(path: Union[str, os.PathLike], texture: TextureLike, binary: b
 
 @with_options("ResizeRunOptions")
 def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any = "importance",
-           **options: Any) -> np.ndarray:
+           **options: Any) -> ResizeResult:
     """Feature-aware resizing and deformation (ch. 9; `geotex resize`, the same library call).
     The deformation: scale=(sx, sy, sz), twist, bend, arc_radius (about the bounding box's centre), or
     deformed=#V×3 positions from any other deformation (e.g. deform()). features: a map name
     ('importance', the continuous default; 'auto', 'height', 'adf', binary; 'none'; the same
     feature_map() as the command line), #V weights in [0, 1] (binary or continuous, e.g. painted), or a
     feature file (text, or PLY with vertex 'feature' or 'height'). A UserWarning says when the map marks
-    more than half or less than 0.5% of the surface. Returns the resized #V×3 positions."""
+    more than half or less than 0.5% of the surface. Returns a ResizeResult (a mesh): V (the resized #V×3
+    positions), F, parameters, and the fields of `geotex resize --report` (help(geotex.ResizeResult)):
+    detector, marked_fraction, marked_vertices, regions, warning, seconds; features (the weights used)."""
     V, F = _arrays(mesh, F)
     weights = path = None
     if isinstance(features, str) and features in _FEATURE_MAPS:
@@ -558,17 +597,17 @@ def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any
         path = _path(features)
     else:
         weights = features
-    return _geotex.resize(V, F, deformed, weights, path, options)
+    return ResizeResult(**_geotex.resize(V, F, deformed, weights, path, options))
 
 
 @with_options("FeatureMapOptions")
-def feature_map(mesh: MeshLike, F: Any = None, **options: Any) -> Result:
+def feature_map(mesh: MeshLike, F: Any = None, **options: Any) -> FeatureMap:
     """The feature map of resizing (Sec. 9.4; what `geotex resize --features` and resize() use).
-    Returns a Result: weights (#V in [0, 1] for 'importance', the default; in {0, 1} for the binary
+    Returns a FeatureMap: weights (#V in [0, 1] for 'importance', the default; in {0, 1} for the binary
     maps), field (the raw importance, or the height or ADF a binary map was grown on), detector
     (the one used; for 'auto', the one chosen), marked_fraction, marked_vertices, regions, warning
     (also raised as a UserWarning), parameters."""
-    return Result(**_geotex.feature_map(*_arrays(mesh, F), options))
+    return FeatureMap(**_geotex.feature_map(*_arrays(mesh, F), options))
 
 
 _FEATURE_MAPS = tuple(next(f for f in table("FeatureMapOptions")["fields"] if f["name"] == "features")["choices"])

@@ -22,6 +22,7 @@ __all__: List[str]
 
 MeshLike = Any
 TextureLike = Any
+_RESULT_CLASSES: Dict[str, Tuple[str, Tuple[str, ...]]]
 
 class Result:
     def __init__(self, **fields: Any) -> None: ...
@@ -38,22 +39,39 @@ class DenoiseResult(MeshResult):
     edges: np.ndarray
     edge_labels: np.ndarray
     parameters: Dict[str, Any]
+
+class TextureResult(Result):
+    V_base: np.ndarray
+    F: np.ndarray
+    height: np.ndarray
+    tilt: np.ndarray
+    lean: np.ndarray
+    edges: np.ndarray
+
+class TexturedResult(MeshResult):
+    texture: TextureResult
+    parameters: Dict[str, Any]
 '''
 
 # Python's type of a result field of each kind (geotex/core/results.h).
 _RESULT_TYPES = {"bool": "bool", "int": "int", "float": "float", "str": "str", "texts": "List[str]",
-                 "reals": "List[float]", "ints": "List[int]", "array": "np.ndarray", "record": "Dict[str, Any]"}
+                 "reals": "List[float]", "ints": "List[int]", "array": "np.ndarray", "record": "Dict[str, Any]",
+                 "int_array": "np.ndarray"}
+
+
+def _field_type(f: dict) -> str:
+    t = _RESULT_TYPES[f["kind"]]
+    return f"Optional[{t}]" if f["optional"] else t
 
 
 def result_classes() -> str:
     """The typed result classes, from the C++ result tables (the ones the CLI's --report is written from)."""
-    from . import _geotex
+    from . import _RESULT_CLASSES, _geotex
     tables = _geotex._result_tables()
-    run = "".join(f"    {f['name']}: {_RESULT_TYPES[f['kind']]}\n" for f in tables["DenoiseRun"])
     out = []
-    for name in ("AutoDenoiseResult", "MrfResult", "SurfelDenoiseResult"):
-        fields = "".join(f"    {f['name']}: {_RESULT_TYPES[f['kind']]}\n" for f in tables[name])
-        out.append(f"\nclass {name}(DenoiseResult):\n{run}{fields}")
+    for name, (base, parts) in _RESULT_CLASSES.items():
+        fields = "".join(f"    {f['name']}: {_field_type(f)}\n" for t in parts for f in tables[t])
+        out.append(f"\nclass {name}({base}):\n{fields}    parameters: Dict[str, Any]\n")
     return "".join(out) + "\n"
 
 

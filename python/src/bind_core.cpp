@@ -11,30 +11,17 @@
 #include "geotex/core/output.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
+#include "geotex/tools/results.h"
 #include "geotex/tools/shapes.h"
 
 namespace geotex::python {
 
 namespace {
 
+// The fields of `geotex info --json` but those about the file (core/results.h).
 py::dict summary_dict(const Mesh& m) {
-  const MeshSummary s = summarize(m);
   py::dict d;
-  d["vertices"] = s.vertices;
-  d["edges"] = s.edges;
-  d["faces"] = s.faces;
-  d["components"] = s.components;
-  d["boundary_loops"] = s.boundary_loops;
-  d["closed"] = s.closed;
-  d["euler_characteristic"] = s.euler;
-  d["genus"] = s.genus >= 0 ? py::object(py::int_(s.genus)) : py::object(py::none());
-  d["mean_edge_length"] = s.mean_edge;
-  d["area"] = s.area;
-  d["volume"] = s.closed ? py::object(py::float_(s.volume)) : py::object(py::none());
-  d["isolated_vertices"] = s.isolated_vertices;
-  d["zero_area_faces"] = s.zero_area_faces;
-  d["bbox_min"] = py::make_tuple(s.box.min[0], s.box.min[1], s.box.min[2]);
-  d["bbox_max"] = py::make_tuple(s.box.max[0], s.box.max[1], s.box.max[2]);
+  put_results(d, summarize(m), mesh_summary_results());
   return d;
 }
 
@@ -48,6 +35,10 @@ const EnumNames<NormalWeighting>& weighting_names() {
 
 void bind_core(py::module_& m) {
   register_table<NoiseOptions>("NoiseOptions");
+  register_results("RunTime", &run_time_results);
+  register_results("MeshSummary", &mesh_summary_results);
+  register_results("Comparison", &comparison_results);
+  register_results("LabelScore", &label_score_results);
   m.def("_result_tables", [] {
     py::dict d;
     for (const auto& [name, describe] : result_tables()) d[py::str(name)] = describe();
@@ -120,16 +111,8 @@ void bind_core(py::module_& m) {
           py::gil_scoped_release release;
           c = compare_meshes(result, truth);
         }
-        py::dict d;
-        d["mean_normal_error_deg"] = c.mean_normal_error_deg;
-        d["max_normal_error_deg"] = c.max_normal_error_deg;
-        d["faces_matched_by"] = c.faces_by_index ? "index" : "closest-face";
-        d["ev"] = c.ev;
-        d["ev_relative"] = c.ev_relative;
-        d["hausdorff"] = c.hausdorff;
-        d["hausdorff_relative"] = c.hausdorff_relative;
-        d["mean_distance"] = c.mean_distance;
-        d["bbox_diagonal"] = c.diagonal;
+        py::dict d;  // the keys of `geotex compare --json` but the file names (tools/results.h)
+        put_results(d, c, comparison_results());
         return d;
       },
       py::arg("V"), py::arg("F"), py::arg("V_truth"), py::arg("F_truth"));
@@ -139,8 +122,9 @@ void bind_core(py::module_& m) {
           // Any vertex index an int holds; beyond that named exactly, not wrapped by a cast.
           return MatrixX2i(to_indices(a, std::numeric_limits<int>::max(), 2, what, "vertex index"));
         };
-        const LabelScore s = score_edge_labels(pairs(labelled, "labelled"), pairs(truth, "truth"));
-        return py::dict(py::arg("precision") = s.precision, py::arg("recall") = s.recall, py::arg("f1") = s.f1);
+        py::dict d;  // compare --json's edge_labels but the angle (tools/results.h)
+        put_results(d, score_edge_labels(pairs(labelled, "labelled"), pairs(truth, "truth")), label_score_results());
+        return d;
       },
       py::arg("labelled"), py::arg("truth"));
 

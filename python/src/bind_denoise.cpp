@@ -2,8 +2,6 @@
 
 #include "common.h"
 
-#include <chrono>
-
 #include <fmt/format.h>
 
 #include "geotex/denoise/auto_denoise.h"
@@ -32,15 +30,6 @@ py::dict denoise_result(const Mesh& mesh, const Eigen::VectorXd& edge_labels, co
   return d;
 }
 
-// run() of a denoiser, timed as the CLI times it.
-template <class F>
-auto timed(const CallOptions& call, double& seconds, F&& f) {
-  const auto t0 = std::chrono::steady_clock::now();
-  auto r = run(call, std::forward<F>(f));
-  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return r;
-}
-
 template <class O>
 py::dict mrf_result(const Mesh& input, const MrfResult& r, const O& used, const DenoiseRun& run) {
   Mesh out = input;
@@ -67,7 +56,7 @@ void bind_denoise(py::module_& m) {
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
     DenoiseRun info{"auto"};
-    const AutoDenoiseResult r = timed(call, info.seconds, [&] { return auto_denoise(mesh, o); });
+    const AutoDenoiseResult r = run(call, [&] { return timed(info.seconds, [&] { return auto_denoise(mesh, o); }); });
     if (r.turned_over > 0) warn(fmt::format("geotex: {} faces are left turned over", r.turned_over));
     Mesh out = mesh;
     set_positions(out, r.positions);
@@ -79,7 +68,7 @@ void bind_denoise(py::module_& m) {
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
     DenoiseRun info{"mrf"};
-    const MrfResult r = timed(call, info.seconds, [&] { return mrf_denoise(mesh, o); });
+    const MrfResult r = run(call, [&] { return timed(info.seconds, [&] { return mrf_denoise(mesh, o); }); });
     return mrf_result(mesh, r, o, info);
   });
   m.def("denoise_mrf_normal", [](py::handle V, py::handle F, py::dict kw) {
@@ -88,7 +77,7 @@ void bind_denoise(py::module_& m) {
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
     DenoiseRun info{"mrf-normal"};
-    const MrfResult r = timed(call, info.seconds, [&] { return mrf_normal_denoise(mesh, o); });
+    const MrfResult r = run(call, [&] { return timed(info.seconds, [&] { return mrf_normal_denoise(mesh, o); }); });
     return mrf_result(mesh, r, o, info);
   });
   m.def("denoise_surfel", [](py::handle V, py::handle F, py::dict kw) {
@@ -97,7 +86,8 @@ void bind_denoise(py::module_& m) {
     o.progress = call.progress;
     const Mesh mesh = to_mesh(V, F);
     DenoiseRun info{"surfel"};
-    const SurfelDenoiseResult r = timed(call, info.seconds, [&] { return surfel_denoise(mesh, o); });
+    const SurfelDenoiseResult r =
+        run(call, [&] { return timed(info.seconds, [&] { return surfel_denoise(mesh, o); }); });
     SurfelDenoiseOptions used = o;
     used.t_start_deg = r.t_start_deg;
     return denoise_result(r.mesh, r.edge_labels, info, r, surfel_denoise_results(), used);

@@ -6,14 +6,18 @@
 #include <optional>
 
 #include "geotex/core/error.h"
+#include "geotex/core/geometry.h"
 #include "geotex/core/user_files.h"
 #include "geotex/resize/resize.h"
+#include "geotex/resize/results.h"
 
 namespace geotex::python {
 
 void bind_resize(py::module_& m) {
   register_table<ResizeRunOptions>("ResizeRunOptions");
   register_table<FeatureMapOptions>("FeatureMapOptions");
+  register_results("ResizeResult", &resize_results);
+  register_results("FeatureMap", &feature_map_results);
 
   // features: None (the map options.features), #V weights, or a feature file path (str).
   m.def("resize", [](py::handle V, py::handle F, py::handle deformed, py::handle weights, py::handle feature_file,
@@ -27,9 +31,19 @@ void bind_resize(py::module_& m) {
         std::optional<Eigen::VectorXd> f;
         if (!weights.is_none()) f = to_vector(weights, mesh.n_vertices(), "features");
         else if (!feature_file.is_none()) f = read_feature_file(py::cast<std::string>(feature_file), mesh, o.feature_file);
-        const ResizeResult r = run(call, [&] { return resize_mesh(mesh, o, D ? &*D : nullptr, f ? &*f : nullptr); });
+        RunTime time;
+        const ResizeResult r = run(call, [&] {
+          return timed(time.seconds, [&] { return resize_mesh(mesh, o, D ? &*D : nullptr, f ? &*f : nullptr); });
+        });
         if (!r.summary.warning.empty()) warn(r.summary.warning);  // with the GIL, after the work
-        return VArray(r.V);
+        // The mesh, then the fields of `geotex resize --report` (resize/results.h), then the options used.
+        py::dict d;
+        d["V"] = VArray(r.V);
+        d["F"] = FArray(faces(mesh));
+        put_results(d, r, resize_results());
+        put_results(d, time, run_time_results());
+        d["parameters"] = options_dict(o);
+        return d;
       });
 
   m.def("feature_map", [](py::handle V, py::handle F, py::dict kw) {
@@ -39,11 +53,10 @@ void bind_resize(py::module_& m) {
         const Mesh mesh = to_mesh(V, F);
         const FeatureMap r = run(call, [&] { return feature_map(mesh, o); });
         if (!r.summary.warning.empty()) warn(r.summary.warning);
-        return py::dict(py::arg("weights") = r.weights, py::arg("field") = r.field,
-                        py::arg("detector") = enum_name(feature_map_names(), r.method),
-                        py::arg("marked_fraction") = r.summary.marked_fraction,
-                        py::arg("marked_vertices") = r.summary.marked_vertices, py::arg("regions") = r.summary.regions,
-                        py::arg("warning") = r.summary.warning, py::arg("parameters") = options_dict(o));
+        py::dict d;
+        put_results(d, r, feature_map_results());
+        d["parameters"] = options_dict(o);
+        return d;
       });
 }
 

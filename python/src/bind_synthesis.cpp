@@ -4,12 +4,15 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/texture/results.h"
 #include "geotex/texture/synthesis.h"
 
 namespace geotex::python {
 
 void bind_synthesis(py::module_& m) {
   register_table<SynthesisOptions>("SynthesisOptions");
+  register_results("SynthesisResult", &synthesis_results);
+  register_results("SynthesisQuality", &synthesis_quality_results);
 
   m.def("texture_synthesize", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::object lean,
                                  py::handle V_target, py::handle F_target, py::object weight, py::object guide,
@@ -24,24 +27,27 @@ void bind_synthesis(py::module_& m) {
         SynthesisGuides g;
         if (!weight.is_none()) g.weight = to_vector(weight, target.n_vertices(), "weight");
         if (!guide.is_none()) g.direction = to_points(guide, "direction_guide");
-        const SynthesisResult r = run(call, [&] { return synthesize_texture(base, ex, target, o, g); });
-        py::dict stages;
-        for (const auto& [name, sec] : r.stage_seconds) stages[py::str(name)] = sec;
-        return py::dict(py::arg("V") = VArray(r.textured), py::arg("F") = FArray(faces(r.target)),
-                        py::arg("V_base") = VArray(positions(r.target)), py::arg("height") = r.texture.height,
-                        py::arg("tilt") = r.texture.tilt, py::arg("lean") = r.texture.lean,
-                        py::arg("field") = VArray(r.field), py::arg("owner") = r.owner,
-                        py::arg("centers") = r.centers, py::arg("scale") = r.scale,
-                        py::arg("patch_radius") = r.patch_radius, py::arg("added_vertices") = r.added_vertices,
-                        py::arg("unfolded_vertices") = r.unfolded_vertices,
-                        py::arg("self_intersecting") = r.self_intersecting,
-                        py::arg("base_self_intersecting") = r.base_self_intersecting,
-                        py::arg("excess_self_intersecting") = r.excess_self_intersecting,
-                        py::arg("shrunk_share") = r.shrunk_share, py::arg("refined_share") = r.refined_share,
-                        py::arg("exemplar_share") = r.estimate.exemplar_share,
-                        py::arg("estimated_vertices") = r.estimate.vertices,
-                        py::arg("estimated_seconds") = r.estimate.seconds, py::arg("stage_seconds") = stages,
-                        py::arg("warnings") = r.warnings);
+        RunTime time;
+        SynthesisQuality quality;
+        const SynthesisResult r = run(call, [&] {
+          SynthesisResult res = timed(time.seconds, [&] { return synthesize_texture(base, ex, target, o, g); });
+          quality = synthesis_quality(base, ex, res, o);  // measured as `--report` measures it
+          return res;
+        });
+        // The textured target and its texture, then the fields of `geotex texture synthesize --report`
+        // (texture/results.h), then the options used.
+        py::dict d;
+        d["V"] = VArray(r.textured);
+        d["F"] = FArray(faces(r.target));
+        d["V_base"] = VArray(positions(r.target));
+        d["height"] = r.texture.height;
+        d["tilt"] = r.texture.tilt;
+        d["lean"] = r.texture.lean;
+        put_results(d, r, synthesis_results());
+        put_results(d, quality, synthesis_quality_results());
+        put_results(d, time, run_time_results());
+        d["parameters"] = options_dict(o);
+        return d;
       });
 }
 

@@ -10,6 +10,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/texture/results.h"
 #include "geotex/texture/texture.h"
 #include "geotex/texture/transfer.h"
 
@@ -47,14 +48,19 @@ py::dict texture_dict(const Mesh& base, const Texture& t) {
   return d;
 }
 
-// The damage counts of a transfer or an atlas (TextureDamage) into \p d.
-void add_damage(py::dict& d, const TextureDamage& x) {
-  d["folded"] = x.folded;
-  d["base_folded"] = x.base_folded;
-  d["excess_folded"] = x.excess_folded();
-  d["self_intersecting"] = x.self_intersecting;
-  d["base_self_intersecting"] = x.base_self_intersecting;
-  d["excess_self_intersecting"] = x.excess_self_intersecting();
+// A transfer's or an atlas' result: the textured target (V, F), its texture, then the fields of the
+// subcommand's --report (texture/results.h), then the options used.
+template <class R, class O>
+py::dict textured_result(const MatrixX3d& Y, const R& r, const ResultTable<R>& table, const RunTime& time,
+                         const O& used) {
+  py::dict d;
+  d["V"] = VArray(Y);
+  d["F"] = FArray(faces(r.target));
+  d["texture"] = texture_dict(r.target, r.texture);
+  put_results(d, r, table);
+  put_results(d, time, run_time_results());
+  d["parameters"] = options_dict(used);
+  return d;
 }
 
 std::optional<Vec3> point_or_none(py::handle p, const char* what) {
@@ -92,6 +98,9 @@ void bind_texture(py::module_& m) {
   register_table<AnimationOptions>("AnimationOptions");
   register_table<TransferOptions>("TransferOptions");
   register_table<AtlasOptions>("AtlasOptions");
+  register_results("TextureExtraction", &texture_extraction_results);
+  register_results("TransferResult", &transfer_results);
+  register_results("AtlasResult", &atlas_results);
 
   m.def("texture_extract", [](py::handle V, py::handle F, py::handle V_base, py::handle F_base, py::dict kw) {
     CallOptions call = call_options(kw);
@@ -109,21 +118,14 @@ void bind_texture(py::module_& m) {
     const Mesh textured = to_mesh(V, F);
     std::optional<Mesh> base;
     if (!V_base.is_none()) base = F_base.is_none() ? same_connectivity(textured, V_base, F_base, "base") : to_mesh(V_base, F_base);
-    const TextureExtraction r = run(call, [&] { return texture_extraction(textured, base ? &*base : nullptr, o); });
+    RunTime time;
+    const TextureExtraction r = run(call, [&] {
+      return timed(time.seconds, [&] { return texture_extraction(textured, base ? &*base : nullptr, o); });
+    });
+    // The texture, then the fields of `geotex texture extract --report` (texture/results.h), the options used.
     py::dict d = texture_dict(r.base, r.texture);
-    static const char* sources[] = {"given", "projected", "automatic"};
-    d["base_source"] = sources[static_cast<int>(r.source)];
-    d["median_off_normal_deg"] = r.median_off_normal_deg;
-    d["projection_missed"] = r.missed;
-    if (r.source == BaseSource::Automatic) {
-      d["base_passes"] = r.shape.passes;
-      d["base_stopped"] = r.shape.stopped;
-      d["base_weight"] = r.shape.weight;
-    }
-    d["fit_iterative"] = r.fit.iterative;
-    d["fit_iterations"] = r.fit.iterations;
-    d["max_error"] = r.max_error;
-    d["height_only_error"] = r.height_only_error;
+    put_results(d, r, texture_extraction_results());
+    put_results(d, time, run_time_results());
     d["parameters"] = options_dict(o);
     return d;
   });
@@ -185,28 +187,14 @@ void bind_texture(py::module_& m) {
     if (snear) o.source_center = nearest_vertex(s.base, *snear);
     if (tnear) o.target_center = nearest_vertex(target, *tnear);
     MatrixX3d Y;
+    RunTime time;
     const TransferResult r = run(call, [&] {
-      TransferResult res = transfer_texture(s.base, s.texture, target, o);
+      TransferResult res = timed(time.seconds, [&] { return transfer_texture(s.base, s.texture, target, o); });
       Y = apply_texture(res.target, res.texture, o.texture);
       return res;
     });
     for (const auto& w : r.warnings) warn(w);  // the GIL held again
-    py::dict d;
-    d["V"] = VArray(Y);
-    d["F"] = FArray(faces(r.target));
-    d["texture"] = texture_dict(r.target, r.texture);
-    d["source_center"] = o.source_center;
-    d["target_center"] = o.target_center;
-    d["source_patch"] = r.source_patch.vertices;
-    d["target_patch"] = r.target_patch.vertices;
-    d["target_vertices"] = r.target_vertices;
-    d["added_vertices"] = r.added_vertices;
-    d["height_factor"] = r.height_factor;
-    d["falloff"] = r.falloff;
-    add_damage(d, r.damage);
-    d["warnings"] = r.warnings;
-    d["parameters"] = options_dict(o);
-    return d;
+    return textured_result(Y, r, transfer_results(), time, o);
   });
 
   m.def("texture_atlas", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
@@ -220,26 +208,14 @@ void bind_texture(py::module_& m) {
     const Mesh target = to_mesh(V_target, F_target);
     if (snear) o.source_center = nearest_vertex(s.base, *snear);
     MatrixX3d Y;
+    RunTime time;
     const AtlasResult r = run(call, [&] {
-      AtlasResult res = cover_with_texture(s.base, s.texture, target, o);
+      AtlasResult res = timed(time.seconds, [&] { return cover_with_texture(s.base, s.texture, target, o); });
       Y = apply_texture(res.target, res.texture, o.texture);
       return res;
     });
     for (const auto& w : r.warnings) warn(w);  // the GIL held again
-    py::dict d;
-    d["V"] = VArray(Y);
-    d["F"] = FArray(faces(r.target));
-    d["texture"] = texture_dict(r.target, r.texture);
-    d["source_center"] = o.source_center;
-    d["centers"] = r.centers;
-    d["coverage"] = r.coverage;
-    d["owner"] = r.owner;
-    d["added_vertices"] = r.added_vertices;
-    d["height_factor"] = r.height_factor;
-    add_damage(d, r.damage);
-    d["warnings"] = r.warnings;
-    d["parameters"] = options_dict(o);
-    return d;
+    return textured_result(Y, r, atlas_results(), time, o);
   });
 
   m.def("read_texture", [](const std::string& path) {

@@ -354,6 +354,17 @@ py::object from_json(const nlohmann::json& j) {
   }
 }
 
+py::object result_array(const Eigen::MatrixXd& a, bool integers) {
+  using RowsD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  using RowsI = Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  if (a.cols() == 1) {
+    if (integers) return py::cast(Eigen::VectorXi(a.col(0).cast<int>()));
+    return py::cast(Eigen::VectorXd(a.col(0)));
+  }
+  if (integers) return py::cast(RowsI(a.cast<int>()));
+  return py::cast(RowsD(a));
+}
+
 std::map<std::string, std::function<py::list()>>& result_tables() {
   static std::map<std::string, std::function<py::list()>> t;
   return t;

@@ -7,6 +7,7 @@
 // its inputs while holding the GIL; only the computation runs without it.
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <optional>
@@ -148,17 +149,15 @@ void register_table(const std::string& name) {
 //! A JSON value as Python objects (objects as dicts, arrays as lists).
 py::object from_json(const nlohmann::json& j);
 
+//! An Array or IntArray field as a numpy array: a vector for one column, else rows.
+py::object result_array(const Eigen::MatrixXd& a, bool integers);
+
 //! Every field of \p table for \p r into \p d: Array fields as numpy arrays, the others from their JSON.
 template <class R>
 void put_results(py::dict& d, const R& r, const ResultTable<R>& table) {
   for (const auto& f : table.fields()) {
-    if (f.info.kind == ResultKind::Array) {
-      const Eigen::MatrixXd a = f.array(r);
-      if (a.cols() == 1) {
-        d[py::str(f.info.name)] = Eigen::VectorXd(a.col(0));
-      } else {
-        d[py::str(f.info.name)] = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>(a);
-      }
+    if (f.info.kind == ResultKind::Array || f.info.kind == ResultKind::IntArray) {
+      d[py::str(f.info.name)] = result_array(f.array(r), f.info.kind == ResultKind::IntArray);
     } else {
       d[py::str(f.info.name)] = from_json(f.json(r));
     }
@@ -166,12 +165,13 @@ void put_results(py::dict& d, const R& r, const ResultTable<R>& table) {
 }
 
 //! The result tables the Python side sees (for its typed result classes and stubs), by name:
-//! [{name, kind, help, unit, in_report}].
+//! [{name, kind, help, unit, in_report, optional}].
 std::map<std::string, std::function<py::list()>>& result_tables();
 template <class R>
 void register_results(const std::string& name, const ResultTable<R>& (*table)()) {
   result_tables()[name] = [table] {
-    static const char* kinds[] = {"bool", "int", "float", "str", "texts", "reals", "ints", "array", "record"};
+    static const char* kinds[] = {"bool", "int", "float", "str", "texts", "reals", "ints", "array", "record",
+                                  "int_array"};
     py::list fields;
     for (const auto& f : table().fields()) {
       py::dict d;
@@ -180,6 +180,7 @@ void register_results(const std::string& name, const ResultTable<R>& (*table)())
       d["help"] = f.info.help;
       d["unit"] = f.info.unit;
       d["in_report"] = f.info.in_report;
+      d["optional"] = f.info.optional;
       fields.append(d);
     }
     return fields;
@@ -263,6 +264,16 @@ auto run(const CallOptions& call, F&& f) -> decltype(f()) {
   } catch (const Interrupted&) {
     raise_interrupt();
   }
+}
+
+//! f() timed (wall seconds into \p seconds), as the CLI times the library call it reports; call it inside
+//! run() so that only the computation is timed.
+template <class F>
+auto timed(double& seconds, F&& f) -> decltype(f()) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto result = f();
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
 }
 
 // One bind_* per topic.

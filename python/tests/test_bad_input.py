@@ -79,7 +79,7 @@ calls = {
     "texture_apply": lambda: geotex.texture_apply(texd),
     "texture_edit": lambda: geotex.texture_edit(texd, op="scale-height", factor=2.0),
     "texture_transfer": lambda: geotex.texture_transfer(texd, (Vp, Fpd), source_radius=0.3, target_radius=0.3),
-    "resize": lambda: geotex.resize(V, Fd, scale=(2, 1, 1)),
+    "resize": lambda: geotex.resize(V, Fd, scale=(2, 1, 1)).V,
     "render": lambda: geotex.render(V, Fd, path=out + "/r.png", width=64, height=64),
     "view": lambda: geotex.view([(V, Fd)], out + "/v.html"),
 }
@@ -274,8 +274,8 @@ def test_class4_nan_and_inf_options_are_refused(tmp_path):
                                                                            target_radius=0.3, rotation=x),
             "texture_transfer radius": lambda x: geotex.texture_transfer(tex, (Vp, Fp), source_radius=x,
                                                                          target_radius=0.3),
-            "resize scale": lambda x: geotex.resize(V, F, scale=(x, 1, 1)),
-            "resize significance": lambda x: geotex.resize(V, F, scale=(2, 1, 1), significance=x),
+            "resize scale": lambda x: geotex.resize(V, F, scale=(x, 1, 1)).V,
+            "resize significance": lambda x: geotex.resize(V, F, scale=(2, 1, 1), significance=x).V,
             "threads": lambda x: geotex.smooth(V, F, threads=x),
         }
         for name, call in calls.items():
@@ -310,7 +310,7 @@ def test_class4_counts_and_scale_factors_have_bounds():
         "texture_animate frames": lambda: geotex.texture_animate(tex, frames=10**9),
         "auto_diffusion_function eigenpairs": lambda: geotex.auto_diffusion_function(V, F, eigenpairs=10**9),
         "denoise_mrf edge_sweeps": lambda: geotex.denoise_mrf(V, F, edge_sweeps=10**9),
-        "resize dilate": lambda: geotex.resize(V, F, scale=(2, 1, 1), dilate=10**9),
+        "resize dilate": lambda: geotex.resize(V, F, scale=(2, 1, 1), dilate=10**9).V,
         "texture_synthesize candidates": lambda: geotex.texture_synthesize(tex, (V, F), candidates=10**9),
         "texture_synthesize height_scale": lambda: geotex.texture_synthesize(tex, (V, F), height_scale=1e200),
         "texture_transfer height_scale": lambda: geotex.texture_transfer(tex, (V, F), source_radius=0.5,
@@ -383,12 +383,12 @@ def test_class6_coordinates_outside_the_computable_range_are_refused():
         for name, call in [("smooth", lambda: geotex.smooth(V * scale, F)),
                            ("denoise", lambda: geotex.denoise(V * scale, F)),
                            ("texture_extract", lambda: geotex.texture_extract(V * scale, F)),
-                           ("resize", lambda: geotex.resize(V * scale, F, scale=(2, 1, 1)))]:
+                           ("resize", lambda: geotex.resize(V * scale, F, scale=(2, 1, 1)).V)]:
             with pytest.raises(geotex.InvalidInput, match=advice):
                 call()
     for scale in (1e74, 1e-74):  # inside the range: computed, finite
         assert np.isfinite(geotex.smooth(V * scale, F)).all()
-        assert np.isfinite(geotex.resize(V * scale, F, scale=(2, 1, 1))).all()
+        assert np.isfinite(geotex.resize(V * scale, F, scale=(2, 1, 1)).V).all()
 
 
 # ---- class 7: cost on small files, special files -------------------------------------------------

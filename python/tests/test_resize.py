@@ -40,28 +40,41 @@ def test_auto_is_the_feature_map_of_the_library(plate):
     assert ((fm.weights > 0.05) & (fm.weights < 0.95)).any()  # continuous, not yes/no
     assert geotex.feature_map(V, F, features="auto").detector in ("adf", "height")  # the binary map by name
     # resize(features="importance") uses exactly that map: giving its weights gives the same result.
-    a = geotex.resize(V, F, scale=(2, 1, 1))
-    b = geotex.resize(V, F, scale=(2, 1, 1), features=fm.weights)
+    a = geotex.resize(V, F, scale=(2, 1, 1)).V
+    b = geotex.resize(V, F, scale=(2, 1, 1), features=fm.weights).V
     assert np.array_equal(a, b)
     # And a different map gives a different result.
-    c = geotex.resize(V, F, scale=(2, 1, 1), features="none")
+    c = geotex.resize(V, F, scale=(2, 1, 1), features="none").V
     assert np.abs(a - c).max() > 1e-3
+
+
+def test_the_result_is_the_resized_mesh_with_the_map_it_used(plate):
+    V, F = plate
+    fm = geotex.feature_map(V, F)
+    r = geotex.resize(V, F, scale=(2, 1, 1))
+    assert isinstance(r, geotex.ResizeResult) and isinstance(r, geotex.MeshResult)
+    assert np.array_equal(r.F, F) and r.V.shape == V.shape
+    assert np.array_equal(r.features, fm.weights) and r.detector == fm.detector  # the same map as feature_map()
+    assert (r.marked_fraction, r.marked_vertices, r.regions) == (fm.marked_fraction, fm.marked_vertices, fm.regions)
+    given = geotex.resize(V, F, scale=(2, 1, 1), features=fm.weights)
+    assert given.detector == "none" and np.array_equal(given.features, fm.weights)  # weights given: no detector
+    assert geotex.info(r)["faces"] == len(F)  # a result is a mesh
 
 
 def test_user_weights_and_feature_files(plate, tmp_path):
     V, F = plate
     f = geotex.feature_map(V, F, features="height").weights
-    a = geotex.resize(V, F, scale=(2, 1, 1), features=f)
+    a = geotex.resize(V, F, scale=(2, 1, 1), features=f).V
     path = tmp_path / "f.txt"
     path.write_text("".join(f"{x}\n" for x in f))
-    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=path), a)
-    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=str(path)), a)
+    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=path).V, a)
+    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=str(path)).V, a)
     with pytest.raises(geotex.InvalidInput):
-        geotex.resize(V, F, scale=(2, 1, 1), features=f[:-1])  # one weight short
+        geotex.resize(V, F, scale=(2, 1, 1), features=f[:-1]).V  # one weight short
     with pytest.raises(geotex.InvalidInput):
-        geotex.resize(V, F, scale=(2, 1, 1), features=np.full(len(V), 2.0))  # outside [0, 1]
+        geotex.resize(V, F, scale=(2, 1, 1), features=np.full(len(V), 2.0)).V  # outside [0, 1]
     with pytest.raises(geotex.IoError):
-        geotex.resize(V, F, scale=(2, 1, 1), features=tmp_path / "missing.txt")
+        geotex.resize(V, F, scale=(2, 1, 1), features=tmp_path / "missing.txt").V
 
 
 def test_painted_weights_are_honoured(plate, tmp_path):
@@ -72,9 +85,9 @@ def test_painted_weights_are_honoured(plate, tmp_path):
     paint = t * t * (3 - 2 * t)
     path = tmp_path / "paint.txt"
     path.write_text("".join(f"{x!r}\n" for x in paint))
-    a = geotex.resize(V, F, scale=(2, 1, 1), features=paint)
-    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=path), a)
-    assert not np.array_equal(geotex.resize(V, F, scale=(2, 1, 1)), a)
+    a = geotex.resize(V, F, scale=(2, 1, 1), features=paint).V
+    assert np.array_equal(geotex.resize(V, F, scale=(2, 1, 1), features=path).V, a)
+    assert not np.array_equal(geotex.resize(V, F, scale=(2, 1, 1)).V, a)
     # Inside the painted core the stretch is gone: the core keeps its proportions (it may grow uniformly).
     core = r < 0.2
     aspect = lambda P: np.ptp(P[core, 0]) / np.ptp(P[core, 1])
@@ -85,7 +98,7 @@ def test_painted_weights_are_honoured(plate, tmp_path):
 
 def test_none_features_scale_the_box_exactly(plate):
     V, F = plate
-    out = geotex.resize(V, F, scale=(2, 1, 1), features="none")
+    out = geotex.resize(V, F, scale=(2, 1, 1), features="none").V
     ext, ext0 = np.ptp(out, axis=0), np.ptp(V, axis=0)
     assert ext[0] == pytest.approx(2 * ext0[0], rel=1e-6) and ext[1] == pytest.approx(ext0[1], rel=1e-6)
 
@@ -95,20 +108,21 @@ def test_deformed_copy_instead_of_a_map(plate):
     f = geotex.feature_map(V, F).weights
     lo, hi = V.min(axis=0), V.max(axis=0)
     D = (lo + hi) / 2 + (V - (lo + hi) / 2) * np.array([2.0, 1.0, 1.0])  # scale=(2, 1, 1) about the box centre
-    assert np.allclose(geotex.resize(V, F, D, features=f), geotex.resize(V, F, scale=(2, 1, 1), features=f), atol=1e-9)
+    by_map = geotex.resize(V, F, scale=(2, 1, 1), features=f)
+    assert np.allclose(geotex.resize(V, F, D, features=f).V, by_map.V, atol=1e-9)
     with pytest.raises(geotex.InvalidInput, match="not both"):
-        geotex.resize(V, F, D, scale=(2, 1, 1))
+        geotex.resize(V, F, D, scale=(2, 1, 1)).V
     with pytest.raises(geotex.InvalidInput, match="deformation"):
-        geotex.resize(V, F)
+        geotex.resize(V, F).V
 
 
 def test_warning_when_everything_is_marked(plate):
     V, F = plate
     with pytest.warns(UserWarning, match="surface"):
-        geotex.resize(V, F, scale=(2, 1, 1), features=np.ones(len(V)))
+        geotex.resize(V, F, scale=(2, 1, 1), features=np.ones(len(V))).V
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        geotex.resize(V, F, scale=(2, 1, 1))  # a plausible map: no warning
+        geotex.resize(V, F, scale=(2, 1, 1)).V  # a plausible map: no warning
 
 
 def test_options_are_checked(plate):
@@ -116,22 +130,22 @@ def test_options_are_checked(plate):
     with pytest.raises(geotex.InvalidInput, match="features"):
         geotex.feature_map(V, F, features="everything")
     with pytest.raises(geotex.InvalidInput, match="scale"):
-        geotex.resize(V, F, scale=(2, -1, 1))
+        geotex.resize(V, F, scale=(2, -1, 1)).V
     with pytest.raises(geotex.InvalidInput, match="position_weight"):
-        geotex.resize(V, F, scale=(2, 1, 1), position_weight=float("nan"))
+        geotex.resize(V, F, scale=(2, 1, 1), position_weight=float("nan")).V
     with pytest.raises(TypeError):
-        geotex.resize(V, F, scale=(2, 1, 1), no_such_option=1)
+        geotex.resize(V, F, scale=(2, 1, 1), no_such_option=1).V
     with pytest.raises(geotex.InvalidInput):
-        geotex.resize(V, F, scale=(2, 1, 1), preset="best")
+        geotex.resize(V, F, scale=(2, 1, 1), preset="best").V
 
 
 def test_preset_and_progress(plate):
     V, F = plate
     seen = []
     a = geotex.resize(V, F, scale=(2, 1, 1), features="height", preset="thesis",
-                      progress=lambda f, stage: seen.append(f))
+                      progress=lambda f, stage: seen.append(f)).V
     b = geotex.resize(V, F, scale=(2, 1, 1), features="height", method="thesis", square_weights=True,
-                      keep_feature_size=False)
+                      keep_feature_size=False).V
     assert np.array_equal(a, b)
     assert seen and seen == sorted(seen) and seen[-1] == pytest.approx(1.0)
 
@@ -139,7 +153,7 @@ def test_preset_and_progress(plate):
         raise KeyError("stop")
 
     with pytest.raises(KeyError):
-        geotex.resize(V, F, scale=(2, 1, 1), features="none", progress=stop)
+        geotex.resize(V, F, scale=(2, 1, 1), features="none", progress=stop).V
 
 
 @pytest.mark.skipif(not os.environ.get("GEOTEX_CLI"), reason="GEOTEX_CLI not set (ctest sets it)")
@@ -152,12 +166,12 @@ def test_cli_and_python_give_the_same_result(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "of the surface" in r.stderr  # the marked fraction is printed
     V, F = geotex.read_mesh(mesh)
-    expected = geotex.resize(V, F, scale=(2, 1, 1.5), features="auto", transition=0.2, method="sliding")
+    expected = geotex.resize(V, F, scale=(2, 1, 1.5), features="auto", transition=0.2, method="sliding").V
     got, _ = geotex.read_mesh(out)
     assert np.abs(got - expected).max() < 1e-9
     # And the default (importance map, similarity method).
     r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "2,1,1.5"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
-    expected = geotex.resize(V, F, scale=(2, 1, 1.5))
+    expected = geotex.resize(V, F, scale=(2, 1, 1.5)).V
     got, _ = geotex.read_mesh(out)
     assert np.abs(got - expected).max() < 1e-9

@@ -1,10 +1,12 @@
 """Results are meshes and say what the CLI's report says (issues 28 and 29): a result that holds a mesh is
 accepted wherever a mesh is; edge labels are accepted as labels; a denoising result has every key of
-`geotex denoise --report` for the same call (both are written from the same C++ result tables)."""
+`geotex denoise|resize|texture ... --report` for the same call (both are written from the same C++ result
+tables)."""
 
 import json
 import os
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -76,3 +78,124 @@ def test_every_report_key_is_a_field_of_the_python_result(tmp_path, noisy, metho
     name = {"auto": "AutoDenoiseResult", "surfel": "SurfelDenoiseResult"}.get(method, "MrfResult")
     declared = {f["name"] for f in tables[name] + tables["DenoiseRun"] if f["in_report"]}
     assert keys - {"input", "parameters"} == declared
+
+
+# Every other command that writes --report: the report and the Python result of the same call are written
+# from the same C++ result tables (resize/results.h, texture/results.h; core/results.h's RunTime).
+CLI_OWN = {"input", "deformed", "feature_file"}  # the CLI's own: the names of the files it read
+
+
+@pytest.fixture(scope="module")
+def report_inputs(tmp_path_factory):
+    """Small inputs, written as the CLI reads them (binary PLY: exact doubles): a bumpy plate over its base,
+    its texture, and a coarse sphere to texture."""
+    d = tmp_path_factory.mktemp("reports")
+    (Vp, Fp), (Vpb, _) = geotex.generate("bumpy-plate", level=0, with_base=True)
+    Vs, Fs = geotex.generate("sphere", level=1)
+    tex = geotex.texture_extract(Vp, Fp, base=Vpb)
+    geotex.write_mesh(d / "plate.ply", Vp, Fp)
+    geotex.write_mesh(d / "plate_base.ply", Vpb, Fp)
+    geotex.write_mesh(d / "sphere.ply", Vs, Fs)
+    geotex.write_texture(d / "tex.ply", tex)
+    return d, {"plate": (Vp, Fp), "plate_base": Vpb, "sphere": (Vs, Fs), "tex": tex}
+
+
+# command: (the CLI's arguments, the input files as {placeholders}; the same call in Python)
+REPORT_CASES = {
+    "resize": (["resize", "{plate}", "--scale", "2,1,1"],
+               lambda m: geotex.resize(m["plate"], scale=(2, 1, 1))),
+    "texture extract": (["texture", "extract", "{plate}", "--base", "{plate_base}"],
+                        lambda m: geotex.texture_extract(m["plate"], base=m["plate_base"])),
+    "texture transfer": (["texture", "transfer", "{tex}", "{sphere}", "--source-near", "0,0,0", "--target-near",
+                          "0,0,1", "--source-radius", "0.5", "--target-radius", "0.5", "--refine-ratio", "0"],
+                         lambda m: geotex.texture_transfer(m["tex"], m["sphere"], source_near=(0, 0, 0),
+                                                           target_near=(0, 0, 1), source_radius=0.5,
+                                                           target_radius=0.5, refine_ratio=0)),
+    "texture atlas": (["texture", "atlas", "{tex}", "{sphere}", "--source-near", "0,0,0", "--source-radius", "0.5",
+                       "--target-radius", "0.7", "--refine-ratio", "0"],
+                      lambda m: geotex.texture_atlas(m["tex"], m["sphere"], source_near=(0, 0, 0), source_radius=0.5,
+                                                     target_radius=0.7, refine_ratio=0)),
+    "texture synthesize": (["texture", "synthesize", "{tex}", "--target", "{sphere}", "--direction", "0,0,1",
+                            "--refine-ratio", "0"],
+                           lambda m: geotex.texture_synthesize(m["tex"], m["sphere"], direction=(0, 0, 1),
+                                                               refine_ratio=0)),
+}
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+@pytest.mark.parametrize("command", list(REPORT_CASES))
+def test_every_report_key_of_every_command_is_a_field_of_the_python_result(report_inputs, command):
+    d, inputs = report_inputs
+    args, call = REPORT_CASES[command]
+    files = {"plate": d / "plate.ply", "plate_base": d / "plate_base.ply", "sphere": d / "sphere.ply",
+             "tex": d / "tex.ply"}
+    out, report = d / f"{command.replace(' ', '_')}.ply", d / f"{command.replace(' ', '_')}.json"
+    p = subprocess.run([CLI, "-q", *[a.format(**files) for a in args], "-o", str(out), "--report", str(report)],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    rep = json.loads(report.read_text())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a warning is also a field (warnings, warning), compared below
+        r = call(inputs)
+    keys = set(rep) - CLI_OWN
+    assert keys <= set(r.keys()), keys - set(r.keys())
+    _, tables = geotex._RESULT_CLASSES[type(r).__name__]
+    all_tables = geotex._geotex._result_tables()
+    declared = {f["name"] for t in tables for f in all_tables[t] if f["in_report"]}
+    assert keys - {"parameters"} == declared
+    # One name for one thing: the same value under the same name (times aside; the same call, same input).
+    for key in keys - {"seconds", "stage_seconds", "parameters"}:
+        got, want = rep[key], r[key]
+        if isinstance(want, float):
+            assert got == pytest.approx(want, rel=1e-9, abs=1e-12), key
+        else:
+            assert got == want, key
+    assert r.seconds > 0 and rep["seconds"] > 0
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+@pytest.mark.parametrize("shape,level", [("torus", 1), ("bumpy-plate", 0)])  # closed (a volume, a genus), open
+def test_info_says_what_the_cli_says_of_a_mesh(tmp_path, shape, level):
+    V, F = geotex.generate(shape, level=level)
+    geotex.write_mesh(tmp_path / "m.ply", V, F)
+    p = subprocess.run([CLI, "info", "--json", str(tmp_path / "m.ply")], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    info = geotex.info(V, F)
+    declared = {f["name"] for f in geotex._geotex._result_tables()["MeshSummary"]}
+    # The file's own keys (its name, format, what the reader did) are the CLI's; the rest is the summary.
+    assert set(j) - {"file", "format", "read", "manifold", "consistently_oriented"} == declared == set(info)
+    for key in declared:
+        want = info[key]
+        assert j[key] == (pytest.approx(want, rel=1e-12) if isinstance(want, float) else want), key
+    assert (info["volume"] is None) == (not info["closed"])
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+def test_compare_says_what_the_cli_says(tmp_path, noisy):
+    V, F = geotex.generate("cube", level=1)
+    r = geotex.denoise(*noisy, method="mrf", iterations=3)
+    geotex.write_mesh(tmp_path / "r.ply", r)
+    geotex.write_mesh(tmp_path / "t.ply", V, F)
+    labels = tmp_path / "labels.ply"
+    p = subprocess.run([CLI, "-q", "denoise", str(tmp_path / "r.ply"), "--method", "mrf", "--iterations", "1",
+                        "-o", str(tmp_path / "o.ply"), "--edges", str(labels)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    p = subprocess.run([CLI, "compare", "--json", str(tmp_path / "r.ply"), str(tmp_path / "t.ply"), "--labels",
+                        str(labels)], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    tables = geotex._geotex._result_tables()
+    c = geotex.compare(r.V, r.F, V, F)
+    assert set(j) - {"result", "truth", "edge_labels"} == {f["name"] for f in tables["Comparison"]} == set(c)
+    for key, want in c.items():
+        assert j[key] == (pytest.approx(want, rel=1e-12) if isinstance(want, float) else want), key
+    # The labels' score: the CLI scores the edges labelled above 1/2 against the truth's above 30 degrees.
+    E = geotex.edges(V, F)
+    truth = E[np.abs(geotex.dihedral_angles(V, F)) > np.radians(j["edge_labels"]["truth_angle_deg"])]
+    again = geotex.denoise(r, method="mrf", iterations=1)
+    s = geotex.score_edge_labels(again.edges[again.edge_labels > 0.5], truth)
+    assert set(j["edge_labels"]) - {"truth_angle_deg"} == {f["name"] for f in tables["LabelScore"]} == set(s)
+    for key, want in s.items():
+        assert j["edge_labels"][key] == pytest.approx(want, rel=1e-12), key
+    assert s["labelled"] > 0 and s["truth_sharp_edges"] > 0  # a score of something

@@ -2,6 +2,8 @@
 
 #include "geotex/core/results.h"
 
+#include "geotex/core/geometry.h"
+
 namespace geotex {
 
 nlohmann::json array_json(const Eigen::MatrixXd& a) {
@@ -16,6 +18,37 @@ nlohmann::json array_json(const Eigen::MatrixXd& a) {
     j.push_back(std::move(row));
   }
   return j;
+}
+
+const ResultTable<RunTime>& run_time_results() {
+  static const auto t =
+      ResultTable<RunTime>().add("seconds", [](const RunTime& r) { return r.seconds; }, "wall time of the call", "s");
+  return t;
+}
+
+const ResultTable<MeshSummary>& mesh_summary_results() {
+  using R = MeshSummary;
+  auto point = [](const Vec3& p) { return std::vector<double>{p[0], p[1], p[2]}; };
+  static const auto t = ResultTable<R>()
+      .add("vertices", [](const R& r) { return r.vertices; }, "vertices")
+      .add("edges", [](const R& r) { return r.edges; }, "edges")
+      .add("faces", [](const R& r) { return r.faces; }, "faces")
+      .add("components", [](const R& r) { return r.components; }, "connected components")
+      .add("boundary_loops", [](const R& r) { return r.boundary_loops; }, "boundary loops")
+      .add("closed", [](const R& r) { return r.closed; }, "no boundary")
+      .add("euler_characteristic", [](const R& r) { return r.euler; }, "V - E + F")
+      .add("genus", [](const R& r) { return r.genus >= 0 ? std::optional<int>(r.genus) : std::nullopt; },
+           "(2 - chi - b) / 2 of a single component; none for several")
+      .add("mean_edge_length", [](const R& r) { return r.mean_edge; }, "mean edge length")
+      .add("area", [](const R& r) { return r.area; }, "surface area")
+      .add("volume", [](const R& r) { return r.closed ? std::optional<double>(r.volume) : std::nullopt; },
+           "enclosed volume of a closed mesh (negative: turned inside out); none for an open one")
+      .add("zero_area_faces", [](const R& r) { return r.zero_area_faces; }, "faces of zero area")
+      .add("isolated_vertices", [](const R& r) { return r.isolated_vertices; }, "vertices of no face")
+      .add("bbox_min", [point](const R& r) { return point(r.box.min); }, "the bounding box's lowest corner")
+      .add("bbox_max", [point](const R& r) { return point(r.box.max); }, "the bounding box's highest corner")
+      .add("bbox_diagonal", [](const R& r) { return r.box.diagonal(); }, "the bounding box's diagonal");
+  return t;
 }
 
 }  // namespace geotex

@@ -12,7 +12,7 @@ constexpr bool kPythonOnly = false;  // the in_report argument of a field the CL
 const ResultTable<DenoiseRun>& denoise_run_results() {
   static const auto t = ResultTable<DenoiseRun>()
       .add("method", [](const DenoiseRun& r) { return r.method; }, "the denoising method run")
-      .add("seconds", [](const DenoiseRun& r) { return r.seconds; }, "wall time of the denoising call", "s");
+      .part(run_time_results(), [](const DenoiseRun& r) { return RunTime{r.seconds}; });
   return t;
 }
 

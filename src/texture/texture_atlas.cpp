@@ -171,6 +171,7 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
                                o.geodesic, o.texture);
   const double R = o.target_radius > 0 ? o.target_radius : o.source_radius;
   AtlasResult res;
+  res.source_center = o.source_center;
   res.height_factor = detail::height_factor(o.height_rule, o.source_radius, R, o.height_scale);
   res.target = target_base;
   {

@@ -523,6 +523,8 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
   report(o.progress, 0.3, "source disk");
   TransferResult res;
   res.source_patch = src.patch;
+  res.source_center = o.source_center;
+  res.target_center = o.target_center;
   const double lateral = o.target_radius / o.source_radius;
   res.height_factor = detail::height_factor(o.height_rule, o.source_radius, o.target_radius, o.height_scale);
 

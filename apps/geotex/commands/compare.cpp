@@ -5,6 +5,7 @@
 #include "cli.h"
 #include "geotex/core/geometry.h"
 #include "geotex/tools/metrics.h"
+#include "geotex/tools/results.h"
 
 namespace geotex::cli {
 namespace cmd_compare {  // named, not anonymous: a unity build compiles several commands in one unit
@@ -36,21 +37,13 @@ void run(const Args& a) {
     MatrixX2i T(sharp.size(), 2);
     for (size_t k = 0; k < sharp.size(); ++k) T.row(k) = E.row(sharp[k]);
     const LabelScore s = score_edge_labels(L, T);
-    jl = {{"precision", s.precision}, {"recall", s.recall}, {"f1", s.f1}, {"labelled", s.labelled},
-          {"truth_sharp_edges", s.truth}, {"true_positive", s.true_positive}, {"truth_angle_deg", a.truth_angle}};
+    jl = label_score_results().report(s);  // what Python's score_edge_labels() returns too
+    jl["truth_angle_deg"] = a.truth_angle;
   }
   if (a.json) {
-    nlohmann::json j{{"result", a.result},
-                     {"truth", a.truth},
-                     {"mean_normal_error_deg", c.mean_normal_error_deg},
-                     {"max_normal_error_deg", c.max_normal_error_deg},
-                     {"faces_matched_by", c.faces_by_index ? "index" : "closest-face"},
-                     {"ev", c.ev},
-                     {"ev_relative", c.ev_relative},
-                     {"hausdorff", c.hausdorff},
-                     {"hausdorff_relative", c.hausdorff_relative},
-                     {"mean_distance", c.mean_distance},
-                     {"bbox_diagonal", c.diagonal}};
+    nlohmann::json j = comparison_results().report(c);  // what Python's compare() returns too
+    j["result"] = a.result;
+    j["truth"] = a.truth;
     if (!jl.is_null()) j["edge_labels"] = jl;
     fmt::print("{}\n", j.dump(2));
     return;

@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/results.h"
 
 namespace geotex::cli {
 namespace cmd_info {  // named, not anonymous: a unity build compiles several commands in one unit
@@ -18,26 +19,10 @@ void run(const Args& a) {
   ReadReport rep;
   const Mesh mesh = load_mesh(a.input, &rep, a.strict);
   const MeshSummary s = summarize(mesh);
-  nlohmann::json j;
+  nlohmann::json j = mesh_summary_results().report(s);  // what Python's info() says too
+  // About the file as read: the CLI's own.
   j["file"] = a.input;
   j["format"] = rep.format;
-  j["vertices"] = s.vertices;
-  j["edges"] = s.edges;
-  j["faces"] = s.faces;
-  j["components"] = s.components;
-  j["boundary_loops"] = s.boundary_loops;
-  j["closed"] = s.closed;
-  j["euler_characteristic"] = s.euler;
-  if (s.genus >= 0) j["genus"] = s.genus;
-  else j["genus"] = nullptr;
-  j["mean_edge_length"] = s.mean_edge;
-  j["area"] = s.area;
-  if (s.closed) j["volume"] = s.volume;
-  j["zero_area_faces"] = s.zero_area_faces;
-  j["isolated_vertices"] = s.isolated_vertices;
-  j["bbox_min"] = {s.box.min[0], s.box.min[1], s.box.min[2]};
-  j["bbox_max"] = {s.box.max[0], s.box.max[1], s.box.max[2]};
-  j["bbox_diagonal"] = s.box.diagonal();
   j["read"] = {{"file_vertices", rep.file_vertices},
                {"file_polygons", rep.file_polygons},
                {"triangulated_polygons", rep.triangulated_polygons},

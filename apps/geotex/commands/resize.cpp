@@ -16,6 +16,7 @@
 #include "cli.h"
 #include "geotex/core/user_files.h"
 #include "geotex/resize/resize.h"
+#include "geotex/resize/results.h"
 #include "option_flags.h"
 
 namespace geotex::cli {
@@ -85,19 +86,9 @@ void run(const MeshIo& io, const Args& a, ResizeRunOptions o) {
   set_positions(mesh, r.V);
   save_mesh(mesh, io.output, !io.ascii);
   if (!a.report.empty()) {
-    nlohmann::json j;
-    j["input"] = io.input;
-    j["deformed"] = a.deformed;
-    j["feature_file"] = a.feature_file;
-    j["detector"] = enum_name(feature_map_names(), r.detector);
-    j["marked_fraction"] = r.summary.marked_fraction;
-    j["marked_vertices"] = r.summary.marked_vertices;
-    j["regions"] = r.summary.regions;
-    j["warning"] = r.summary.warning;
-    j["parameters"] = options_json(o);
-    j["seconds"] = sec;
-    write_text_atomic(a.report, j.dump(2) + "\n");
-    info(fmt::format("wrote {}", a.report));
+    nlohmann::json j = resize_results().report(r);
+    j.update({{"input", io.input}, {"deformed", a.deformed}, {"feature_file", a.feature_file}});  // the CLI's own
+    write_report(a.report, std::move(j), sec, options_json(o));
   }
   out.commit();
 }

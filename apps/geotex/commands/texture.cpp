@@ -19,6 +19,7 @@
 #include "cli.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
+#include "geotex/texture/results.h"
 #include "geotex/texture/texture.h"
 #include "geotex/texture/transfer.h"
 #include "option_flags.h"
@@ -73,7 +74,7 @@ int center_of(const Mesh& mesh, int center, const std::optional<Vec3>& near, con
 
 // ------------------------------------------------------------------------------------------------
 struct ExtractFiles {
-  std::string input, output, base, reconstructed;
+  std::string input, output, base, reconstructed, report;
 };
 
 void run_extract(const ExtractFiles& a, const FlagSet& flags) {
@@ -84,13 +85,14 @@ void run_extract(const ExtractFiles& a, const FlagSet& flags) {
       throw InvalidOption(fmt::format("{} sets the automatic base; it does not apply with --base", f.info.cli_flag()));
   if (a.base.empty() && flags.given("project_onto_base"))
     throw InvalidOption("--project-onto-base needs --base");
-  Outputs out({a.input, a.base}, {{a.output, "-o"}, {a.reconstructed, "--reconstructed"}});
+  Outputs out({a.input, a.base}, {{a.output, "-o"}, {a.reconstructed, "--reconstructed"}, {a.report, "--report"}});
   const Mesh textured = load_mesh(a.input);
   Mesh base;
   if (!a.base.empty()) base = load_mesh(a.base);
   o.base.progress = progress_printer("base shape");
   const auto t0 = std::chrono::steady_clock::now();
   const TextureExtraction r = texture_extraction(textured, a.base.empty() ? nullptr : &base, o);
+  const double seconds = seconds_since(t0);
   switch (r.source) {
     case BaseSource::Given: info("base: given, same connectivity (vertex correspondence)"); break;
     case BaseSource::Projected:
@@ -118,10 +120,11 @@ void run_extract(const ExtractFiles& a, const FlagSet& flags) {
                                                     r.fit.error, r.fit.iterations)
                                       : ""));
   info(fmt::format("extracted in {:.2f} s; reconstruction max error {:.3g} mean edges (height field alone: {:.3g})",
-                   seconds_since(t0), r.max_error, r.height_only_error));
+                   seconds, r.max_error, r.height_only_error));
   write_texture(a.output, r.base, r.texture);
   info("wrote " + a.output);
   if (!a.reconstructed.empty()) save_mesh(with_positions(r.base, apply_texture(r.base, r.texture, o.texture)), a.reconstructed);
+  if (!a.report.empty()) write_report(a.report, texture_extraction_results().report(r), seconds, options_json(o));
   out.commit();
 }
 
@@ -212,15 +215,6 @@ struct TransferFiles {
   std::string source, target, output, texture_out, source_near, target_near, report;
 };
 
-nlohmann::json damage_json(const TextureDamage& d) {
-  return {{"folded", d.folded},
-          {"base_folded", d.base_folded},
-          {"excess_folded", d.excess_folded()},
-          {"self_intersecting", d.self_intersecting},
-          {"base_self_intersecting", d.base_self_intersecting},
-          {"excess_self_intersecting", d.excess_self_intersecting()}};
-}
-
 std::string damage_line(const TextureDamage& d) {
   return fmt::format("damage: {} folded, {} self-intersecting faces (the bare target's own: {}, {})", d.folded,
                      d.self_intersecting, d.base_folded, d.base_self_intersecting);
@@ -237,9 +231,10 @@ void run_transfer(const TransferFiles& a, const FlagSet& flags) {
   o.progress = progress_printer("transfer");
   const auto t0 = std::chrono::steady_clock::now();
   const TransferResult r = transfer_texture(src.base, src.texture, target, o);
+  const double seconds = seconds_since(t0);
   warn(r.warnings);
   info(fmt::format("transferred a {}-vertex source patch onto a {}-vertex target patch in {:.2f} s (heights x {:.4g})",
-                   r.source_patch.vertices.size(), r.target_patch.vertices.size(), seconds_since(t0),
+                   r.source_patch.vertices.size(), r.target_patch.vertices.size(), seconds,
                    r.height_factor));
   info(damage_line(r.damage));
   save_mesh(with_positions(r.target, apply_texture(r.target, r.texture, o.texture)), a.output);
@@ -247,19 +242,7 @@ void run_transfer(const TransferFiles& a, const FlagSet& flags) {
     write_texture(a.texture_out, r.target, r.texture);
     info("wrote " + a.texture_out);
   }
-  if (!a.report.empty()) {
-    nlohmann::json j = {{"seconds", seconds_since(t0)},
-                        {"source_center", o.source_center},
-                        {"target_center", o.target_center},
-                        {"source_patch_vertices", r.source_patch.vertices.size()},
-                        {"target_patch_vertices", r.target_patch.vertices.size()},
-                        {"vertices", r.target.n_vertices()},
-                        {"added_vertices", r.added_vertices},
-                        {"height_factor", r.height_factor},
-                        {"warnings", r.warnings}};
-    j.update(damage_json(r.damage));
-    write_text_atomic(a.report, j.dump(1) + "\n");
-  }
+  if (!a.report.empty()) write_report(a.report, transfer_results().report(r), seconds, options_json(o));
   out.commit();
 }
 
@@ -278,24 +261,18 @@ void run_atlas(const AtlasFiles& a, const FlagSet& flags) {
   o.progress = progress_printer("atlas");
   const auto t0 = std::chrono::steady_clock::now();
   const AtlasResult r = cover_with_texture(src.base, src.texture, target, o);
+  const double seconds = seconds_since(t0);
   warn(r.warnings);
-  const Eigen::Index uncovered = (r.coverage.array() <= 0).count();
+  const nlohmann::json report = atlas_results().report(r);  // the counts, as --report and Python have them
   info(fmt::format("covered a {}-vertex target with {} disks in {:.2f} s (heights x {:.4g}; {} vertices uncovered)",
-                   r.target.n_vertices(), r.centers.size(), seconds_since(t0), r.height_factor, uncovered));
+                   r.target.n_vertices(), r.centers.size(), seconds, r.height_factor, report["uncovered"].get<int>()));
   info(damage_line(r.damage));
   save_mesh(with_positions(r.target, apply_texture(r.target, r.texture, o.texture)), a.output);
   if (!a.texture_out.empty()) {
     write_texture(a.texture_out, r.target, r.texture);
     info("wrote " + a.texture_out);
   }
-  if (!a.report.empty()) {
-    nlohmann::json j = {{"seconds", seconds_since(t0)},   {"disks", r.centers.size()},
-                        {"vertices", r.target.n_vertices()}, {"added_vertices", r.added_vertices},
-                        {"uncovered", uncovered},           {"height_factor", r.height_factor},
-                        {"warnings", r.warnings}};
-    j.update(damage_json(r.damage));
-    write_text_atomic(a.report, j.dump(1) + "\n");
-  }
+  if (!a.report.empty()) write_report(a.report, report, seconds, options_json(o));
   out.commit();
 }
 
@@ -326,6 +303,8 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture (ch. 8)", [](CLI
         ->check(ExistingMeshFile);
     s->add_option("--reconstructed", a->reconstructed, "also write the surface rebuilt from the texture")
         ->check(MeshOutputFile);
+    s->add_option("--report", a->report, "write how the base was found and how well the texture rebuilds the "
+                                         "surface as JSON");
     auto flags = table_flags<TextureExtractOptions>(*s, "extract");
     s->callback([a, flags] { run_extract(*a, *flags); });
   }

@@ -12,6 +12,7 @@
 #include "geotex/core/io.h"
 #include "geotex/core/user_files.h"
 #include "geotex/resize/feature_file.h"
+#include "geotex/texture/results.h"
 #include "geotex/texture/synthesis.h"
 #include "option_flags.h"
 
@@ -21,12 +22,6 @@ namespace {
 struct SynthesizeArgs {
   std::string exemplar, exemplar_base, target, output, texture_out, weight_file, report;
 };
-
-nlohmann::json stage_seconds(const SynthesisResult& r) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [name, sec] : r.stage_seconds) j[name] = sec;
-  return j;
-}
 
 void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
   Outputs out({a.exemplar, a.exemplar_base, a.target, a.weight_file},
@@ -63,25 +58,9 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
   save_mesh(textured, a.output);
   if (!a.texture_out.empty()) write_texture(a.texture_out, r.target, r.texture);
   if (!a.report.empty()) {
-    const SynthesisQuality q = synthesis_quality(ex.base, ex.texture, r, o);
-    const nlohmann::json j = {
-        {"seconds", sec}, {"vertices", r.target.n_vertices()}, {"added_vertices", r.added_vertices},
-        {"patches", r.centers.size()}, {"scale", r.scale}, {"patch_radius", r.patch_radius},
-        {"exemplar_center", r.exemplar_center}, {"exemplar_radius", r.exemplar_radius},
-        {"histogram_tv", q.histogram_tv}, {"histogram_w1", q.histogram_w1}, {"exemplar_rms", q.exemplar_rms},
-        {"target_rms", q.target_rms}, {"exemplar_features", q.exemplar_features},
-        {"target_features", q.target_features}, {"exemplar_spacing", q.exemplar_spacing},
-        {"target_spacing", q.target_spacing}, {"spacing_change", q.spacing_change},
-        {"lean_angle_error_deg", q.lean_angle_error_deg}, {"seam_step99", q.seam_step99},
-        {"seam_step_max", q.seam_step_max}, {"within_step99", q.within_step99},
-        {"within_step_max", q.within_step_max}, {"coverage", q.coverage}, {"folded", q.folded},
-        {"self_intersecting", r.self_intersecting}, {"base_self_intersecting", r.base_self_intersecting},
-        {"excess_self_intersecting", r.excess_self_intersecting}, {"shrunk_vertices", r.unfolded_vertices},
-        {"shrunk_share", r.shrunk_share}, {"refined_share", r.refined_share},
-        {"exemplar_share", r.estimate.exemplar_share}, {"estimated_vertices", r.estimate.vertices},
-        {"estimated_seconds", r.estimate.seconds}, {"stage_seconds", stage_seconds(r)},
-        {"warnings", r.warnings}};
-    write_text_atomic(a.report, j.dump(1) + "\n");
+    nlohmann::json j = synthesis_results().report(r);  // the fields Python's result has too
+    j.update(synthesis_quality_results().report(synthesis_quality(ex.base, ex.texture, r, o)));
+    write_report(a.report, std::move(j), sec, options_json(o));
   }
   out.commit();
 }

@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
+#include "geotex/texture/results.h"
 #include "geotex/texture/synthesis.h"
 #include "geotex/tools/shapes.h"
 
@@ -37,10 +38,8 @@ DemoRegistrar step{82, "texture synthesis", [](const DemoContext& ctx) {
     const std::string file = "synthesis-" + name + ".ply";
     save_mesh(out, (ctx.dir / file).string());
     r["files"].push_back((ctx.dir / file).string());
-    r["synthesis"][name] = {{"vertices", out.n_vertices()},   {"patches", s.centers.size()},
-                            {"spacing_change", q.spacing_change}, {"histogram_tv", q.histogram_tv},
-                            {"lean_error_deg", q.lean_angle_error_deg}, {"seam_step99", q.seam_step99},
-                            {"within_step99", q.within_step99}, {"folded", q.folded}};
+    r["synthesis"][name] = synthesis_results().report(s);  // as `texture synthesize --report` has them
+    r["synthesis"][name].update(synthesis_quality_results().report(q));
     const std::string line = fmt::format(
         "{} ({} vertices, {} patches): feature spacing {:+.0f} % of the exemplar's, height histogram TV {:.2f}, lean "
         "{:.1f} deg off the field, seam step {:.3f} vs {:.3f} within patches (99th percentiles), {} folded faces",

@@ -16,6 +16,7 @@
 //!   }
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -26,8 +27,9 @@
 
 namespace geotex {
 
-//! How a field is shown: Python's type of it (Array: a numpy array; Record: a dict of named values).
-enum class ResultKind { Bool, Int, Real, Text, Texts, Reals, Ints, Array, Record };
+//! How a field is shown: Python's type of it (Array: a numpy array of doubles, IntArray: of integers;
+//! Record: a dict of named values).
+enum class ResultKind { Bool, Int, Real, Text, Texts, Reals, Ints, Array, Record, IntArray };
 
 //! The description of one result field.
 struct ResultFieldInfo {
@@ -36,6 +38,7 @@ struct ResultFieldInfo {
   std::string help;        //!< one line
   std::string unit;        //!< e.g. "s", "deg", "mean edge lengths"; empty when dimensionless or obvious
   bool in_report = true;   //!< false: Python only (per-vertex arrays the CLI writes as files, old spellings)
+  bool optional = false;   //!< may be absent: null in JSON, None in Python (e.g. a volume of an open mesh)
 };
 
 //! A #rows by #cols numeric array as JSON: a flat list for one column, else a list of rows.
@@ -50,24 +53,48 @@ class ResultTable {
     std::function<Eigen::MatrixXd(const R&)> array;  //!< Array fields only: the values as a matrix
   };
   //! A field of a plain type, its kind from the getter's return type: bool, an integer, double,
-  //! std::string, std::vector of double, int or std::string; or nlohmann::json (a Record).
+  //! std::string, std::vector of double, int or std::string; or nlohmann::json (a Record); or a
+  //! std::optional of one of these (an optional field).
   template <class G>
   ResultTable& add(std::string name, G get, std::string help, std::string unit = {}, bool in_report = true) {
     using T = std::decay_t<std::invoke_result_t<G, const R&>>;
     Field f;
-    f.info = {std::move(name), kind_of<T>(), std::move(help), std::move(unit), in_report};
-    f.json = [get](const R& r) { return nlohmann::json(get(r)); };
+    if constexpr (is_optional<T>::value) {
+      f.info = {std::move(name), kind_of<typename T::value_type>(), std::move(help), std::move(unit), in_report, true};
+      f.json = [get](const R& r) {
+        const T v = get(r);
+        return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+      };
+    } else {
+      f.info = {std::move(name), kind_of<T>(), std::move(help), std::move(unit), in_report};
+      f.json = [get](const R& r) { return nlohmann::json(get(r)); };
+    }
     fields_.push_back(std::move(f));
     return *this;
   }
-  //! A numeric array field (a vector or a matrix; converted to doubles).
+  //! A numeric array field (a vector or a matrix; held as doubles, shown as integers when it is of integers).
   template <class G>
   ResultTable& array(std::string name, G get, std::string help, std::string unit = {}, bool in_report = true) {
+    using T = typename std::decay_t<std::invoke_result_t<G, const R&>>::Scalar;
     Field f;
-    f.info = {std::move(name), ResultKind::Array, std::move(help), std::move(unit), in_report};
+    f.info = {std::move(name), std::is_integral_v<T> ? ResultKind::IntArray : ResultKind::Array, std::move(help),
+              std::move(unit), in_report};
     f.array = [get](const R& r) -> Eigen::MatrixXd { return get(r).template cast<double>(); };
     f.json = [a = f.array](const R& r) { return array_json(a(r)); };
     fields_.push_back(std::move(f));
+    return *this;
+  }
+
+  //! The fields of \p table, read from the part of a result that \p get returns (e.g. a summary it holds).
+  template <class S, class G>
+  ResultTable& part(const ResultTable<S>& table, G get) {
+    for (const auto& p : table.fields()) {
+      Field f;
+      f.info = p.info;
+      f.json = [json = p.json, get](const R& r) { return json(get(r)); };
+      if (p.array) f.array = [array = p.array, get](const R& r) { return array(get(r)); };
+      fields_.push_back(std::move(f));
+    }
     return *this;
   }
 
@@ -83,6 +110,11 @@ class ResultTable {
 
  private:
   template <class T>
+  struct is_optional : std::false_type {};
+  template <class T>
+  struct is_optional<std::optional<T>> : std::true_type {};
+
+  template <class T>
   static constexpr ResultKind kind_of() {
     if constexpr (std::is_same_v<T, bool>) return ResultKind::Bool;
     else if constexpr (std::is_integral_v<T>) return ResultKind::Int;
@@ -97,5 +129,15 @@ class ResultTable {
 
   std::vector<Field> fields_;
 };
+
+//! What a front end adds to a result it timed (the CLI and Python time the same library call).
+struct RunTime {
+  double seconds = 0;  //!< wall time of the library call
+};
+const ResultTable<RunTime>& run_time_results();
+
+struct MeshSummary;  // core/geometry.h
+//! summarize()'s counts and measures: what `geotex info --json` and Python's info() say of a mesh.
+const ResultTable<MeshSummary>& mesh_summary_results();
 
 }  // namespace geotex

@@ -173,6 +173,7 @@ struct TransferResult {
   Mesh target;
   Texture texture;             //!< on \ref target (zero outside the patch)
   DiskPatch source_patch, target_patch;
+  int source_center = -1, target_center = -1;  //!< the patches' centres (source base, target vertices)
   MatrixX2d source_uv, target_uv;  //!< the patches' unit-disk coordinates (DiskMap::uv; the rotation applied)
   size_t target_vertices = 0;  //!< target vertices that received a height (the target patch's)
   size_t added_vertices = 0;   //!< vertices the refinement added to the target
@@ -224,6 +225,7 @@ struct AtlasOptions {
 struct AtlasResult {
   Mesh target;                     //!< the target base used (refined where it was coarser)
   Texture texture;                 //!< on \ref target
+  int source_center = -1;          //!< the source disk's centre (a source base vertex)
   std::vector<int> centers;        //!< disk centres (vertices of \ref target)
   //! #V: the largest disk weight b_k = (1 − |z_k|²)² at each vertex (0: no disk covers it; with
   //! spacing s, every vertex is within about s of a centre, so b ≳ (1 − s²)²)

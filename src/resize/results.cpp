@@ -1,0 +1,51 @@
+// The resizing results as the front ends show them (resize/results.h). The report keys are those the CLI
+// wrote by hand before the tables; the per-vertex arrays are Python only (the CLI writes them as files).
+
+#include "geotex/resize/results.h"
+
+namespace geotex {
+
+namespace {
+constexpr bool kPythonOnly = false;  // the in_report argument of a field the CLI report leaves out
+}  // namespace
+
+const ResultTable<FeatureSummary>& feature_summary_results() {
+  using R = FeatureSummary;
+  static const auto t = ResultTable<R>()
+      .add("marked_fraction", [](const R& r) { return r.marked_fraction; },
+           "area share of the vertices marked (f > 1/2)")
+      .add("marked_vertices", [](const R& r) { return r.marked_vertices; }, "vertices marked (f > 1/2)")
+      .add("regions", [](const R& r) { return r.regions; }, "connected regions of marked vertices")
+      .add("warning", [](const R& r) { return r.warning; },
+           "empty, or why the map is implausible (more than half or less than 0.5% marked)");
+  return t;
+}
+
+const ResultTable<ResizeResult>& resize_results() {
+  using R = ResizeResult;
+  static const auto t = ResultTable<R>()
+      .add("detector", [](const R& r) { return std::string(enum_name(feature_map_names(), r.detector)); },
+           "the detector that made the map (for auto, the one chosen; none: weights given or no features)")
+      .part(feature_summary_results(), [](const R& r) -> const FeatureSummary& { return r.summary; })
+      .array("features", [](const R& r) { return r.features; }, "#V feature weights used, in [0, 1]", "",
+             kPythonOnly)
+      .array("mapped", [](const R& r) { return r.mapped; }, "#V by 3 positions under the plain deformation", "",
+             kPythonOnly);
+  return t;
+}
+
+const ResultTable<FeatureMap>& feature_map_results() {
+  using R = FeatureMap;
+  static const auto t = ResultTable<R>()
+      .add("detector", [](const R& r) { return std::string(enum_name(feature_map_names(), r.method)); },
+           "the detector used (for auto, the one chosen)")
+      .part(feature_summary_results(), [](const R& r) -> const FeatureSummary& { return r.summary; })
+      .array("weights", [](const R& r) { return r.weights; },
+             "#V weights in [0, 1] (importance), in {0, 1} for the binary maps", "", kPythonOnly)
+      .array("field", [](const R& r) { return r.field; },
+             "#V values of the field the map was grown on (the raw importance, the height or the ADF)", "",
+             kPythonOnly);
+  return t;
+}
+
+}  // namespace geotex
