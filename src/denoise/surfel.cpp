@@ -307,16 +307,19 @@ double total_energy(const std::vector<Vec3>& X, const Neighborhoods& N, const Co
                     double t_chord, const std::vector<Vec3>* guide = nullptr, bool irls = false) {
   const Eigen::Index P = static_cast<Eigen::Index>(X.size());
   double E = 0;
+  const std::atomic<bool>* stop = InterruptScope::current();
 #pragma omp parallel reduction(+ : E) if (P > 4096)
   {
     std::vector<SiteTerm> terms;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < P; ++i) {
+      if (interrupt_requested(stop)) continue;
       site_terms(X, N, s, i, t_chord, s.n[i], terms, guide, irls);
       const double rho = s.n[i].dot(X[i]) - s.a[i];
       E += term_energy(terms, alpha, beta, s.n[i], rho);
     }
   }
+  check_interrupt();
   return E;
 }
 
@@ -596,12 +599,15 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
       // ICM with two configurations: every site reads the previous one (Sec. 7.4.3.5), so the
       // sweep is order-independent and parallel.
       if (o.guided) guidance_normals(N, w.s.n, patch_mean, patch_spread, guide);
+      // A sweep over 2.6 M surfels takes seconds: Ctrl-C skips the rest of it (checked after the region).
+      const std::atomic<bool>* stop = InterruptScope::current();
 #pragma omp parallel if (P > 4096)
       {
         std::vector<SiteTerm> terms;
         std::vector<Vec3> starts;
 #pragma omp for schedule(static)
         for (Eigen::Index i = 0; i < P; ++i) {
+          if (interrupt_requested(stop)) continue;
           const Vec3& x = w.X[i];
           // The lagged-weight minimiser from the current surfel (the thesis' scheme).
           site_terms(w.X, N, w.s, i, chord, w.s.n[i], terms, G, o.irls_weights);
@@ -651,6 +657,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
           next.a[i] = n.dot(x) - rho;
         }
       }
+      check_interrupt();
       std::swap(w.s.n, next.n);
       std::swap(w.s.a, next.a);
       update_centers(w.X, w.s);
