@@ -8,7 +8,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "geotex/core/resources.h"
+
 namespace geotex::test {
+
+// One BLAS thread in every test binary, as the CLI and Python use (resources.h: OpenBLAS's workers spin).
+[[maybe_unused]] const int kBlasThreadsBefore = set_blas_threads(1);
 
 extern "C" void __asan_init() __attribute__((weak));
 bool address_sanitizer() { return &__asan_init != nullptr; }

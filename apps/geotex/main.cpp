@@ -88,6 +88,7 @@ int report_error(std::exception_ptr error) {
 
 int run(int argc, char** argv) {
   using namespace geotex::cli;
+  geotex::set_blas_threads(1);  // OpenBLAS's spinning workers cost more than they give (resources.h)
   // Named, so that the usage line says "geotex", not the path the binary was started by.
   CLI::App app{"geotex: 3D shape modeling with high-level descriptors (after V. Andersen, DTU 2011)", "geotex"};
   app.require_subcommand(1);

@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include "geotex/core/resources.h"
+
 #include <csignal>
 #include <cmath>
 #include <limits>
@@ -322,6 +324,8 @@ void raise_pending_signals() {
 }
 
 ThreadScope::ThreadScope(std::optional<int> threads) {
+  // One BLAS thread during the call (OpenBLAS's spinning workers, resources.h); numpy's count after it.
+  previous_blas_ = set_blas_threads(1);
   if (!threads) return;
   previous_ = omp_get_max_threads();
   omp_set_num_threads(*threads);
@@ -329,6 +333,7 @@ ThreadScope::ThreadScope(std::optional<int> threads) {
 }
 
 ThreadScope::~ThreadScope() {
+  if (previous_blas_ > 0) set_blas_threads(previous_blas_);
   if (set_) omp_set_num_threads(previous_);
 }
 

@@ -198,6 +198,7 @@ class ThreadScope {
 
  private:
   int previous_ = 0;
+  int previous_blas_ = 0;
   bool set_ = false;
 };
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -103,6 +104,31 @@ size_t available_memory_bytes() {
     avail = std::min<uint64_t>(avail, max > used ? max - used : 0);
   }
   return static_cast<size_t>(std::min<uint64_t>(avail, std::numeric_limits<size_t>::max()));
+}
+
+namespace {
+// OpenBLAS's own entry points, looked up in the process: the executable's libraries (RTLD_DEFAULT), else
+// the libraries the Python module loaded privately (RTLD_NOLOAD: only when already loaded).
+void* openblas_symbol(const char* name) {
+  if (void* f = dlsym(RTLD_DEFAULT, name)) return f;
+  for (const char* lib : {"libblas.so.3", "libopenblas.so.0", "libopenblasp.so.0"})
+    if (void* h = dlopen(lib, RTLD_LAZY | RTLD_NOLOAD)) {
+      void* f = dlsym(h, name);
+      dlclose(h);
+      if (f) return f;
+    }
+  return nullptr;
+}
+}  // namespace
+
+int set_blas_threads(int n) {
+  if (std::getenv("OPENBLAS_NUM_THREADS")) return 0;
+  static const auto get = reinterpret_cast<int (*)()>(openblas_symbol("openblas_get_num_threads"));
+  static const auto set = reinterpret_cast<void (*)(int)>(openblas_symbol("openblas_set_num_threads"));
+  if (!get || !set) return 0;
+  const int previous = get();
+  if (previous != n) set(n);
+  return previous;
 }
 
 size_t mesh_read_bytes(uint64_t faces, uint64_t vertices) {

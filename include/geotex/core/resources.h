@@ -29,6 +29,13 @@ size_t available_memory_bytes();
 //! about 110 bytes per face and 135 per vertex; bench/bad-input.md).
 size_t mesh_read_bytes(uint64_t faces, uint64_t vertices);
 
+//! Sets the BLAS library's thread count (OpenBLAS, found at run time; a no-op for another BLAS, or when the
+//! user set OPENBLAS_NUM_THREADS). OpenBLAS's workers busy-wait (sched_yield) between calls: beside
+//! geotex's own OpenMP threads they doubled the CPU time of a resize (the bunny: 20 s -> 8.6 s with one)
+//! and slowed every CHOLMOD factorization on a shared machine. The CLI and Python use one.
+//! \return the previous count, or 0 when nothing was changed.
+int set_blas_threads(int n);
+
 //! Throws OutOfMemory (error.h) naming \p what, the estimate and what is available, when \p bytes
 //! exceed available_memory_bytes(): refused in seconds instead of failing after minutes of work.
 void require_memory(const std::string& what, size_t bytes);
