@@ -34,7 +34,7 @@ const OptionTable<BaseShapeOptions>& BaseShapeOptions::table() {
       .add("project", &O::project, "robust: project textured vertices onto the fit along its Phong normals where it helps",
            {}, "Sec. 8.3.1, 5.2")
       .choice("laplacian", &O::laplacian, laplacian_names(), "smoothing: umbrella or cotan Laplacian", "Eq. (5.8), (5.11)")
-      .add("lambda", &O::lambda, "smoothing: implicit step size", positive(), "Eq. (5.14)")
+      .add("lambda", &O::lambda, "smoothing: implicit step size", Bounds{0, 1e9, true, false}, "Eq. (5.14)")
       .add("steps", &O::steps, "smoothing: steps (0 = until the shape stops changing)", between(0, 100000), "Sec. 8.3.1")
       .add("max_steps", &O::max_steps, "smoothing, automatic: at most this many steps", between(1, 100000))
       .add("stop", &O::stop_tolerance,

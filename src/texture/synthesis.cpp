@@ -989,6 +989,7 @@ double pseudo_height(const Vec3& d) { return (d.z() < 0 ? -1.0 : 1.0) * d.norm()
 
 SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exemplar, const SynthesisResult& r,
                                    const SynthesisOptions& o) {
+  check_options(o);
   const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
   const Mesh& T = r.target;
   const Eigen::Index n = T.n_vertices();

@@ -210,6 +210,7 @@ SparseMatrix editing_laplacian(const Mesh& mesh, LaplacianType type) {
 LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std::vector<double> weights,
                                  const EditOptions& options)
     : mesh_(&mesh), handles_(std::move(handles)), options_(options) {
+  check_options(options);
   require_valid(mesh, "editing input");
   const int n = static_cast<int>(mesh.n_vertices());
   if (handles_.empty()) throw InvalidInput("Laplacian editing needs at least one handle vertex");

@@ -168,10 +168,10 @@ MatrixX3d face_vertices(const Mesh& mesh) {
 }
 
 Camera fit_camera(const MatrixX3d& V, const RenderOptions& o, int reserved_right) {
+  check_options(o);
   if (V.rows() == 0) throw InvalidInput("fit_camera: no vertices");
   const int width = o.width - reserved_right, height = o.height;
-  if (width <= 0 || height <= 0) throw InvalidInput(fmt::format("bad picture size {}x{}", width, height));
-  if (!(o.zoom > 0) || !std::isfinite(o.zoom)) throw InvalidInput(fmt::format("zoom {} is not positive", o.zoom));
+  if (width <= 0) throw InvalidInput(fmt::format("no room for the picture: width {}, {} reserved", o.width, reserved_right));
   Camera c;
   const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
   view_axes(o.view, up_vector(o.up, V), c.right, c.up, c.forward);
@@ -245,10 +245,8 @@ std::vector<T> filled(size_t n, T v) {
 }  // namespace
 
 Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLayers& layers) {
+  check_options(o);
   require_valid(mesh, "mesh to render");
-  if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
-    throw InvalidInput(fmt::format("bad picture size {}x{}", o.width, o.height));
-  if (o.supersampling < 1 || o.supersampling > 8) throw InvalidInput("supersampling must be in 1..8");
   const MatrixX3d V = positions(mesh);
   const MatrixX3i F = faces(mesh);
   const Eigen::Index nv = V.rows();
