@@ -30,7 +30,6 @@ KNOWN = {
     "src/texture/synthesis.cpp: synthesize_texture",
     "src/toolkit/editing.cpp: LaplacianEditor",
     "src/toolkit/one_form.cpp: fit_iterative",
-    "src/tools/render.cpp: render_mesh",
 }
 
 CONTROL = {"if", "for", "while", "switch", "catch", "return", "sizeof", "decltype", "alignof", "noexcept",
