@@ -27,7 +27,6 @@ KNOWN = {
     "src/texture/base_shape.cpp: base_shape",
     "src/texture/synthesis.cpp: synthesis_quality",
     "src/texture/synthesis.cpp: synthesize_texture",
-    "src/toolkit/editing.cpp: LaplacianEditor",
     "src/toolkit/one_form.cpp: fit_iterative",
 }
 
