@@ -24,7 +24,6 @@ KNOWN = {
     "src/denoise/noise_estimate.cpp: estimate_noise",
     "src/resize/resize.cpp: similarity_resize",
     "src/resize/resize.cpp: sliding_resize",
-    "src/texture/base_shape.cpp: base_shape",
     "src/texture/synthesis.cpp: synthesis_quality",
     "src/texture/synthesis.cpp: synthesize_texture",
     "src/toolkit/one_form.cpp: fit_iterative",
