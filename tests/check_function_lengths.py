@@ -21,7 +21,6 @@ KNOWN = {
     "src/core/io.cpp: parse_ply",
     "src/core/mesh_repair.cpp: repair_soup",
     "src/denoise/auto_denoise.cpp: denoise_or_sample",
-    "src/denoise/noise_estimate.cpp: estimate_noise",
     "src/resize/resize.cpp: similarity_resize",
     "src/resize/resize.cpp: sliding_resize",
     "src/texture/synthesis.cpp: synthesis_quality",
