@@ -19,7 +19,6 @@ ROOTS = ("src", "apps")
 KNOWN = {
     "apps/geotex/demo/texture.cpp: lambda",
     "src/core/io.cpp: parse_ply",
-    "src/core/mesh_repair.cpp: repair_soup",
     "src/denoise/auto_denoise.cpp: denoise_or_sample",
     "src/resize/resize.cpp: similarity_resize",
     "src/resize/resize.cpp: sliding_resize",
