@@ -22,7 +22,6 @@ KNOWN = {
     "src/denoise/auto_denoise.cpp: denoise_or_sample",
     "src/resize/resize.cpp: similarity_resize",
     "src/resize/resize.cpp: sliding_resize",
-    "src/texture/synthesis.cpp: synthesis_quality",
     "src/texture/synthesis.cpp: synthesize_texture",
     "src/toolkit/one_form.cpp: fit_iterative",
 }
