@@ -35,7 +35,7 @@ __all__ = [
     "face_normals", "vertex_normals", "face_areas", "edges", "dihedral_angles", "mean_edge_length",
     "boundary_loops", "connected_components",
     "umbrella_laplacian", "cotan_matrix", "mass_matrix", "cotan_laplacian", "mean_curvature_normals",
-    "smooth", "deform", "parametrize", "phong_project", "one_form_fit", "one_form_to_vertices",
+    "smooth", "deform", "parametrize", "parametrization_quality", "phong_project", "one_form_fit", "one_form_to_vertices",
     "auto_diffusion_function",
     "MeshResult", "DenoiseResult", "AutoDenoiseResult", "MrfResult", "SurfelDenoiseResult",
     "TextureResult", "TexturedResult", "TextureExtraction", "TransferResult", "AtlasResult", "SynthesisResult",
@@ -335,6 +335,13 @@ def deform(mesh: MeshLike, F: Any = None, handles: Optional[Sequence[int]] = Non
 def parametrize(mesh: MeshLike, F: Any = None, **options: Any) -> np.ndarray:
     """UV coordinates (#V×2) of a disk (Sec. 5.4, `geotex param`). InvalidInput if not a disk."""
     return _geotex.parametrize(*_arrays(mesh, F), options)
+
+
+def parametrization_quality(mesh: MeshLike, F: Any = None, uv: Any = None) -> dict:
+    """Flipped faces, angle and area distortion of UVs (#V×2, e.g. parametrize()'s) on a mesh:
+    parametrization_quality(V, F, uv) or parametrization_quality(mesh, uv=uv). A dict with the keys of
+    `geotex param --json` but the method, vertex count and time."""
+    return _geotex.parametrization_quality(*_arrays(mesh, F), uv)
 
 
 @with_options("PhongProjectionOptions")

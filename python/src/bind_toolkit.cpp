@@ -3,6 +3,8 @@
 
 #include "common.h"
 
+#include <fmt/format.h>
+
 #include "geotex/core/error.h"
 #include "geotex/toolkit/diffusion.h"
 #include "geotex/toolkit/editing.h"
@@ -10,14 +12,32 @@
 #include "geotex/toolkit/one_form.h"
 #include "geotex/toolkit/parametrization.h"
 #include "geotex/toolkit/phong_projection.h"
+#include "geotex/toolkit/results.h"
 #include "geotex/toolkit/smoothing.h"
 
 namespace geotex::python {
+
+namespace {
+
+// #n by 2 finite UVs (one row per vertex, as parametrize() returns them).
+MatrixX2d to_uv(py::handle a, Eigen::Index n) {
+  const auto d = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!d || d.ndim() != 2 || d.shape(0) != n || d.shape(1) != 2)
+    throw InvalidInput(fmt::format("uv: expected a {} x 2 array of numbers (one row per vertex)", n));
+  MatrixX2d uv(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int k = 0; k < 2; ++k) uv(i, k) = d.data()[2 * i + k];
+  if (!uv.allFinite()) throw InvalidInput("uv: non-finite coordinates");
+  return uv;
+}
+
+}  // namespace
 
 void bind_toolkit(py::module_& m) {
   register_table<SmoothingOptions>("SmoothingOptions");
   register_table<EditOptions>("EditOptions");
   register_table<ParametrizationOptions>("ParametrizationOptions");
+  register_results("ParamQuality", &param_quality_results);
   register_table<PhongProjectionOptions>("PhongProjectionOptions");
   register_table<OneFormFitOptions>("OneFormFitOptions");
 
@@ -59,6 +79,15 @@ void bind_toolkit(py::module_& m) {
         const Mesh mesh = to_mesh(V, F);
         return MatrixX2d(run(call, [&] { return parametrize(mesh, o); }));
       });
+
+  m.def("parametrization_quality", [](py::handle V, py::handle F, py::handle uv) {
+        const Mesh mesh = to_mesh(V, F);
+        const MatrixX2d UV = to_uv(uv, static_cast<Eigen::Index>(mesh.n_vertices()));
+        py::dict d;  // the keys of `geotex param --json` but the method, vertex count and time
+        put_results(d, parametrization_quality(mesh, UV), param_quality_results());
+        return d;
+      },
+      py::arg("V"), py::arg("F"), py::arg("uv"));
 
   m.def("phong_project", [](py::handle V, py::handle F, py::handle P, py::dict kw) {
         CallOptions call = call_options(kw);

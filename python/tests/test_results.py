@@ -199,3 +199,28 @@ def test_compare_says_what_the_cli_says(tmp_path, noisy):
     for key, want in s.items():
         assert j["edge_labels"][key] == pytest.approx(want, rel=1e-12), key
     assert s["labelled"] > 0 and s["truth_sharp_edges"] > 0  # a score of something
+
+
+@pytest.mark.skipif(not CLI, reason="GEOTEX_CLI not set (ctest sets it)")
+@pytest.mark.parametrize("method", ["conformal", "combined"])
+def test_parametrization_quality_says_what_param_json_says(tmp_path, method):
+    V, F = geotex.generate("bumpy-plate", level=0)
+    geotex.write_mesh(tmp_path / "disk.ply", V, F)
+    p = subprocess.run([CLI, "param", "--json", str(tmp_path / "disk.ply"), "-o", str(tmp_path / "uv.obj"),
+                        "--method", method], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    uv = geotex.parametrize(V, F, method=method)
+    assert isinstance(uv, np.ndarray) and uv.shape == (len(V), 2)  # parametrize() still returns the UVs
+    q = geotex.parametrization_quality(V, F, uv)
+    declared = {f["name"] for f in geotex._geotex._result_tables()["ParamQuality"]}
+    # The method, the vertex count and the time are the CLI's own; the rest is the quality, by one name.
+    assert set(j) - {"method", "vertices", "seconds"} == declared == set(q)
+    for key, want in q.items():
+        assert j[key] == (pytest.approx(want, rel=1e-9, abs=1e-12) if isinstance(want, float) else want), key
+    assert j["method"] == method and j["vertices"] == len(V)
+    # The measure can tell maps apart: UVs squashed along v distort angles more than the map itself.
+    squashed = geotex.parametrization_quality(V, F, uv * [1.0, 0.2])
+    assert squashed["mean_angle_error_deg"] > q["mean_angle_error_deg"]
+    with pytest.raises(geotex.InvalidInput, match="uv"):
+        geotex.parametrization_quality(V, F, uv[:-1])

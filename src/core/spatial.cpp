@@ -263,29 +263,6 @@ std::vector<TriangleTree::Hit> TriangleTree::closest(const MatrixX3d& P, std::sp
   return out;
 }
 
-void TriangleTree::faces_near(const Vec3& p, double radius, std::vector<int>& out) const {
-  out.clear();
-  if (nodes_.empty()) return;
-  const double r2 = radius * radius;
-  std::vector<int> stack{0};
-  while (!stack.empty()) {
-    const Node& n = nodes_[stack.back()];
-    stack.pop_back();
-    if (n.box.squaredExteriorDistance(p) > r2) continue;
-    if (n.left < 0) {
-      for (int i = n.begin; i < n.end; ++i)
-        if (ref_box_[i].squaredExteriorDistance(p) <= r2) out.push_back(ref_face_[i]);
-    } else {
-      stack.push_back(n.left);
-      stack.push_back(n.right);
-    }
-  }
-  if (slabs_) {  // a sliver met through two slabs, once
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
-}
-
 void TriangleTree::visit_nearest(const Vec3& p, double radius, const std::function<double(int, double)>& visit) const {
   visit_nearest(p, radius, visit, [](int) { return true; });
 }

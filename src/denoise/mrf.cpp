@@ -112,16 +112,6 @@ void relabel(SiteProcess& P, EdgeField& field, double phi0_deg, LabelState& L) {
   }
 }
 
-void check_common(const Mesh& mesh, const EdgeProcessOptions& edges, double alpha, double temperature, double cooling,
-                  double step) {
-  require_valid(mesh, "input mesh");
-  check_edge_options(edges);
-  if (!(alpha >= 0) || !std::isfinite(alpha)) throw InvalidInput("alpha must be >= 0");
-  if (!(temperature >= 0) || !std::isfinite(temperature)) throw InvalidInput("site-process temperature must be >= 0");
-  if (!(cooling > 0 && cooling <= 1)) throw InvalidInput("cooling factor must be in (0, 1]");
-  if (!(step > 0) || !std::isfinite(step)) throw InvalidInput("Metropolis step must be > 0");
-}
-
 double unit_length(const Mesh& mesh) {
   const double h = mean_edge_length(mesh);
   if (!(h > 0)) throw InvalidInput("input mesh has zero mean edge length");
@@ -131,8 +121,8 @@ double unit_length(const Mesh& mesh) {
 }  // namespace
 
 MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
-  check_common(mesh, o.edges, o.alpha, o.temperature, o.cooling, o.step);
-  if (o.iterations < 0 || o.vertex_sweeps < 0 || o.final_sweeps < 0) throw InvalidInput("iterations and sweeps must be >= 0");
+  check_options(o);
+  require_valid(mesh, "input mesh");
   const auto t0 = Clock::now();
   const Topology T(mesh);
   const double h = unit_length(mesh);
@@ -171,8 +161,8 @@ MrfResult mrf_denoise(const Mesh& mesh, const MrfOptions& o) {
 }
 
 Eigen::VectorXd label_sharp_edges(const Mesh& mesh, const MatrixX3d& X, const EdgeProcessOptions& options) {
+  check_options(options);
   require_valid(mesh, "input mesh");
-  check_edge_options(options);
   const Topology T(mesh);
   if (X.rows() != T.nV) throw InvalidInput("label_sharp_edges: positions do not match the mesh");
   const double h = unit_length(mesh);
@@ -186,11 +176,8 @@ Eigen::VectorXd label_sharp_edges(const Mesh& mesh, const MatrixX3d& X, const Ed
 }
 
 MrfResult mrf_normal_denoise(const Mesh& mesh, const MrfNormalOptions& o) {
-  check_common(mesh, o.edges, o.alpha, o.temperature, o.cooling, o.step);
-  if (o.optimizer != MrfOptimizer::Icm && o.optimizer != MrfOptimizer::Metropolis)
-    throw InvalidInput("the normal process is optimized by icm or metropolis");
-  if (o.iterations < 0 || o.normal_sweeps < 1 || o.vertex_iterations < 0 || o.rounds < 1)
-    throw InvalidInput("iterations must be >= 0, sweeps and rounds >= 1");
+  check_options(o);  // the normal process's optimizer is icm or metropolis (its table's choice)
+  require_valid(mesh, "input mesh");
   const auto t0 = Clock::now();
   const Topology T(mesh);
   const double h = unit_length(mesh);

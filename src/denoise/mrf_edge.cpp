@@ -192,21 +192,6 @@ double EdgeField::sweep(double* eps, MrfOptimizer optimizer, double temperature,
   throw InvalidInput("the edge process is optimized by metropolis or icm, not " + to_string(optimizer));
 }
 
-void check_edge_options(const EdgeProcessOptions& o) {
-  if (!std::isfinite(o.phi0_deg) || o.phi0_deg < 0 || o.phi0_deg > 180)
-    throw InvalidInput("phi0 must be an angle in [0, 180] degrees");
-  if (!std::isfinite(o.phi0_start_deg) || o.phi0_start_deg < 0 || o.phi0_start_deg > 180)
-    throw InvalidInput("phi0 start must be an angle in [0, 180] degrees (0 = off)");
-  if (!std::isfinite(o.support_weight) || o.support_weight < 0) throw InvalidInput("support weight must be >= 0");
-  if (!(o.temperature >= 0) || !std::isfinite(o.temperature)) throw InvalidInput("edge temperature must be >= 0");
-  if (!(o.cooling > 0 && o.cooling <= 1)) throw InvalidInput("edge cooling factor must be in (0, 1]");
-  if (o.sweeps < 1) throw InvalidInput("edge sweeps must be >= 1");
-  if (o.optimizer != MrfOptimizer::Metropolis && o.optimizer != MrfOptimizer::Icm)
-    throw InvalidInput("the edge process is optimized by metropolis or icm");
-}
-
-
-
 }  // namespace detail
 
 using namespace detail;
@@ -227,6 +212,7 @@ double edge_support_potential(const Vec3& xi, const Vec3& xj, const Vec3& xk, do
 
 double edge_energy(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& labels,
                    const EdgeProcessOptions& options) {
+  check_options(options);
   const Topology T(mesh);
   if (X.rows() != T.nV || labels.size() != T.nE) throw InvalidInput("edge_energy: sizes do not match the mesh");
   const std::vector<double> x = flat(X, 1.0);
@@ -240,7 +226,7 @@ double edge_energy(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& 
 
 double edge_process_sweep(const Mesh& mesh, const MatrixX3d& X, Eigen::VectorXd& labels,
                           const EdgeProcessOptions& options, double temperature, uint64_t seed, int sweep_index) {
-  check_edge_options(options);
+  check_options(options);
   const Topology T(mesh);
   if (X.rows() != T.nV || labels.size() != T.nE) throw InvalidInput("edge_process_sweep: sizes do not match the mesh");
   const std::vector<double> x = flat(X, 1.0);

@@ -159,7 +159,6 @@ class NormalProcess final : public SiteProcess {
 // ---------------------------------------------------------------------------------------------
 // The edge process (mrf_edge.cpp)
 
-void check_edge_options(const EdgeProcessOptions& o);
 //! φ0 of outer iteration `it` under EdgeProcessOptions::phi0_start_deg.
 double annealed_phi0(const EdgeProcessOptions& o, int it, int iterations);
 

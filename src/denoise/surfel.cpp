@@ -522,15 +522,6 @@ double resolve_unit(const MatrixX3d& X, const Neighborhoods& N, double unit) {
 
 }  // namespace
 
-double surfel_energy(const MatrixX3d& X, const Neighborhoods& N, const Surfels& S, double alpha, double beta,
-                     double t_deg, double unit_length) {
-  check_inputs(X, N, S);
-  const double unit = resolve_unit(X, N, unit_length);
-  Normalized w = normalize(X, S, X.colwise().mean().transpose(), unit);
-  update_centers(w.X, w.s);
-  return total_energy(w.X, N, w.s, alpha, beta, threshold_chord(t_deg));
-}
-
 double median_neighbor_angle_deg(const Surfels& S, const Neighborhoods& N) {
   if (N.size() != S.size()) throw InvalidInput(fmt::format("surfels: {} surfels but {} neighbourhoods", S.size(), N.size()));
   std::vector<double> angle;

@@ -27,6 +27,7 @@ const OptionTable<FeatureFileOptions>& FeatureFileOptions::table() {
 
 Eigen::VectorXd features_from_ply(const PlyData& ply, const Mesh& mesh, const FeatureFileOptions& options,
                                   const std::string& name) {
+  check_options(options);
   const size_t n = mesh.n_vertices();
   const PlyElement* v = ply.find("vertex");
   if (!v || v->count != n)
@@ -50,6 +51,7 @@ Eigen::VectorXd features_from_ply(const PlyData& ply, const Mesh& mesh, const Fe
 }
 
 Eigen::VectorXd read_feature_file(const fs::path& path, const Mesh& mesh, const FeatureFileOptions& options) {
+  check_options(options);
   std::string e = path.extension().string();
   for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (e == ".ply") return features_from_ply(read_ply_data(path), mesh, options, path.string());

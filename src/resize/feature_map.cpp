@@ -111,7 +111,9 @@ Eigen::VectorXd height_over_base(const Mesh& mesh, double scale) {
   const double R = std::sqrt(area / (4 * M_PI));
   SmoothingOptions s;
   s.laplacian = LaplacianType::Cotangent;
-  s.lambda = (scale * R) * (scale * R) / (h * h);  // smooth() takes cotangent time in units of h²
+  // smooth() takes cotangent time in units of h², at most 1e9 (its table's bound: by then the base is
+  // already each component's mean).
+  s.lambda = std::min(1e9, (scale * R) * (scale * R) / (h * h));
   s.steps = 1;
   s.update_weights = false;
   Mesh base = mesh;
@@ -294,6 +296,7 @@ Eigen::MatrixXd adf_levels(const Mesh& mesh, const FeatureMapOptions& o, int lev
 }  // namespace
 
 Eigen::VectorXd adf_features(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* field) {
+  check_options(o);
   const int levels = std::max(1, o.adf_levels);
   const Eigen::MatrixXd G = adf_levels(mesh, o, levels);  // the ADF at each diffusion time tried, #V by levels
   const MatrixX3d X = positions(mesh);

@@ -34,7 +34,7 @@ const OptionTable<BaseShapeOptions>& BaseShapeOptions::table() {
       .add("project", &O::project, "robust: project textured vertices onto the fit along its Phong normals where it helps",
            {}, "Sec. 8.3.1, 5.2")
       .choice("laplacian", &O::laplacian, laplacian_names(), "smoothing: umbrella or cotan Laplacian", "Eq. (5.8), (5.11)")
-      .add("lambda", &O::lambda, "smoothing: implicit step size", positive(), "Eq. (5.14)")
+      .add("lambda", &O::lambda, "smoothing: implicit step size", Bounds{0, 1e9, true, false}, "Eq. (5.14)")
       .add("steps", &O::steps, "smoothing: steps (0 = until the shape stops changing)", between(0, 100000), "Sec. 8.3.1")
       .add("max_steps", &O::max_steps, "smoothing, automatic: at most this many steps", between(1, 100000))
       .add("stop", &O::stop_tolerance,
@@ -143,6 +143,126 @@ Eigen::VectorXd off_normal_angles(const Mesh& base, const MatrixX3d& textured) {
   return a;
 }
 
+namespace {
+
+// Smoothing (Sec. 8.3.1): implicit steps, a given number or, automatic, until the shape stops changing.
+void smoothing_base(const Mesh& textured, const BaseShapeOptions& o, BaseShape& out) {
+  SmoothingOptions s;
+  s.laplacian = o.laplacian;
+  s.implicit = true;
+  s.lambda = o.lambda;
+  int steps = 0;
+  s.progress = [&](double f, std::string_view stage) {
+    ++steps;
+    report(o.progress, f, stage);
+  };
+  if (o.steps > 0) {
+    s.steps = o.steps;
+  } else {  // automatic (Sec. 8.3.1): step until the shape stops changing; one factorization for all steps
+    s.steps = o.max_steps;
+    s.stop_tolerance = o.stop_tolerance;
+  }
+  out.positions = smooth(textured, s);
+  out.passes = steps;
+  out.stopped = o.steps > 0 || steps < o.max_steps;
+}
+
+// The robust fit's vertices projected onto the fit's Phong surface near them, as far as the weights allow
+// and where that folds no face (out.positions: the fit, then the projected fit).
+void project_onto_fit(const Mesh& textured, BaseShape& out) {
+  const Eigen::Index n = textured.n_vertices();
+  const MatrixX3d X = positions(textured);
+  const MatrixX3d B = out.positions;
+  Mesh fitted = textured;
+  set_positions(fitted, B);
+  // Each textured vertex is projected onto the faces around its own fitted vertex (its rings up to
+  // kProjectionRings): the fit keeps the correspondence, and a projection that lands farther away
+  // would tear the base (a global search also costs milliseconds per point where the Phong field
+  // converges). No inside solution there, or an isolated vertex: the vertex keeps the fit.
+  const MatrixX3d N = vertex_normals(fitted, NormalWeighting::Angle);
+  const MatrixX3i F = faces(textured);
+  std::vector<PhongTriangle> tri(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    tri[f] = PhongTriangle(B.row(F(f, 0)), B.row(F(f, 1)), B.row(F(f, 2)), N.row(F(f, 0)), N.row(F(f, 1)),
+                           N.row(F(f, 2)));
+  MatrixX3d Q = B;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
+  // A vertex of high valence lends its faces only to its own projection: through the rings it would
+  // hand all of them to each of its neighbours (cost valence² on a fan of 8,000).
+  std::vector<char> hub(n, 0);
+  for (Eigen::Index i = 0; i < n; ++i)
+    hub[i] = textured.valence(textured.vertex_handle(static_cast<int>(i))) > kHubValence;
+#pragma omp parallel
+  {
+    std::vector<int> ring, next;
+    std::vector<char> seen(n, 0), face_seen(F.rows(), 0);
+    std::vector<int> faces_seen;
+#pragma omp for schedule(dynamic, 256)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto vh = textured.vertex_handle(static_cast<int>(i));
+      if (textured.is_isolated(vh)) continue;
+      const Vec3 x = X.row(i).transpose();
+      double best = std::numeric_limits<double>::infinity();
+      // Ring by ring: the faces around the vertex, then those around its neighbours, … (most
+      // projections land in the first ring).
+      ring.assign(1, static_cast<int>(i));
+      seen[i] = 1;
+      std::vector<int> visited = ring;
+      for (size_t r = 0; r < kProjectionRings && best == std::numeric_limits<double>::infinity(); ++r) {
+        for (int v : ring) {
+          if (r > 0 && hub[v]) continue;
+          for (auto f : textured.vf_range(textured.vertex_handle(v))) {
+            if (face_seen[f.idx()]) continue;
+            face_seen[f.idx()] = 1;
+            faces_seen.push_back(f.idx());
+            for (const PhongCandidate& c : phong_project_analytic(x, tri[f.idx()]))
+              if (c.inside && std::abs(c.d) < best) {
+                best = std::abs(c.d);
+                Q.row(i) = c.point.transpose();
+              }
+          }
+        }
+        if (r + 1 == kProjectionRings) break;
+        next.clear();
+        for (int v : ring) {
+          if (r > 0 && hub[v]) continue;
+          for (auto w : textured.vv_range(textured.vertex_handle(v)))
+            if (!seen[w.idx()]) {
+              seen[w.idx()] = 1;
+              next.push_back(w.idx());
+              visited.push_back(w.idx());
+            }
+        }
+        ring.swap(next);
+      }
+      for (int v : visited) seen[v] = 0;
+      for (int f : faces_seen) face_seen[f] = 0;
+      faces_seen.clear();
+      // Full projection up to Tukey weight 1/4 (residual 0.7 × the bound), fading to none on protrusions.
+      if (best < std::numeric_limits<double>::infinity()) p[i] = std::min(1.0, 4 * out.weight[i]);
+    }
+  }
+  // Where the projection folds the base (overhangs at the scale of an edge, crossings near a
+  // protrusion), those vertices keep the fit; repeat until nothing folds.
+  std::vector<char> kept(n, 0);
+  for (int round = 0; round < 20; ++round) {
+    const MatrixX3d P = B + p.asDiagonal() * (Q - B);
+    const std::vector<int> bad = folded_faces(F, P, B);
+    if (bad.empty()) break;
+    for (int f : bad)
+      for (int k = 0; k < 3; ++k) {
+        const int v = F(f, k);
+        if (p[v] > 0) kept[v] = 1;
+        p[v] = 0;
+      }
+  }
+  out.unfolded = std::count(kept.begin(), kept.end(), 1);
+  out.positions = B + p.asDiagonal() * (Q - B);
+  out.projected = p;
+}
+
+}  // namespace
+
 BaseShape base_shape(const Mesh& textured, const BaseShapeOptions& o) {
   require_valid(textured, "base shape: textured mesh");
   BaseShapeOptions::table().check(o);
@@ -151,116 +271,10 @@ BaseShape base_shape(const Mesh& textured, const BaseShapeOptions& o) {
   out.projected = Eigen::VectorXd::Zero(n);
   out.weight = Eigen::VectorXd::Ones(n);
   if (o.method == BaseMethod::Smoothing) {
-    SmoothingOptions s;
-    s.laplacian = o.laplacian;
-    s.implicit = true;
-    s.lambda = o.lambda;
-    int steps = 0;
-    s.progress = [&](double f, std::string_view stage) {
-      ++steps;
-      report(o.progress, f, stage);
-    };
-    if (o.steps > 0) {
-      s.steps = o.steps;
-    } else {  // automatic (Sec. 8.3.1): step until the shape stops changing; one factorization for all steps
-      s.steps = o.max_steps;
-      s.stop_tolerance = o.stop_tolerance;
-    }
-    out.positions = smooth(textured, s);
-    out.passes = steps;
-    out.stopped = o.steps > 0 || steps < o.max_steps;
+    smoothing_base(textured, o, out);
   } else {
     out.positions = robust_fit(textured, o, out.weight, out.passes);
-    if (o.project) {
-      const MatrixX3d X = positions(textured);
-      const MatrixX3d B = out.positions;
-      Mesh fitted = textured;
-      set_positions(fitted, B);
-      // Each textured vertex is projected onto the faces around its own fitted vertex (its rings up to
-      // kProjectionRings): the fit keeps the correspondence, and a projection that lands farther away
-      // would tear the base (a global search also costs milliseconds per point where the Phong field
-      // converges). No inside solution there, or an isolated vertex: the vertex keeps the fit.
-      const MatrixX3d N = vertex_normals(fitted, NormalWeighting::Angle);
-      const MatrixX3i F = faces(textured);
-      std::vector<PhongTriangle> tri(F.rows());
-      for (Eigen::Index f = 0; f < F.rows(); ++f)
-        tri[f] = PhongTriangle(B.row(F(f, 0)), B.row(F(f, 1)), B.row(F(f, 2)), N.row(F(f, 0)), N.row(F(f, 1)),
-                               N.row(F(f, 2)));
-      MatrixX3d Q = B;
-      Eigen::VectorXd p = Eigen::VectorXd::Zero(n);
-      // A vertex of high valence lends its faces only to its own projection: through the rings it would
-      // hand all of them to each of its neighbours (cost valence² on a fan of 8,000).
-      std::vector<char> hub(n, 0);
-      for (Eigen::Index i = 0; i < n; ++i)
-        hub[i] = textured.valence(textured.vertex_handle(static_cast<int>(i))) > kHubValence;
-#pragma omp parallel
-      {
-        std::vector<int> ring, next;
-        std::vector<char> seen(n, 0), face_seen(F.rows(), 0);
-        std::vector<int> faces_seen;
-#pragma omp for schedule(dynamic, 256)
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const auto vh = textured.vertex_handle(static_cast<int>(i));
-          if (textured.is_isolated(vh)) continue;
-          const Vec3 x = X.row(i).transpose();
-          double best = std::numeric_limits<double>::infinity();
-          // Ring by ring: the faces around the vertex, then those around its neighbours, … (most
-          // projections land in the first ring).
-          ring.assign(1, static_cast<int>(i));
-          seen[i] = 1;
-          std::vector<int> visited = ring;
-          for (size_t r = 0; r < kProjectionRings && best == std::numeric_limits<double>::infinity(); ++r) {
-            for (int v : ring) {
-              if (r > 0 && hub[v]) continue;
-              for (auto f : textured.vf_range(textured.vertex_handle(v))) {
-                if (face_seen[f.idx()]) continue;
-                face_seen[f.idx()] = 1;
-                faces_seen.push_back(f.idx());
-                for (const PhongCandidate& c : phong_project_analytic(x, tri[f.idx()]))
-                  if (c.inside && std::abs(c.d) < best) {
-                    best = std::abs(c.d);
-                    Q.row(i) = c.point.transpose();
-                  }
-              }
-            }
-            if (r + 1 == kProjectionRings) break;
-            next.clear();
-            for (int v : ring) {
-              if (r > 0 && hub[v]) continue;
-              for (auto w : textured.vv_range(textured.vertex_handle(v)))
-                if (!seen[w.idx()]) {
-                  seen[w.idx()] = 1;
-                  next.push_back(w.idx());
-                  visited.push_back(w.idx());
-                }
-            }
-            ring.swap(next);
-          }
-          for (int v : visited) seen[v] = 0;
-          for (int f : faces_seen) face_seen[f] = 0;
-          faces_seen.clear();
-          // Full projection up to Tukey weight 1/4 (residual 0.7 × the bound), fading to none on protrusions.
-          if (best < std::numeric_limits<double>::infinity()) p[i] = std::min(1.0, 4 * out.weight[i]);
-        }
-      }
-      // Where the projection folds the base (overhangs at the scale of an edge, crossings near a
-      // protrusion), those vertices keep the fit; repeat until nothing folds.
-      std::vector<char> kept(n, 0);
-      for (int round = 0; round < 20; ++round) {
-        const MatrixX3d P = B + p.asDiagonal() * (Q - B);
-        const std::vector<int> bad = folded_faces(F, P, B);
-        if (bad.empty()) break;
-        for (int f : bad)
-          for (int k = 0; k < 3; ++k) {
-            const int v = F(f, k);
-            if (p[v] > 0) kept[v] = 1;
-            p[v] = 0;
-          }
-      }
-      out.unfolded = std::count(kept.begin(), kept.end(), 1);
-      out.positions = B + p.asDiagonal() * (Q - B);
-      out.projected = p;
-    }
+    if (o.project) project_onto_fit(textured, out);
   }
   Mesh base = textured;
   set_positions(base, out.positions);

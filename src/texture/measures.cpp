@@ -149,6 +149,7 @@ double mean_lean_deg(const Texture& t, const std::vector<int>& vertices, const M
 
 TransferQuality transfer_quality(const Mesh& source_base, const Texture& source, const TransferResult& r,
                                  const TransferOptions& o) {
+  check_options(o);
   TransferQuality q;
   const double inner = 1 - o.falloff;
   const DiskPatch &S = r.source_patch, &T = r.target_patch;

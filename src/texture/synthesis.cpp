@@ -987,8 +987,71 @@ double pseudo_height(const Vec3& d) { return (d.z() < 0 ? -1.0 : 1.0) * d.norm()
 
 }  // namespace
 
+namespace {
+
+// Twice the exemplar's correlation length (target units, \p unit per unit-disk length): the shortest lag
+// along u and v where the autocorrelation of its heights \p he (at the raster cells \p in_disk, mean
+// \p mean_e) reaches 0.
+double feature_radius(const Exemplar& ex, const std::vector<int>& in_disk, const Eigen::VectorXd& he, double mean_e,
+                      double unit) {
+  const Eigen::Index ne = he.size();
+  std::vector<double> g(static_cast<size_t>(ex.size) * ex.size, std::nan(""));
+  for (Eigen::Index k = 0; k < ne; ++k) g[in_disk[k]] = he[k] - mean_e;
+  int lag_found = ex.size / 4;
+  for (int lag = 1; lag < ex.size / 4; ++lag) {
+    double s = 0, s0 = 0;
+    for (int j = 0; j < ex.size; ++j)
+      for (int i = 0; i + lag < ex.size; ++i) {
+        const double a = g[j * ex.size + i], bx = g[j * ex.size + i + lag];
+        const double by = j + lag < ex.size ? g[(j + lag) * ex.size + i] : std::nan("");
+        if (std::isnan(a)) continue;
+        if (!std::isnan(bx)) s += a * bx, s0 += a * a;
+        if (!std::isnan(by)) s += a * by, s0 += a * a;
+      }
+    if (s0 > 0 && s / s0 < 0) {
+      lag_found = lag;
+      break;
+    }
+  }
+  return 2 * unit * 2.0 * lag_found / (ex.size - 1);  // twice the lag: one bump, one feature
+}
+
+// The lean's direction against the field (SynthesisQuality::lean_angle_error_deg) over the covered
+// vertices \p cov: the displacements of the textured target (after encoding and decoding) in the field's
+// frames against what each vertex copied.
+double lean_error_deg(const SynthesisResult& r, const SynthesisOptions& o, const std::vector<int>& cov) {
+  const Mesh& T = r.target;
+  const Eigen::Index n = T.n_vertices();
+  const MatrixX3d Xt = positions(T);
+  const MatrixX3d Nt = vertex_normals(T, o.texture.normals);
+  MatrixX3d Dl(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 d = (r.textured.row(i) - Xt.row(i)).transpose(), nv = Nt.row(i).transpose();
+    const Vec3 f = r.field.row(i).transpose();
+    Dl.row(i) = Eigen::RowVector3d(f.dot(d), nv.cross(f).dot(d), nv.dot(d));
+  }
+  double hmax = 0;
+  for (int i : cov) hmax = std::max(hmax, Dl.row(i).norm());
+  double se = 0, sw = 0;
+  for (int i : cov) {
+    const Vec3 d = Dl.row(i).transpose(), c = r.copied.row(i).transpose();
+    const double len = d.norm(), lean = std::atan2(d.head<2>().norm(), std::abs(d.z()));
+    const double clean = std::atan2(c.head<2>().norm(), std::abs(c.z()));
+    if (len < 0.1 * hmax || lean < 5 * M_PI / 180 || clean < 5 * M_PI / 180) continue;
+    double a = std::atan2(d.y(), d.x()) - std::atan2(c.y(), c.x());
+    a = std::abs(std::remainder(a, 2 * M_PI));
+    const double w = len * std::sin(lean);
+    se += w * a;
+    sw += w;
+  }
+  return sw > 0 ? se / sw * 180 / M_PI : 0.0;
+}
+
+}  // namespace
+
 SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exemplar, const SynthesisResult& r,
                                    const SynthesisOptions& o) {
+  check_options(o);
   const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
   const Mesh& T = r.target;
   const Eigen::Index n = T.n_vertices();
@@ -1052,28 +1115,7 @@ SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exe
   // the autocorrelation of its heights reaches 0: a quarter period of a sinusoid, a bump's half width),
   // threshold = mean + std.
   const double mean_e = he.mean(), std_e = std::sqrt((he.array() - mean_e).square().mean());
-  double corr = 0;
-  {
-    std::vector<double> g(static_cast<size_t>(ex.size) * ex.size, std::nan(""));
-    for (Eigen::Index k = 0; k < ne; ++k) g[in_disk[k]] = he[k] - mean_e;
-    int lag_found = ex.size / 4;
-    for (int lag = 1; lag < ex.size / 4; ++lag) {
-      double s = 0, s0 = 0;
-      for (int j = 0; j < ex.size; ++j)
-        for (int i = 0; i + lag < ex.size; ++i) {
-          const double a = g[j * ex.size + i], bx = g[j * ex.size + i + lag];
-          const double by = j + lag < ex.size ? g[(j + lag) * ex.size + i] : std::nan("");
-          if (std::isnan(a)) continue;
-          if (!std::isnan(bx)) s += a * bx, s0 += a * a;
-          if (!std::isnan(by)) s += a * by, s0 += a * a;
-        }
-      if (s0 > 0 && s / s0 < 0) {
-        lag_found = lag;
-        break;
-      }
-    }
-    corr = 2 * unit * 2.0 * lag_found / (ex.size - 1);  // twice the lag: one bump, one feature
-  }
+  const double corr = feature_radius(ex, in_disk, he, mean_e, unit);
   const double thr = mean_e + std_e;
   const std::vector<int> fe = height_features(Pe, he, corr, thr);
   std::vector<double> fe_rim;
@@ -1091,31 +1133,7 @@ SynthesisQuality synthesis_quality(const Mesh& exemplar_base, const Texture& exe
   }
   q.spacing_change = q.exemplar_spacing > 0 ? q.target_spacing / q.exemplar_spacing - 1 : 0.0;
 
-  // Lean direction against the field.
-  // The displacements of the textured target (after encoding and decoding) in the field's frames.
-  const MatrixX3d Xt = positions(T);
-  const MatrixX3d Nt = vertex_normals(T, o.texture.normals);
-  MatrixX3d Dl(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Vec3 d = (r.textured.row(i) - Xt.row(i)).transpose(), nv = Nt.row(i).transpose();
-    const Vec3 f = r.field.row(i).transpose();
-    Dl.row(i) = Eigen::RowVector3d(f.dot(d), nv.cross(f).dot(d), nv.dot(d));
-  }
-  double hmax = 0;
-  for (int i : cov) hmax = std::max(hmax, Dl.row(i).norm());
-  double se = 0, sw = 0;
-  for (int i : cov) {
-    const Vec3 d = Dl.row(i).transpose(), c = r.copied.row(i).transpose();
-    const double len = d.norm(), lean = std::atan2(d.head<2>().norm(), std::abs(d.z()));
-    const double clean = std::atan2(c.head<2>().norm(), std::abs(c.z()));
-    if (len < 0.1 * hmax || lean < 5 * M_PI / 180 || clean < 5 * M_PI / 180) continue;
-    double a = std::atan2(d.y(), d.x()) - std::atan2(c.y(), c.x());
-    a = std::abs(std::remainder(a, 2 * M_PI));
-    const double w = len * std::sin(lean);
-    se += w * a;
-    sw += w;
-  }
-  q.lean_angle_error_deg = sw > 0 ? se / sw * 180 / M_PI : 0.0;
+  q.lean_angle_error_deg = lean_error_deg(r, o, cov);
 
   // Steps across seams and within patches.
   const double href = he.cwiseAbs().maxCoeff();  // already times height_factor

@@ -67,6 +67,12 @@ constexpr double kDeg = M_PI / 180.0;
 
 double nonzero_sign(double x) { return x < 0 ? -1.0 : 1.0; }  // Sec. 8.3.2.2: sign(0) = +1
 
+// \p base once \p o passed its table: the codec's members are built from both.
+const Mesh& checked(const Mesh& base, const TextureOptions& o) {
+  check_options(o);
+  return base;
+}
+
 OneFormFitOptions fit_options(const TextureOptions& o) {
   OneFormFitOptions f;
   f.tangential = o.tangential_fit;
@@ -177,15 +183,12 @@ void require_matching(const Mesh& base, const Texture& t, const char* what) {
 }  // namespace
 
 TextureCodec::TextureCodec(const Mesh& base, const TextureOptions& options)
-    : base_(base),
+    : base_(checked(base, options)),
       X_(positions(base)),
       N_(vertex_normals(base, options.normals)),
       options_(options),
       fitter_(base_, fit_options(options), N_),
-      mean_edge_(mean_edge_length(base)) {
-  if (!(options.fit_tolerance > 0) || options.max_iterations < 0 || options.stall_iterations < 1)
-    throw InvalidInput("texture: fit tolerance and stall iterations must be positive, max iterations non-negative");
-}
+      mean_edge_(mean_edge_length(base)) {}
 
 Texture TextureCodec::extract(const MatrixX3d& textured) {
   if (textured.rows() != X_.rows())

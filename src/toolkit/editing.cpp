@@ -207,9 +207,76 @@ SparseMatrix editing_laplacian(const Mesh& mesh, LaplacianType type) {
   return L;
 }
 
+namespace {
+
+// Eq. (5.22) with T_i linear in X' (Sorkine et al. 2004): T_i = [[s, −h3, h2], [h3, s, −h1], [−h2, h1, s]]
+// plus a translation, with (s, h, t) = (A_iᵀ A_i)⁻¹ A_iᵀ b_i the least-squares fit (Eq. 5.24) of the
+// rest 1-ring A_i to the unknown one b_i. Each row block is L_i X' − T_i(X') δ_i = 0; unknowns are
+// ordered x-block, y-block, z-block.
+// G is assembled row by row: row d·n + i holds the 3k coordinates of i's closed ring (k vertices),
+// columns e·n + j in order (e the coordinate, j the ring's vertices sorted).
+RowSparseMatrix linear_method_matrix(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& D, const SparseMatrix& L) {
+  const int n = static_cast<int>(X.rows());
+  const Rings rings(mesh);
+  const RowSparseMatrix Lr = L;
+  RowSparseMatrix G(3 * n, 3 * n);
+  {
+    std::vector<int64_t> start(3 * static_cast<size_t>(n) + 1, 0);
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < n; ++i) start[size_t(d) * n + i + 1] = 3 * rings.size(i);
+    for (size_t r = 0; r < 3 * static_cast<size_t>(n); ++r) start[r + 1] += start[r];
+    if (start.back() > std::numeric_limits<int>::max())
+      throw OutOfMemory(fmt::format("the linear method's system for {} vertices has {} nonzeros, more than a "
+                                    "sparse matrix's 32-bit indices hold", n, start.back()));
+    G.resizeNonZeros(static_cast<Eigen::Index>(start.back()));
+    for (size_t r = 0; r <= 3 * static_cast<size_t>(n); ++r) G.outerIndexPtr()[r] = static_cast<int>(start[r]);
+  }
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int i = 0; i < n; ++i) {
+    const int k = rings.size(i);
+    const int* ids = rings.begin(i);
+    Eigen::MatrixXd A(3 * k, 7);
+    for (int r = 0; r < k; ++r) {
+      const double x = X(ids[r], 0), y = X(ids[r], 1), z = X(ids[r], 2);
+      A.row(3 * r + 0) << x, 0, z, -y, 1, 0, 0;
+      A.row(3 * r + 1) << y, -z, 0, x, 0, 1, 0;
+      A.row(3 * r + 2) << z, y, -x, 0, 0, 0, 1;
+    }
+    const Eigen::MatrixXd Pinv = (A.transpose() * A).ldlt().solve(A.transpose());  // 7 by 3k
+    const double dx = D(i, 0), dy = D(i, 1), dz = D(i, 2);
+    Eigen::Matrix<double, 3, 7> Dm;
+    Dm << dx, 0, dz, -dy, 0, 0, 0,
+          dy, -dz, 0, dx, 0, 0, 0,
+          dz, dy, -dx, 0, 0, 0, 0;
+    // Row block of vertex i: L_i on its own coordinate minus T_i(X') δ_i (3 by 3k, by ring position).
+    Eigen::MatrixXd M = -(Dm * Pinv);
+    std::vector<int> order(k);
+    for (int r = 0; r < k; ++r) order[r] = r;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return ids[a] < ids[b]; });
+    int p = 0;  // L's row and the sorted ring, walked together (the Laplacian lives on the ring)
+    for (RowSparseMatrix::InnerIterator it(Lr, i); it; ++it) {
+      while (p < k && ids[order[p]] < it.col()) ++p;
+      if (p < k && ids[order[p]] == it.col())
+        for (int d = 0; d < 3; ++d) M(d, 3 * order[p] + d) += it.value();
+    }
+    for (int d = 0; d < 3; ++d) {
+      int at = G.outerIndexPtr()[size_t(d) * n + i];
+      for (int e = 0; e < 3; ++e)
+        for (int r : order) {
+          G.innerIndexPtr()[at] = e * n + ids[r];
+          G.valuePtr()[at++] = M(d, 3 * r + e);
+        }
+    }
+  }
+  return G;
+}
+
+}  // namespace
+
 LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std::vector<double> weights,
                                  const EditOptions& options)
     : mesh_(&mesh), handles_(std::move(handles)), options_(options) {
+  check_options(options);
   require_valid(mesh, "editing input");
   const int n = static_cast<int>(mesh.n_vertices());
   if (handles_.empty()) throw InvalidInput("Laplacian editing needs at least one handle vertex");
@@ -273,63 +340,8 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
     return;
   }
 
-  // Eq. (5.22) with T_i linear in X' (Sorkine et al. 2004): T_i = [[s, −h3, h2], [h3, s, −h1], [−h2, h1, s]]
-  // plus a translation, with (s, h, t) = (A_iᵀ A_i)⁻¹ A_iᵀ b_i the least-squares fit (Eq. 5.24) of the
-  // rest 1-ring A_i to the unknown one b_i. Each row block is L_i X' − T_i(X') δ_i = 0; unknowns are
-  // ordered x-block, y-block, z-block.
-  // G is assembled row by row: row d·n + i holds the 3k coordinates of i's closed ring (k vertices),
-  // columns e·n + j in order (e the coordinate, j the ring's vertices sorted).
-  const Rings rings(mesh);
-  const RowSparseMatrix Lr = L_;
-  RowSparseMatrix G(3 * n, 3 * n);
-  {
-    std::vector<int64_t> start(3 * static_cast<size_t>(n) + 1, 0);
-    for (int d = 0; d < 3; ++d)
-      for (int i = 0; i < n; ++i) start[size_t(d) * n + i + 1] = 3 * rings.size(i);
-    for (size_t r = 0; r < 3 * static_cast<size_t>(n); ++r) start[r + 1] += start[r];
-    if (start.back() > std::numeric_limits<int>::max())
-      throw OutOfMemory(fmt::format("the linear method's system for {} vertices has {} nonzeros, more than a "
-                                    "sparse matrix's 32-bit indices hold", n, start.back()));
-    G.resizeNonZeros(static_cast<Eigen::Index>(start.back()));
-    for (size_t r = 0; r <= 3 * static_cast<size_t>(n); ++r) G.outerIndexPtr()[r] = static_cast<int>(start[r]);
-  }
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int i = 0; i < n; ++i) {
-    const int k = rings.size(i);
-    const int* ids = rings.begin(i);
-    Eigen::MatrixXd A(3 * k, 7);
-    for (int r = 0; r < k; ++r) {
-      const double x = X_(ids[r], 0), y = X_(ids[r], 1), z = X_(ids[r], 2);
-      A.row(3 * r + 0) << x, 0, z, -y, 1, 0, 0;
-      A.row(3 * r + 1) << y, -z, 0, x, 0, 1, 0;
-      A.row(3 * r + 2) << z, y, -x, 0, 0, 0, 1;
-    }
-    const Eigen::MatrixXd Pinv = (A.transpose() * A).ldlt().solve(A.transpose());  // 7 by 3k
-    const double dx = D_(i, 0), dy = D_(i, 1), dz = D_(i, 2);
-    Eigen::Matrix<double, 3, 7> Dm;
-    Dm << dx, 0, dz, -dy, 0, 0, 0,
-          dy, -dz, 0, dx, 0, 0, 0,
-          dz, dy, -dx, 0, 0, 0, 0;
-    // Row block of vertex i: L_i on its own coordinate minus T_i(X') δ_i (3 by 3k, by ring position).
-    Eigen::MatrixXd M = -(Dm * Pinv);
-    std::vector<int> order(k);
-    for (int r = 0; r < k; ++r) order[r] = r;
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return ids[a] < ids[b]; });
-    int p = 0;  // L's row and the sorted ring, walked together (the Laplacian lives on the ring)
-    for (RowSparseMatrix::InnerIterator it(Lr, i); it; ++it) {
-      while (p < k && ids[order[p]] < it.col()) ++p;
-      if (p < k && ids[order[p]] == it.col())
-        for (int d = 0; d < 3; ++d) M(d, 3 * order[p] + d) += it.value();
-    }
-    for (int d = 0; d < 3; ++d) {
-      int at = G.outerIndexPtr()[size_t(d) * n + i];
-      for (int e = 0; e < 3; ++e)
-        for (int r : order) {
-          G.innerIndexPtr()[at] = e * n + ids[r];
-          G.valuePtr()[at++] = M(d, 3 * r + e);
-        }
-    }
-  }
+  // Eq. (5.22) with T_i linear in X' (Sorkine et al. 2004): see linear_method_matrix().
+  RowSparseMatrix G = linear_method_matrix(mesh, X_, D_, L_);
   Eigen::VectorXd w3(3 * n);
   for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = Wd.diagonal();
   try {

@@ -287,6 +287,7 @@ struct OneFormFitter::Impl {
 
 OneFormFitter::OneFormFitter(const Mesh& mesh, const OneFormFitOptions& options, const MatrixX3d& normals)
     : impl_(std::make_unique<Impl>()) {
+  check_options(options);
   require_valid(mesh, "1-form fit: mesh");
   Impl& s = *impl_;
   s.mesh = &mesh;

@@ -237,6 +237,7 @@ MatrixX2d boundary_on_circle(const Mesh& mesh, const std::vector<int>& loop) {
 }
 
 MatrixX2d parametrize(const Mesh& disk, const ParametrizationOptions& options) {
+  check_options(options);
   require_valid(disk, "parametrization input");
   if (const std::string why = disk_topology_problem(disk); !why.empty())
     throw InvalidInput("parametrization needs a disk-topology mesh: " + why);
@@ -251,7 +252,6 @@ MatrixX2d parametrize(const Mesh& disk, const ParametrizationOptions& options) {
   SparseMatrix K = authalic_matrix(disk);
   if (options.method == ParamMethod::Combined) {
     const double lambda = options.conformal_weight;
-    if (!(lambda >= 0 && lambda <= 1)) throw InvalidInput("conformal_weight must lie in [0, 1]");
     const double h2 = std::pow(mean_edge_length(disk), 2);
     K = (lambda * 2.0) * cotan_matrix(disk, {kMaxCot}) + ((1.0 - lambda) * h2) * K;
   }

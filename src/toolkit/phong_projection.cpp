@@ -257,6 +257,7 @@ PhongNewtonResult phong_project_newton(const Vec3& p, const PhongTriangle& t, co
 
 PhongProjector::PhongProjector(const Mesh& mesh, const MatrixX3d& normals, const PhongProjectionOptions& options)
     : tree_(mesh), options_(options) {
+  check_options(options);
   require_valid(mesh, "Phong projection: base mesh");
   N_ = normals.rows() == 0 ? vertex_normals(mesh, NormalWeighting::Angle) : normals;
   if (N_.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))

@@ -103,10 +103,8 @@ void rescale_like(const Mesh& reference, Mesh& mesh) {
 }
 
 MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
+  check_options(opt);
   require_valid(input, "smooth: input mesh");
-  if (opt.steps < 0) throw InvalidInput("smooth: steps must be >= 0");
-  if (!(opt.lambda > 0) || !std::isfinite(opt.lambda)) throw InvalidInput("smooth: lambda must be > 0");
-  if (!(opt.stop_tolerance >= 0)) throw InvalidInput("smooth: stop tolerance must be >= 0");
 
   Mesh mesh = input;
   const bool closed = boundary_loops(mesh).empty();

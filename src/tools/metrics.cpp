@@ -92,7 +92,7 @@ constexpr int kHubFaces = 1024;
 constexpr int kMaxSlabs = 8;
 
 // A bounding-volume tree over boxes, searched by box overlap: the boxes of a long edge's pieces are
-// tighter than the balls around them that TriangleTree::faces_near takes (a diagonal piece's box has a
+// tighter than balls around them (a diagonal piece's box has a
 // fifth of its ball's volume), and a flat node array keeps each visit to a few loads.
 class BoxTree {
  public:

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <png.h>
@@ -168,10 +169,10 @@ MatrixX3d face_vertices(const Mesh& mesh) {
 }
 
 Camera fit_camera(const MatrixX3d& V, const RenderOptions& o, int reserved_right) {
+  check_options(o);
   if (V.rows() == 0) throw InvalidInput("fit_camera: no vertices");
   const int width = o.width - reserved_right, height = o.height;
-  if (width <= 0 || height <= 0) throw InvalidInput(fmt::format("bad picture size {}x{}", width, height));
-  if (!(o.zoom > 0) || !std::isfinite(o.zoom)) throw InvalidInput(fmt::format("zoom {} is not positive", o.zoom));
+  if (width <= 0) throw InvalidInput(fmt::format("no room for the picture: width {}, {} reserved", o.width, reserved_right));
   Camera c;
   const Vec3 lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
   view_axes(o.view, up_vector(o.up, V), c.right, c.up, c.forward);
@@ -242,18 +243,9 @@ std::vector<T> filled(size_t n, T v) {
   }
   return out;
 }
-}  // namespace
 
-Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLayers& layers) {
-  require_valid(mesh, "mesh to render");
-  if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
-    throw InvalidInput(fmt::format("bad picture size {}x{}", o.width, o.height));
-  if (o.supersampling < 1 || o.supersampling > 8) throw InvalidInput("supersampling must be in 1..8");
-  const MatrixX3d V = positions(mesh);
-  const MatrixX3i F = faces(mesh);
-  const Eigen::Index nv = V.rows();
-  const bool has_field = layers.field.size() > 0;
-  if (has_field && layers.field.size() != nv)
+void check_layers(const RenderLayers& layers, Eigen::Index nv) {
+  if (layers.field.size() > 0 && layers.field.size() != nv)
     throw InvalidInput(fmt::format("field has {} values for a mesh of {} vertices", layers.field.size(), nv));
   if (layers.segments.rows() > 0 && (layers.segments.minCoeff() < 0 || layers.segments.maxCoeff() >= nv))
     throw InvalidInput("edge segment refers to a vertex outside the mesh");
@@ -263,34 +255,46 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
   if (has_uv && layers.uv.rows() != nv)
     throw InvalidInput(fmt::format("uv has {} rows for a mesh of {} vertices", layers.uv.rows(), nv));
   if (has_uv && !(layers.checker_size > 0)) throw InvalidInput("checker size must be positive");
+}
 
-  Rendering out;
-  const bool show_legend = has_field && !has_uv && o.legend;
-  out.camera = o.camera ? *o.camera : fit_camera(mesh, o, show_legend ? legend_width(o.width, o.height) : 0);
-  const Camera& cam = out.camera;
-
-  // Colour-map range.
+// The colour map's range: the layers' own, else the field's finite values (never empty).
+std::pair<double, double> colour_range(const RenderLayers& layers) {
   double lo = layers.field_lo, hi = layers.field_hi;
-  if (has_field && !(lo < hi)) {
+  if (layers.field.size() > 0 && !(lo < hi)) {
     lo = std::numeric_limits<double>::max();
     hi = -lo;
-    for (Eigen::Index i = 0; i < nv; ++i)
+    for (Eigen::Index i = 0; i < layers.field.size(); ++i)
       if (std::isfinite(layers.field[i])) lo = std::min(lo, layers.field[i]), hi = std::max(hi, layers.field[i]);
     if (!(lo <= hi)) lo = hi = 0;
     if (hi - lo < 1e-300) hi = lo + 1.0;
   }
-  out.field_lo = lo;
-  out.field_hi = hi;
+  return {lo, hi};
+}
 
-  // Rasterize at k× resolution into a depth buffer and a face-index buffer.
-  const int k = o.supersampling;
-  const int W = o.width * k, H = o.height * k;
+// The picture at k× resolution: k×k samples per pixel, each with its depth, the face seen and its colour.
+struct Samples {
+  int k = 1, W = 0, H = 0;
+  std::vector<Projected> P;   // the vertices on screen, in samples
+  std::vector<float> depth;
+  std::vector<int> face_at;   // -1: background
+  std::vector<float> colour;  // RGB
+};
+
+// Rasterize the faces into the depth and face buffers (two-sided), in horizontal bands in parallel.
+Samples rasterize(const MatrixX3d& V, const MatrixX3i& F, const Camera& cam, const RenderOptions& o) {
+  Samples S;
+  S.k = o.supersampling;
+  S.W = o.width * S.k, S.H = o.height * S.k;
+  const int k = S.k, W = S.W, H = S.H;
   const double scale = cam.scale * k;
   const double cx = 0.5 * cam.width * k, cy = 0.5 * cam.height * k;
-  std::vector<Projected> P(nv);
-  for (Eigen::Index i = 0; i < nv; ++i) P[i] = project(cam, V.row(i).transpose(), cx, cy, scale);
-  std::vector<float> depth = filled(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
-  std::vector<int> face_at = filled(static_cast<size_t>(W) * H, -1);
+  S.P.resize(V.rows());
+  for (Eigen::Index i = 0; i < V.rows(); ++i) S.P[i] = project(cam, V.row(i).transpose(), cx, cy, scale);
+  S.depth = filled(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
+  S.face_at = filled(static_cast<size_t>(W) * H, -1);
+  const std::vector<Projected>& P = S.P;
+  std::vector<float>& depth = S.depth;
+  std::vector<int>& face_at = S.face_at;
   const int bands = std::max(1, std::min(H, 64));
   // Ctrl-C (Python): the workers skip what is left once the caller's flag is set (progress.h).
   const std::atomic<bool>* stop = InterruptScope::current();
@@ -346,20 +350,31 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
       }
     }
   }
-
   check_interrupt();
-  // Shade every covered sample: Lambert + Blinn-Phong, one key light above-left of the camera.
+  return S;
+}
+
+// Shade every covered sample: Lambert + Blinn-Phong, one key light above-left of the camera; the
+// surface coloured by the field (colour map over [lo, hi]), the UV checker or the base colour.
+// \return the samples covered.
+size_t shade(Samples& S, const Mesh& mesh, const MatrixX3i& F, const Camera& cam, const RenderOptions& o,
+             const RenderLayers& layers, double lo, double hi) {
+  const bool has_field = layers.field.size() > 0, has_uv = layers.uv.rows() > 0;
   const MatrixX3d N = o.smooth ? vertex_normals(mesh) : face_normals(mesh);
   const Vec3 view_dir = -cam.forward;
   const Vec3 light = (view_dir + 0.55 * cam.up - 0.35 * cam.right).normalized();
   const Vec3 half = (light + view_dir).normalized();
-  std::vector<float> colour = filled(static_cast<size_t>(W) * H * 3, 0.0f);
+  const int W = S.W, H = S.H;
+  const std::vector<Projected>& P = S.P;
+  S.colour = filled(static_cast<size_t>(W) * H * 3, 0.0f);
+  std::vector<float>& colour = S.colour;
+  const std::atomic<bool>* stop = InterruptScope::current();
   size_t covered = 0;
 #pragma omp parallel for reduction(+ : covered) schedule(static)
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W && !interrupt_requested(stop); ++x) {
       const size_t idx = static_cast<size_t>(y) * W + x;
-      const int f = face_at[idx];
+      const int f = S.face_at[idx];
       Vec3 c = o.background;
       if (f >= 0) {
         ++covered;
@@ -391,84 +406,111 @@ Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLaye
       for (int j = 0; j < 3; ++j) colour[3 * idx + j] = static_cast<float>(c[j]);
     }
   check_interrupt();
-  out.covered_pixels = static_cast<size_t>(std::llround(static_cast<double>(covered) / (k * k)));
+  return covered;
+}
 
-  // Edge lines: disks stamped along each segment, hidden where the surface lies in front.
-  if (layers.segments.rows() > 0) {
-    const double extent = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-    const double bias = 0.01 * extent;
-    const double radius = 0.5 * o.line_width * k;
-    const int r = static_cast<int>(std::ceil(radius));
-    for (Eigen::Index s = 0; s < layers.segments.rows(); ++s) {
-      if (s % 1024 == 0) check_interrupt();
-      const Projected &a = P[layers.segments(s, 0)], &b = P[layers.segments(s, 1)];
-      const Vec3 lc = label_colour(layers.segment_labels.size() ? layers.segment_labels[s] : 1);
-      const double len = std::hypot(b.x - a.x, b.y - a.y);
-      const int steps = std::max(1, static_cast<int>(std::ceil(len / 0.5)));
-      for (int t = 0; t <= steps; ++t) {
-        const double u = static_cast<double>(t) / steps;
-        const double px = a.x + u * (b.x - a.x), py = a.y + u * (b.y - a.y);
-        const double pz = a.depth + u * (b.depth - a.depth);
-        for (int dy = -r; dy <= r; ++dy)
-          for (int dx = -r; dx <= r; ++dx) {
-            const int X = static_cast<int>(std::floor(px)) + dx, Y = static_cast<int>(std::floor(py)) + dy;
-            if (X < 0 || Y < 0 || X >= W || Y >= H) continue;
-            if (std::hypot(X + 0.5 - px, Y + 0.5 - py) > radius) continue;
-            const size_t idx = static_cast<size_t>(Y) * W + X;
-            if (pz > depth[idx] + bias) continue;
-            for (int j = 0; j < 3; ++j) colour[3 * idx + j] = static_cast<float>(lc[j]);
-          }
-      }
+// Edge lines: disks stamped along each segment, hidden where the surface lies in front.
+void draw_segments(Samples& S, const MatrixX3d& V, const RenderOptions& o, const RenderLayers& layers) {
+  const double extent = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  const double bias = 0.01 * extent;
+  const double radius = 0.5 * o.line_width * S.k;
+  const int r = static_cast<int>(std::ceil(radius));
+  for (Eigen::Index s = 0; s < layers.segments.rows(); ++s) {
+    if (s % 1024 == 0) check_interrupt();
+    const Projected &a = S.P[layers.segments(s, 0)], &b = S.P[layers.segments(s, 1)];
+    const Vec3 lc = label_colour(layers.segment_labels.size() ? layers.segment_labels[s] : 1);
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    const int steps = std::max(1, static_cast<int>(std::ceil(len / 0.5)));
+    for (int t = 0; t <= steps; ++t) {
+      const double u = static_cast<double>(t) / steps;
+      const double px = a.x + u * (b.x - a.x), py = a.y + u * (b.y - a.y);
+      const double pz = a.depth + u * (b.depth - a.depth);
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          const int X = static_cast<int>(std::floor(px)) + dx, Y = static_cast<int>(std::floor(py)) + dy;
+          if (X < 0 || Y < 0 || X >= S.W || Y >= S.H) continue;
+          if (std::hypot(X + 0.5 - px, Y + 0.5 - py) > radius) continue;
+          const size_t idx = static_cast<size_t>(Y) * S.W + X;
+          if (pz > S.depth[idx] + bias) continue;
+          for (int j = 0; j < 3; ++j) S.colour[3 * idx + j] = static_cast<float>(lc[j]);
+        }
     }
   }
+}
 
-  // Box-filter the samples down to the picture.
-  Image& img = out.image;
-  img.width = o.width;
-  img.height = o.height;
-  img.rgb.assign(static_cast<size_t>(o.width) * o.height * 3, 0);
+// Box-filter the samples down to the picture.
+Image downsample(const Samples& S, int width, int height) {
+  const int k = S.k;
+  Image img;
+  img.width = width;
+  img.height = height;
+  img.rgb.assign(static_cast<size_t>(width) * height * 3, 0);
 #pragma omp parallel for schedule(static)
-  for (int y = 0; y < o.height; ++y)
-    for (int x = 0; x < o.width; ++x)
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
       for (int j = 0; j < 3; ++j) {
         double sum = 0;
         for (int sy = 0; sy < k; ++sy)
-          for (int sx = 0; sx < k; ++sx) sum += colour[3 * ((static_cast<size_t>(y) * k + sy) * W + x * k + sx) + j];
+          for (int sx = 0; sx < k; ++sx) sum += S.colour[3 * ((static_cast<size_t>(y) * k + sy) * S.W + x * k + sx) + j];
         img.pixel(x, y)[j] = to_byte(sum / (k * k));
       }
+  return img;
+}
 
-  // Legend: a vertical colour bar with the range's ends.
-  if (show_legend) {
-    const int legend_w = legend_width(o.width, o.height), text_px = legend_text_scale(o.height);
-    const int bar_w = std::max(8, 8 * text_px);
-    const int bx = o.width - legend_w + 8, by0 = o.height / 8, by1 = o.height - o.height / 8;
-    for (int y = by0; y <= by1; ++y) {
-      const Vec3 c = colour_map(1.0 - static_cast<double>(y - by0) / std::max(1, by1 - by0));
-      for (int x = bx; x < bx + bar_w && x < o.width; ++x)
-        for (int j = 0; j < 3; ++j) img.pixel(x, y)[j] = to_byte(c[j]);
-    }
-    // "1.37e-06" → "1.37e-6": short labels fit beside the bar.
-    auto label = [](double v) {
-      std::string s = fmt::format("{:.3g}", v);
-      const size_t e = s.find('e');
-      if (e != std::string::npos) {
-        size_t d = e + 2;
-        while (d + 1 < s.size() && s[d] == '0') s.erase(d, 1);
-        if (s[e + 1] == '+') s.erase(e + 1, 1);
-      }
-      return s;
-    };
-    const Vec3 ink(0.1, 0.1, 0.1);
-    const int room = o.width - (bx + bar_w + 4) - 2;
-    for (const auto& [value, y] : {std::pair{hi, by0}, std::pair{lo, by1}}) {
-      const std::string s = label(value);
-      // The font's pixels scale with the picture (7 rows of text_px pixels), narrower when the label
-      // would not fit beside the bar.
-      int px = text_px;
-      while (px > 1 && 6 * px * static_cast<int>(s.size()) > room) --px;
-      draw_text(img, bx + bar_w + 4, y - (y == by1 ? 7 * px : 0), s, px, ink);
-    }
+// "1.37e-06" → "1.37e-6": short labels fit beside the bar.
+std::string legend_label(double v) {
+  std::string s = fmt::format("{:.3g}", v);
+  const size_t e = s.find('e');
+  if (e != std::string::npos) {
+    size_t d = e + 2;
+    while (d + 1 < s.size() && s[d] == '0') s.erase(d, 1);
+    if (s[e + 1] == '+') s.erase(e + 1, 1);
   }
+  return s;
+}
+
+// Legend: a vertical colour bar at the right with the range's ends.
+void draw_legend(Image& img, double lo, double hi) {
+  const int legend_w = legend_width(img.width, img.height), text_px = legend_text_scale(img.height);
+  const int bar_w = std::max(8, 8 * text_px);
+  const int bx = img.width - legend_w + 8, by0 = img.height / 8, by1 = img.height - img.height / 8;
+  for (int y = by0; y <= by1; ++y) {
+    const Vec3 c = colour_map(1.0 - static_cast<double>(y - by0) / std::max(1, by1 - by0));
+    for (int x = bx; x < bx + bar_w && x < img.width; ++x)
+      for (int j = 0; j < 3; ++j) img.pixel(x, y)[j] = to_byte(c[j]);
+  }
+  const Vec3 ink(0.1, 0.1, 0.1);
+  const int room = img.width - (bx + bar_w + 4) - 2;
+  for (const auto& [value, y] : {std::pair{hi, by0}, std::pair{lo, by1}}) {
+    const std::string s = legend_label(value);
+    // The font's pixels scale with the picture (7 rows of text_px pixels), narrower when the label
+    // would not fit beside the bar.
+    int px = text_px;
+    while (px > 1 && 6 * px * static_cast<int>(s.size()) > room) --px;
+    draw_text(img, bx + bar_w + 4, y - (y == by1 ? 7 * px : 0), s, px, ink);
+  }
+}
+
+}  // namespace
+
+Rendering render_mesh(const Mesh& mesh, const RenderOptions& o, const RenderLayers& layers) {
+  check_options(o);
+  require_valid(mesh, "mesh to render");
+  const MatrixX3d V = positions(mesh);
+  const MatrixX3i F = faces(mesh);
+  check_layers(layers, V.rows());
+  const bool has_field = layers.field.size() > 0, has_uv = layers.uv.rows() > 0;
+
+  Rendering out;
+  const bool show_legend = has_field && !has_uv && o.legend;
+  out.camera = o.camera ? *o.camera : fit_camera(mesh, o, show_legend ? legend_width(o.width, o.height) : 0);
+  std::tie(out.field_lo, out.field_hi) = colour_range(layers);
+  Samples S = rasterize(V, F, out.camera, o);
+  const size_t covered = shade(S, mesh, F, out.camera, o, layers, out.field_lo, out.field_hi);
+  out.covered_pixels = static_cast<size_t>(std::llround(static_cast<double>(covered) / (S.k * S.k)));
+  if (layers.segments.rows() > 0) draw_segments(S, V, o, layers);
+  out.image = downsample(S, o.width, o.height);
+  if (show_legend) draw_legend(out.image, out.field_lo, out.field_hi);
   return out;
 }
 

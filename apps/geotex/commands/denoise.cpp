@@ -86,10 +86,11 @@ Registrar reg{50, "denoise", "Denoise a mesh and find its sharp edges (methods: 
       info(fmt::format("wrote {} ({} sharp edges)", a->edges_obj, rows.size()));
     }
     if (!a->report.empty()) {
+      nlohmann::json parameters = std::move(r.report["parameters"]);  // the method's options, as it ran
+      r.report.erase("parameters");
       r.report.update(denoise_run_results().report(geotex::DenoiseRun{a->method, sec}));
       r.report["input"] = io->input;  // the CLI's own: the input file
-      write_text_atomic(a->report, r.report.dump(2) + "\n");
-      info(fmt::format("wrote {}", a->report));
+      write_report(a->report, std::move(r.report), sec, std::move(parameters));
     }
     out.commit();
   });

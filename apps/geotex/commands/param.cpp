@@ -6,7 +6,9 @@
 
 #include "cli.h"
 #include "option_flags.h"
+#include "geotex/core/results.h"
 #include "geotex/toolkit/parametrization.h"
+#include "geotex/toolkit/results.h"
 
 namespace geotex::cli {
 namespace cmd_param {  // named, not anonymous: a unity build compiles several commands in one unit
@@ -23,11 +25,11 @@ void run(const MeshIo& io, bool json, const ParametrizationOptions& o) {
                    "mean |log area ratio| {:.3f}",
                    method, mesh.n_vertices(), sec, q.flipped, q.mean_angle_error_deg, q.mean_log_area_ratio));
   if (json) {
-    nlohmann::json j{{"method", method},         {"vertices", mesh.n_vertices()},
-                     {"seconds", sec},             {"flipped", q.flipped},
-                     {"mean_angle_error_deg", q.mean_angle_error_deg},
-                     {"max_angle_error_deg", q.max_angle_error_deg},
-                     {"mean_log_area_ratio", q.mean_log_area_ratio}};
+    // The quality's fields, as Python's parametrization_quality() has them; the method and size are the CLI's.
+    nlohmann::json j = param_quality_results().report(q);
+    j.update(run_time_results().report({sec}));
+    j["method"] = method;
+    j["vertices"] = mesh.n_vertices();
     fmt::print("{}\n", j.dump(2));
   }
   write_obj_with_uv(mesh, uv, io.output);

@@ -57,30 +57,28 @@ struct Figure {
 //! The up axis a figure asked for (generated shapes: z; real models: read from the model).
 UpAxis figure_up(const Figure& f) { return parse_enum(up_axis_names(), f.spec.value("up", std::string("z")), "up"); }
 
-DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
-  nlohmann::json& r = *ctx.report;
-  const auto t0 = std::chrono::steady_clock::now();
-  const fs::path pictures = ctx.dir / "pictures", views = ctx.dir / "views";
-  fs::create_directories(pictures);
-  fs::create_directories(views);
+using Steps = std::vector<std::pair<std::string, std::string>>;  // (section, step) in order
+using Notes = std::map<std::string, std::vector<std::string>>;     // step → notes
 
-  // The figures, in the steps' order, and the steps' notes.
+// The figures the steps asked for, in the steps' order; the steps with figures or notes, and the notes.
+std::vector<Figure> collect_figures(const DemoContext& ctx, Steps& steps, Notes& notes) {
   std::vector<Figure> figures;
-  std::vector<std::pair<std::string, std::string>> steps;  // (section, step) in order
-  std::map<std::string, std::vector<std::string>> notes;   // step → notes
-  if (ctx.steps)
-    for (const auto& s : *ctx.steps) {
-      const std::string section = s.value("section", std::string("Other")), name = s.value("name", std::string());
-      if (s.contains("notes"))
-        for (const auto& n : s["notes"]) notes[name].push_back(n.get<std::string>());
-      if (!s.contains("figures") && !notes.count(name)) continue;
-      steps.emplace_back(section, name);
-      if (s.contains("figures"))
-        for (const auto& f : s["figures"]) figures.push_back({section, name, f});
-    }
+  if (!ctx.steps) return figures;
+  for (const auto& s : *ctx.steps) {
+    const std::string section = s.value("section", std::string("Other")), name = s.value("name", std::string());
+    if (s.contains("notes"))
+      for (const auto& n : s["notes"]) notes[name].push_back(n.get<std::string>());
+    if (!s.contains("figures") && !notes.count(name)) continue;
+    steps.emplace_back(section, name);
+    if (s.contains("figures"))
+      for (const auto& f : s["figures"]) figures.push_back({section, name, f});
+  }
+  return figures;
+}
 
-  // Meshes, read once each.
-  std::map<std::string, Loaded> meshes;
+// Each figure's mesh (read once each into \p meshes), field and edges; what cannot be drawn is the
+// figure's problem.
+void load_figures(const DemoContext& ctx, std::vector<Figure>& figures, std::map<std::string, Loaded>& meshes) {
   auto load = [&](const std::string& file) -> const Loaded* {
     if (auto it = meshes.find(file); it != meshes.end()) return &it->second;
     Loaded l;
@@ -110,20 +108,28 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
       f.problem = e.what();
     }
   }
+}
 
-  // Comparisons: one camera for all their meshes, one colour range for their fields.
-  struct Shared {
-    std::vector<Figure*> members;
-    double lo = 0, hi = 0;
-    std::optional<Camera> camera;
-  };
-  std::map<std::string, Shared> shared;
-  for (auto& f : figures)
-    if (f.spec.contains("compare") && f.problem.empty()) shared[f.spec["compare"].get<std::string>()].members.push_back(&f);
+// A comparison: its figures share one camera and one colour range.
+struct Shared {
+  std::vector<Figure*> members;
+  double lo = 0, hi = 0;
+  std::optional<Camera> camera;
+};
+
+RenderOptions picture_options() {
   RenderOptions base;
   base.width = kWidth;
   base.height = kHeight;
   base.supersampling = kSamples;
+  return base;
+}
+
+// The comparisons by key, each with the camera that fits all its meshes and the range of its fields.
+std::map<std::string, Shared> comparisons(std::vector<Figure>& figures) {
+  std::map<std::string, Shared> shared;
+  for (auto& f : figures)
+    if (f.spec.contains("compare") && f.problem.empty()) shared[f.spec["compare"].get<std::string>()].members.push_back(&f);
   for (auto& [key, g] : shared) {
     bool error = false, any_field = false;
     Eigen::Index rows = 0;
@@ -151,19 +157,23 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
       all.middleRows(at, P.rows()) = P;
       at += P.rows();
     }
-    RenderOptions o = base;
+    RenderOptions o = picture_options();
     o.view = view_direction_from_name(g.members.front()->spec.value("view", std::string("iso")));
     o.up = figure_up(*g.members.front());
     g.camera = fit_camera(all, o, any_field ? legend_width(o.width, o.height) : 0);
   }
+  return shared;
+}
 
-  // Pictures.
+// Draw every figure that can be drawn into pictures/. \return the pictures drawn; \p shown gets the
+// mesh files the figures show.
+size_t draw_pictures(const DemoContext& ctx, std::vector<Figure>& figures, const std::map<std::string, Shared>& shared,
+                     std::set<std::string>& shown) {
   size_t drawn = 0;
-  std::set<std::string> shown;
   for (auto& f : figures) {
     if (f.data) shown.insert(f.spec["mesh"].get<std::string>());
     if (!f.problem.empty()) continue;
-    RenderOptions o = base;
+    RenderOptions o = picture_options();
     o.view = view_direction_from_name(f.spec.value("view", std::string("iso")));
     o.up = figure_up(f);
     RenderLayers rl;
@@ -193,42 +203,66 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     write_png(render_mesh(f.data->mesh, o, rl).image, ctx.dir / f.picture);
     ++drawn;
   }
+  return drawn;
+}
 
-  // 3D pages: one per comparison (up to six meshes, linked cameras), one per figure outside any.
+// 3D pages in views/: one per comparison (up to six meshes, linked cameras), one per figure outside any.
+// \return the pages written (none, with a line in the summary, when the viewer's script is missing).
+size_t write_pages(const DemoContext& ctx, std::vector<Figure>& figures, std::map<std::string, Shared>& shared) {
   std::string script;
   try {
     script = viewer_script();
-    write_text_atomic(views / "geotex-viewer.js", script);
+    write_text_atomic(ctx.dir / "views" / "geotex-viewer.js", script);
   } catch (const IoError& err) {
-    r["summary"].push_back(std::string("3D pages skipped: ") + err.what());
+    (*ctx.report)["summary"].push_back(std::string("3D pages skipped: ") + err.what());
+    return 0;
   }
   size_t pages = 0;
-  if (!script.empty()) {
-    auto page = [&](const std::vector<Figure*>& fs_, const std::string& name, const std::string& title) {
-      std::vector<ViewerMesh> ms;
-      std::string field;
-      for (Figure* f : fs_) {
-        if (ms.size() == 6) break;
-        ms.push_back({f->spec["mesh"].get<std::string>(), f->data->mesh, f->layers});
-        if (field.empty()) field = f->spec.value("field", std::string());
-      }
-      ViewerOptions v;
-      v.up = figure_up(*fs_.front());
-      v.title = title;
-      v.initial_field = field;
-      v.script_src = "geotex-viewer.js";
-      const std::string path = "views/" + name + ".html";
-      write_text_atomic(ctx.dir / path, viewer_page(ms, v, script));
-      ++pages;
-      for (Figure* f : fs_) f->page = path;
-    };
-    for (auto& [key, g] : shared) page(g.members, "compare-" + id_of(key), "geotex demo: " + key);
-    for (auto& f : figures)
-      if (f.problem.empty() && !f.spec.contains("compare"))
-        page({&f}, fs::path(f.spec["mesh"].get<std::string>()).stem().string(), f.spec["mesh"].get<std::string>());
-  }
+  auto page = [&](const std::vector<Figure*>& fs_, const std::string& name, const std::string& title) {
+    std::vector<ViewerMesh> ms;
+    std::string field;
+    for (Figure* f : fs_) {
+      if (ms.size() == 6) break;
+      ms.push_back({f->spec["mesh"].get<std::string>(), f->data->mesh, f->layers});
+      if (field.empty()) field = f->spec.value("field", std::string());
+    }
+    ViewerOptions v;
+    v.up = figure_up(*fs_.front());
+    v.title = title;
+    v.initial_field = field;
+    v.script_src = "geotex-viewer.js";
+    const std::string path = "views/" + name + ".html";
+    write_text_atomic(ctx.dir / path, viewer_page(ms, v, script));
+    ++pages;
+    for (Figure* f : fs_) f->page = path;
+  };
+  for (auto& [key, g] : shared) page(g.members, "compare-" + id_of(key), "geotex demo: " + key);
+  for (auto& f : figures)
+    if (f.problem.empty() && !f.spec.contains("compare"))
+      page({&f}, fs::path(f.spec["mesh"].get<std::string>()).stem().string(), f.spec["mesh"].get<std::string>());
+  return pages;
+}
 
-  // index.html: a section per part of the pipeline, a heading per step, a grid of captioned pictures.
+// One figure: its picture (a link to the full size), its caption, file, faces, 3D page and problem.
+std::string figure_html(const Figure& f) {
+  const std::string file = f.spec["mesh"].get<std::string>();
+  std::string out = "<figure>";
+  if (!f.picture.empty())
+    out += fmt::format("<a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\" width=\"{2}\" height=\"{3}\" loading=\"lazy\"></a>",
+                       f.picture, html_escape(file), kWidth / kShrink, kHeight / kShrink);
+  // Captions are written by the steps as HTML (entities, <b>, <sub>).
+  out += "<figcaption>" + f.spec.value("caption", std::string());
+  out += fmt::format(" <span class=\"files\"><a href=\"{0}\">{0}</a>", html_escape(file));
+  if (f.data) out += fmt::format(", {} faces", f.data->mesh.n_faces());
+  if (!f.page.empty()) out += fmt::format(" &middot; <a href=\"{}\">3D</a>", f.page);
+  out += "</span>";
+  if (!f.problem.empty()) out += "<br><i>" + html_escape(f.problem) + "</i>";
+  return out + "</figcaption></figure>";
+}
+
+// A section per part of the pipeline, a heading per step with its notes, a grid of captioned pictures
+// per comparison (side by side; the next comparison below).
+std::string sections_html(const Steps& steps, Notes& notes, const std::vector<Figure>& figures) {
   std::string body, section;
   for (const auto& [sec, name] : steps) {
     if (sec != section) {
@@ -239,7 +273,6 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
     }
     body += fmt::format("<h3 data-step=\"{0}\">{0}</h3>", html_escape(name));
     for (const auto& n : notes[name]) body += "<p class=\"note\">" + html_escape(n) + "</p>";
-    // A row (grid) per comparison: its pictures side by side, the next comparison below.
     std::optional<std::string> row;
     for (const auto& f : figures) {
       if (f.step != name) continue;
@@ -248,25 +281,16 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
         body += row ? "</div><div class=\"grid\">" : "<div class=\"grid\">";
         row = key;
       }
-      const std::string file = f.spec["mesh"].get<std::string>();
-      body += "<figure>";
-      if (!f.picture.empty())
-        body += fmt::format("<a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\" width=\"{2}\" height=\"{3}\" loading=\"lazy\"></a>",
-                            f.picture, html_escape(file), kWidth / kShrink, kHeight / kShrink);
-      // Captions are written by the steps as HTML (entities, <b>, <sub>).
-      body += "<figcaption>" + f.spec.value("caption", std::string());
-      body += fmt::format(" <span class=\"files\"><a href=\"{0}\">{0}</a>", html_escape(file));
-      if (f.data) body += fmt::format(", {} faces", f.data->mesh.n_faces());
-      if (!f.page.empty()) body += fmt::format(" &middot; <a href=\"{}\">3D</a>", f.page);
-      body += "</span>";
-      if (!f.problem.empty()) body += "<br><i>" + html_escape(f.problem) + "</i>";
-      body += "</figcaption></figure>";
+      body += figure_html(f);
     }
     if (row) body += "</div>\n";
   }
   if (!section.empty()) body += "</section>\n";
+  return body;
+}
 
-  // Mesh files that no figure shows.
+// The mesh files in the folder that no figure shows, sorted.
+std::vector<std::string> other_files(const DemoContext& ctx, const std::set<std::string>& shown) {
   std::vector<std::string> rest;
   for (const auto& e : fs::directory_iterator(ctx.dir)) {
     const std::string ext = e.path().extension().string();
@@ -275,13 +299,18 @@ DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
       rest.push_back(e.path().filename().string());
   }
   std::sort(rest.begin(), rest.end());
-  if (!rest.empty()) {
-    body += "<section id=\"files\" data-section=\"Files\"><h2>Other files</h2><p class=\"files\">";
-    for (size_t k = 0; k < rest.size(); ++k)
-      body += fmt::format("{}<a href=\"{}\">{}</a>", k ? " &middot; " : "", html_escape(rest[k]), html_escape(rest[k]));
-    body += "</p></section>\n";
-  }
+  return rest;
+}
 
+std::string other_files_html(const std::vector<std::string>& rest) {
+  if (rest.empty()) return {};
+  std::string body = "<section id=\"files\" data-section=\"Files\"><h2>Other files</h2><p class=\"files\">";
+  for (size_t k = 0; k < rest.size(); ++k)
+    body += fmt::format("{}<a href=\"{}\">{}</a>", k ? " &middot; " : "", html_escape(rest[k]), html_escape(rest[k]));
+  return body + "</p></section>\n";
+}
+
+void write_index(const DemoContext& ctx, const std::string& body) {
   const std::string html = fmt::format(R"(<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>geotex demo</title>
 <style>
@@ -301,6 +330,26 @@ bar at their right). Click a picture to enlarge it, "3D" for a viewer page. Step
 )",
                                        kWidth / kShrink, body);
   write_text_atomic(ctx.dir / "index.html", html);
+}
+
+DemoRegistrar step{900, "report", [](const DemoContext& ctx) {
+  nlohmann::json& r = *ctx.report;
+  const auto t0 = std::chrono::steady_clock::now();
+  fs::create_directories(ctx.dir / "pictures");
+  fs::create_directories(ctx.dir / "views");
+
+  Steps steps;
+  Notes notes;
+  std::vector<Figure> figures = collect_figures(ctx, steps, notes);
+  std::map<std::string, Loaded> meshes;  // the figures point into it
+  load_figures(ctx, figures, meshes);
+  std::map<std::string, Shared> shared = comparisons(figures);
+  std::set<std::string> shown;
+  const size_t drawn = draw_pictures(ctx, figures, shared, shown);
+  const size_t pages = write_pages(ctx, figures, shared);
+  const std::vector<std::string> rest = other_files(ctx, shown);
+  write_index(ctx, sections_html(steps, notes, figures) + other_files_html(rest));
+
   const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r["index"] = (ctx.dir / "index.html").string();
   r["pictures"] = drawn;

@@ -57,9 +57,6 @@ class TriangleTree {
   //! wait on memory most of the time).
   std::vector<Hit> closest(const MatrixX3d& P, std::span<const int> rows) const;
 
-  //! Faces one of whose boxes comes within \p radius of p (candidates for other queries; each once).
-  void faces_near(const Vec3& p, double radius, std::vector<int>& out) const;
-
   //! Visit the faces whose boxes come within \p radius of p, nearest box first (best-first search),
   //! each face once, at the distance of its nearest box (a lower bound on its distance to p).
   //! \p visit(face, box_distance) returns the radius from then on (return the smallest distance that

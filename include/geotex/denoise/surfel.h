@@ -183,10 +183,6 @@ SurfelOptions tuned_surfel_options(const Surfels& initial, const Neighborhoods& 
 SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const Surfels& initial,
                               const SurfelOptions& options = {});
 
-//! Σ_i U_i for a configuration at threshold \p t_deg (lengths in \p unit_length).
-double surfel_energy(const MatrixX3d& X, const Neighborhoods& N, const Surfels& S, double alpha, double beta,
-                     double t_deg, double unit_length);
-
 //! A polygon mesh (the dual mesh before triangulation).
 struct PolygonMesh {
   MatrixX3d vertices;                    //!< #V by 3
