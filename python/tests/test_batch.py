@@ -75,6 +75,7 @@ def _extra_arguments(name, V, F):
         "texture_synthesize": dict(target=(V, F), refine_ratio=0),
         "resize": dict(scale=[1.5, 1, 1]),
         "parametrize": {},
+        "parametrization_quality": dict(uv=V[:, :2]),
     }.get(name, {})
 
 

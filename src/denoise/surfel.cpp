@@ -561,7 +561,6 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
     throw InvalidInput("surfels: angle thresholds must lie in (0, 180] degrees");
   if (o.iterations < 0 || o.iterations_per_threshold < 1 || o.local_sweeps < 1)
     throw InvalidInput("surfels: iteration counts must be positive");
-
   SurfelResult result;
   result.unit_length = resolve_unit(X, N, o.unit_length);
   Normalized w = normalize(X, initial, X.colwise().mean().transpose(), result.unit_length);
