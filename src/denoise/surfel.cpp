@@ -553,6 +553,53 @@ SurfelOptions tuned_surfel_options(const Surfels& initial, const Neighborhoods& 
   return o;
 }
 
+namespace {
+
+// Compare the minimisers found with the weights of each distinct neighbouring orientation
+// (and the current surfel) on the site energy with the weights of the candidate itself,
+// Eq. (7.13): ICM keeps the label of least energy. This escapes the symmetric saddles
+// of noiseless data (a surfel on a cube edge exactly between its two faces).
+void best_candidate(const std::vector<Vec3>& X, const Neighborhoods& N, const Config& s, Eigen::Index i, double chord,
+                    const SurfelOptions& o, std::vector<SiteTerm>& terms, std::vector<Vec3>& starts, Vec3& n,
+                    double& rho) {
+  const Vec3& x = X[i];
+  auto true_energy = [&](const Vec3& cn, double crho) {
+    site_terms(X, N, s, i, chord, cn, terms, nullptr, o.irls_weights);
+    return term_energy(terms, o.alpha, o.beta, cn, crho);
+  };
+  double best = true_energy(n, rho);
+  const double keep = true_energy(s.n[i], s.n[i].dot(x) - s.a[i]);
+  if (keep < best) {
+    best = keep;
+    n = s.n[i];
+    rho = n.dot(x) - s.a[i];
+  }
+  starts.clear();
+  starts.push_back(s.n[i]);
+  const double distinct = 0.5 * chord;
+  // At most kMaxStarts orientations (a one-ring rarely has more): linear cost at any valence.
+  constexpr size_t kMaxStarts = 16;
+  for (int k = N.offsets[i]; k < N.offsets[i + 1] && starts.size() < kMaxStarts; ++k) {
+    const Vec3& m = s.n[N.indices[k]];
+    bool seen = false;
+    for (const Vec3& q : starts) seen = seen || (q - m).norm() < distinct;
+    if (seen) continue;
+    starts.push_back(m);
+    site_terms(X, N, s, i, chord, m, terms, nullptr, o.irls_weights);
+    Vec3 cn = m;
+    double crho = rho;
+    minimize_terms(terms, o.alpha, o.beta, cn, crho, o.local_sweeps, 1e-14);
+    const double e = true_energy(cn, crho);
+    if (e < best) {
+      best = e;
+      n = cn;
+      rho = crho;
+    }
+  }
+}
+
+}  // namespace
+
 SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const Surfels& initial,
                               const SurfelOptions& o) {
   check_inputs(X, N, initial);
@@ -561,6 +608,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
     throw InvalidInput("surfels: angle thresholds must lie in (0, 180] degrees");
   if (o.iterations < 0 || o.iterations_per_threshold < 1 || o.local_sweeps < 1)
     throw InvalidInput("surfels: iteration counts must be positive");
+
   SurfelResult result;
   result.unit_length = resolve_unit(X, N, o.unit_length);
   Normalized w = normalize(X, initial, X.colwise().mean().transpose(), result.unit_length);
@@ -604,45 +652,7 @@ SurfelResult optimize_surfels(const MatrixX3d& X, const Neighborhoods& N, const 
           Vec3 n = w.s.n[i];
           double rho = n.dot(x) - w.s.a[i];
           minimize_terms(terms, o.alpha, o.beta, n, rho, o.local_sweeps, 1e-14, false);
-          if (o.candidates && !o.guided) {
-            // Compare the minimisers found with the weights of each distinct neighbouring orientation
-            // (and the current surfel) on the site energy with the weights of the candidate itself,
-            // Eq. (7.13): ICM keeps the label of least energy. This escapes the symmetric saddles
-            // of noiseless data (a surfel on a cube edge exactly between its two faces).
-            auto true_energy = [&](const Vec3& cn, double crho) {
-              site_terms(w.X, N, w.s, i, chord, cn, terms, nullptr, o.irls_weights);
-              return term_energy(terms, o.alpha, o.beta, cn, crho);
-            };
-            double best = true_energy(n, rho);
-            const double keep = true_energy(w.s.n[i], w.s.n[i].dot(x) - w.s.a[i]);
-            if (keep < best) {
-              best = keep;
-              n = w.s.n[i];
-              rho = n.dot(x) - w.s.a[i];
-            }
-            starts.clear();
-            starts.push_back(w.s.n[i]);
-            const double distinct = 0.5 * chord;
-            // At most kMaxStarts orientations (a one-ring rarely has more): linear cost at any valence.
-            constexpr size_t kMaxStarts = 16;
-            for (int k = N.offsets[i]; k < N.offsets[i + 1] && starts.size() < kMaxStarts; ++k) {
-              const Vec3& m = w.s.n[N.indices[k]];
-              bool seen = false;
-              for (const Vec3& q : starts) seen = seen || (q - m).norm() < distinct;
-              if (seen) continue;
-              starts.push_back(m);
-              site_terms(w.X, N, w.s, i, chord, m, terms, nullptr, o.irls_weights);
-              Vec3 cn = m;
-              double crho = rho;
-              minimize_terms(terms, o.alpha, o.beta, cn, crho, o.local_sweeps, 1e-14);
-              const double e = true_energy(cn, crho);
-              if (e < best) {
-                best = e;
-                n = cn;
-                rho = crho;
-              }
-            }
-          }
+          if (o.candidates && !o.guided) best_candidate(w.X, N, w.s, i, chord, o, terms, starts, n, rho);
           next.n[i] = n;
           next.a[i] = n.dot(x) - rho;
         }
