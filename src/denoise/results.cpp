@@ -5,10 +5,6 @@
 
 namespace geotex {
 
-namespace {
-constexpr bool kPythonOnly = false;  // the in_report argument of a field the CLI report leaves out
-}  // namespace
-
 const ResultTable<DenoiseRun>& denoise_run_results() {
   static const auto t = ResultTable<DenoiseRun>()
       .add("method", [](const DenoiseRun& r) { return r.method; }, "the denoising method run")

@@ -5,10 +5,6 @@
 
 namespace geotex {
 
-namespace {
-constexpr bool kPythonOnly = false;  // the in_report argument of a field the CLI report leaves out
-}  // namespace
-
 const ResultTable<FeatureSummary>& feature_summary_results() {
   using R = FeatureSummary;
   static const auto t = ResultTable<R>()

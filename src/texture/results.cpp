@@ -6,10 +6,6 @@
 
 namespace geotex {
 
-namespace {
-constexpr bool kPythonOnly = false;  // the in_report argument of a field the CLI report leaves out
-}  // namespace
-
 const ResultTable<TextureExtraction>& texture_extraction_results() {
   using R = TextureExtraction;
   static const auto t = ResultTable<R>()

@@ -41,6 +41,9 @@ struct ResultFieldInfo {
   bool optional = false;   //!< may be absent: null in JSON, None in Python (e.g. a volume of an open mesh)
 };
 
+//! The in_report argument of a field the CLI report leaves out (ResultTable::add, ::array).
+inline constexpr bool kPythonOnly = false;
+
 //! A #rows by #cols numeric array as JSON: a flat list for one column, else a list of rows.
 nlohmann::json array_json(const Eigen::MatrixXd& a);
 
