@@ -60,7 +60,7 @@ void check_cholmod(const cholmod_common& c) {
 // (maxcsize) and the row indices (ssize). A factorization the machine cannot hold is refused here, in
 // seconds, with the estimate (issue 30): a 2.6 M-vertex `deform` was killed for memory after 190 s.
 // CHOLMOD's 32-bit indices address 2^31 − 1 values: a larger factor crashed in the factorization (a 2.6 M-
-// vertex linear edit, 2.6e9 values), so it is refused here too.
+// vertex linear edit, 5.4e9 values), so it is refused here too.
 void require_factor_memory(const cholmod_factor* L, const cholmod_common& c, Eigen::Index n) {
   if (c.status == CHOLMOD_TOO_LARGE || (L && L->is_super && std::max(L->xsize, L->ssize) > size_t(INT32_MAX)))
     throw OutOfMemory(fmt::format("factoring a {} x {} system needs a Cholesky factor of {:.2g} values, more than "
@@ -260,7 +260,7 @@ namespace {
 // a time in parallel: column j gathers G(r, j) · G(r, c) for c ≥ j over the rows r of its column, its
 // diagonal entry first (stored even when zero, for LeastSquaresSolver::factor to rewrite). Linear
 // in the products, without the triplets and the full product Eigen's GᵀG builds (a 164k-vertex linear
-// edit: 5.3 s and 2× the memory; issue 30).
+// edit: 5.3 s; issue 30).
 SparseMatrix lower_normal_matrix(const RowSparseMatrix& G, const std::vector<char>& keep) {
   const int nc = static_cast<int>(G.cols()), nr = static_cast<int>(G.rows());
   // G's kept rows by column (the transpose's pattern, rows ascending).
@@ -358,8 +358,7 @@ void LeastSquaresSolver::compute(RowSparseMatrix G, const Eigen::VectorXd& d, in
   gtg_diagonal_.resize(S_.cols());
   for (Eigen::Index j = 0; j < S_.cols(); ++j) gtg_diagonal_[j] = S_.valuePtr()[S_.outerIndexPtr()[j]];
   d_ = d;
-  set_diagonal(0.0);
-  base_.analyze(S_, block_size);
+  base_.analyze(S_, block_size);  // the pattern only: factor() writes the diagonal
   factor();
 }
 
