@@ -462,9 +462,10 @@ TEST(BadInputClasses, AMeshTooLargeForTheMemoryLeftIsRefusedBeforeItIsRead) {
   EXPECT_NE(r.err.find("GiB"), std::string::npos) << r.err;
 }
 
-TEST(BadInputClasses, AFactorizationTooLargeForTheMemoryLeftIsRefusedAfterItsAnalysis) {
+TEST(BadInputClasses, AFactorizationTooLargeForTheMemoryLeftIsRefusedBeforeItsSystemIsAssembled) {
   // Issue 30: `deform` of a 2.6 M-vertex sphere was killed for memory after 190 s. The symbolic analysis
-  // knows the Cholesky factor's size; one the machine cannot hold is refused there, with the estimate.
+  // of the vertex graph estimates the Cholesky factor's size before the system is assembled; one the
+  // machine cannot hold is refused there, with the estimate.
   // The 41k-vertex sphere's linear edit factors 122,886 unknowns into about 0.5 GiB: refused under a
   // 400 MiB cap (the process holds about 250 MiB then); the 2.5k-vertex sphere fits under the same cap.
   if (std::string(SpdSolver::backend()) != "cholmod-supernodal")
@@ -480,7 +481,9 @@ TEST(BadInputClasses, AFactorizationTooLargeForTheMemoryLeftIsRefusedAfterItsAna
       EXPECT_EQ(r.exit_code, 0) << r.err;
       continue;
     }
-    EXPECT_TRUE(fails_with(r, 1, "geotex: out of memory: factoring a 122886 x 122886 system")) << r.err;
+    EXPECT_TRUE(fails_with(r, 1, "geotex: out of memory: the linear editing method: factoring its 122886 x 122886 system"))
+        << r.err;
+    EXPECT_NE(r.err.find("estimated from its 40962-vertex graph"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("refused before the work"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
   }

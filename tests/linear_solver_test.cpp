@@ -173,6 +173,56 @@ TEST(SpdSolver, NumericallySingularMatrixIsRefusedOnEveryKernel) {
   }
 }
 
+TEST(FactorEstimate, APathOfBlocksHasTheFactorOfItsBlockTridiagonalSystem) {
+  // R lower bidiagonal: R Rᵀ is a path, whose Cholesky factor has no fill. Its 3 × 3-blocked system is
+  // block tridiagonal: 6 nonzeros in each diagonal block's lower half and 9 in each off-diagonal block,
+  // 15 n − 9 in all; 2 n − 1 unblocked.
+  if (std::string(SpdSolver::backend()) != "cholmod-supernodal") GTEST_SKIP() << "the estimate is CHOLMOD's analysis";
+  for (int n : {1, 2, 50, 1000}) {
+    std::vector<Triplet> t;
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, 1.0);
+      if (i > 0) t.emplace_back(i, i - 1, 1.0);
+    }
+    SparseMatrix R(n, n);
+    R.setFromTriplets(t.begin(), t.end());
+    // Minimum degree finds the no-fill order; nested dissection's separators fill (more, never less).
+    for (BlockOrdering o : {BlockOrdering::Auto, BlockOrdering::MinimumDegree, BlockOrdering::NestedDissection}) {
+      const FactorEstimate e1 = estimate_block_factor(R, 1, o), e = estimate_block_factor(R, 3, o);
+      if (o != BlockOrdering::NestedDissection) {
+        EXPECT_DOUBLE_EQ(e1.nonzeros, 2.0 * n - 1) << n;
+        EXPECT_DOUBLE_EQ(e.nonzeros, 15.0 * n - 9) << n;
+      }
+      EXPECT_GE(e1.nonzeros, 2.0 * n - 1) << n;
+      EXPECT_GT(e.flops, e1.flops) << n;
+      EXPECT_GE(e.values, e.nonzeros) << n;  // supernodes store whole blocks
+      EXPECT_GE(e.bytes, 8 * e.values) << n;
+    }
+  }
+}
+
+TEST(FactorEstimate, AGraphsFactorTooLargeForTheMemoryLeftIsRefusedByName) {
+  if (std::string(SpdSolver::backend()) != "cholmod-supernodal") GTEST_SKIP() << "the estimate is CHOLMOD's analysis";
+  SparseMatrix R(2000, 2000);  // the complete graph: a dense factor of 2000 × 2000 blocks of 3 × 3
+  {
+    std::vector<Triplet> t;
+    for (int i = 1; i < 2000; ++i) t.emplace_back(i, 0, 1.0);  // R Rᵀ: every pair through column 0
+    for (int i = 0; i < 2000; ++i) t.emplace_back(i, i, 1.0);
+    R.setFromTriplets(t.begin(), t.end());
+  }
+  ::setenv("GEOTEX_MAX_MEMORY", "1M", 1);
+  std::string what;
+  try {
+    require_block_factor_memory("a test method", R, 3);
+  } catch (const OutOfMemory& e) {
+    what = e.what();
+  }
+  ::unsetenv("GEOTEX_MAX_MEMORY");
+  EXPECT_NE(what.find("a test method: factoring its 6000 x 6000 system"), std::string::npos) << what;
+  EXPECT_NE(what.find("estimated from its 2000-vertex graph"), std::string::npos) << what;
+  EXPECT_NO_THROW(require_block_factor_memory("a test method", R, 3));  // 144 MB without the cap
+}
+
 TEST(SpdSolver, AFactorBeyondTheMemoryLeftIsRefusedByItsAnalysis) {
   // The symbolic analysis knows the factor's size (issue 30): with no memory left beside the process's
   // resident set (GEOTEX_MAX_MEMORY below it), the analysis refuses with the estimate; without the cap

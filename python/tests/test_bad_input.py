@@ -463,9 +463,10 @@ def test_class8_out_of_memory_is_a_memory_error():
 
 
 @pytest.mark.skipif(SANITIZED, reason="the sanitizer build factors with Eigen's SimplicialLDLT; the estimate is CHOLMOD's analysis")
-def test_issue30_a_factorization_too_large_for_the_memory_left_is_refused_after_its_analysis():
-    # deform of a 2.6 M-vertex sphere was killed for memory after 190 s: the symbolic analysis now knows
-    # the Cholesky factor's size and refuses one that does not fit with a MemoryError naming it. The
+def test_issue30_a_factorization_too_large_for_the_memory_left_is_refused_before_its_system_is_assembled():
+    # deform of a 2.6 M-vertex sphere was killed for memory after 190 s: the symbolic analysis of the vertex
+    # graph now estimates the Cholesky factor's size before the system is assembled, and refuses one that
+    # does not fit with a MemoryError naming it. The
     # 41k-vertex sphere's linear edit needs about 0.5 GiB for its factor: refused with 150 MiB left beside
     # the process; the 2.5k-vertex sphere's fits.
     p = run_child("""
@@ -482,11 +483,12 @@ def test_issue30_a_factorization_too_large_for_the_memory_left_is_refused_after_
                 X = geotex.deform(V, F, handles=[0, 1], targets=V[[0, 1]] + [[0.1, 0, 0], [0, 0, 0]])
                 print(level, "deformed", X.shape == V.shape)
             except MemoryError as e:
-                print(level, "MemoryError", f"factoring a {3 * len(V)} x {3 * len(V)} system" in str(e), "needs about" in str(e))
+                print(level, "MemoryError", f"factoring its {3 * len(V)} x {3 * len(V)} system" in str(e),
+                      "needs about" in str(e), f"estimated from its {len(V)}-vertex graph" in str(e))
     """)
     assert_clean_exit(p)
     assert "1 deformed True" in p.stdout, p.stdout + p.stderr
-    assert "3 MemoryError True True" in p.stdout, p.stdout + p.stderr
+    assert "3 MemoryError True True True" in p.stdout, p.stdout + p.stderr
 
 
 def test_issue30_a_mesh_too_large_for_the_memory_left_is_refused_before_it_is_read(tmp_path):

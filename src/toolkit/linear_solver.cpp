@@ -160,6 +160,81 @@ double smallest_relative_pivot(const Eigen::SimplicialLDLT<SparseMatrix, Eigen::
 
 }  // namespace
 
+// CHOLMOD's supernodal factorization on this machine (OpenBLAS, one thread): a 164k-vertex linear edit,
+// 4.8e11 flops, factored in 24 s of CPU (bench/bad-input.md).
+constexpr double kFactorFlopsPerSecond = 2e10;
+
+FactorEstimate estimate_block_factor(const SparseMatrix& R, int block_size, BlockOrdering ordering) {
+  FactorEstimate e;
+#ifdef GEOTEX_HAVE_CHOLMOD
+  check_interrupt();
+  if (R.rows() == 0) return e;
+  SparseMatrix A = R;  // a compressed, sorted copy for CHOLMOD's view
+  A.makeCompressed();
+  cholmod_common cc;
+  cholmod_start(&cc);
+  cc.print = 0;
+  cc.supernodal = CHOLMOD_SUPERNODAL;
+  // Auto: CHOLMOD's own choice (AMD, then METIS where AMD fills badly), as an unblocked analysis of the
+  // system orders it; otherwise the named ordering.
+  const bool nd = ordering == BlockOrdering::NestedDissection;
+  if (ordering != BlockOrdering::Auto) {
+    cc.nmethods = 1;
+    cc.method[0].ordering = nd ? CHOLMOD_METIS : CHOLMOD_AMD;
+  }
+  cholmod_sparse view = Eigen::viewAsCholmod(A);
+  view.stype = 0;  // unsymmetric: CHOLMOD analyzes R Rᵀ without forming the system
+  cholmod_factor* L = cholmod_analyze(&view, &cc);
+  if (!L && nd) {  // METIS failed (as blocked_ordering falls back): AMD
+    cc.method[0].ordering = CHOLMOD_AMD;
+    L = cholmod_analyze(&view, &cc);
+  }
+  if (L) {
+    // Each scalar entry of the vertex graph's factor is a full k × k block of the system's (the unknowns of
+    // a vertex are kept together), so its supernodes are the graph's, k times wider and taller.
+    // The factor's nonzeros leave out the upper half of its diagonal blocks.
+    const double k = block_size;
+    e.nonzeros = k * k * cc.lnz - double(R.rows()) * k * (k - 1) / 2;
+    e.flops = k * k * k * cc.fl;
+    if (L->is_super) {
+      e.values = k * k * double(L->xsize);
+      e.bytes = 8.0 * k * k * (double(L->xsize) + double(L->maxcsize)) + double(sizeof(int)) * k * double(L->ssize);
+    } else {
+      e.values = e.nonzeros;
+      e.bytes = 12.0 * e.nonzeros;
+    }
+    e.cpu_seconds = e.flops / kFactorFlopsPerSecond;
+    cholmod_free_factor(&L, &cc);
+  }
+  const bool oom = cc.status == CHOLMOD_OUT_OF_MEMORY;
+  cholmod_finish(&cc);
+  if (oom) throw std::bad_alloc();
+#else
+  (void)R;
+  (void)block_size;
+  (void)ordering;
+#endif
+  return e;
+}
+
+void require_block_factor_memory(const std::string& what, const SparseMatrix& R, int block_size,
+                                 BlockOrdering ordering) {
+  const FactorEstimate e = estimate_block_factor(R, block_size, ordering);
+  const double n = double(R.rows()) * block_size;
+  const std::string minutes = e.cpu_seconds >= 120 ? fmt::format("{:.0f} minutes", e.cpu_seconds / 60)
+                                                   : fmt::format("{:.0f} s", e.cpu_seconds);
+  if (e.values > double(INT32_MAX))
+    throw OutOfMemory(fmt::format("{}: factoring its {:.0f} x {:.0f} system needs a Cholesky factor of about {:.2g} "
+                                  "values (estimated from its {}-vertex graph before assembling it), more than its "
+                                  "32-bit indices address (2^31), and about {} of CPU; the mesh is too large for "
+                                  "this method", what, n, n, e.values, R.rows(), minutes));
+  if (e.bytes <= 0) return;
+  require_memory(fmt::format("{}: factoring its {:.0f} x {:.0f} system (about {:.2g} nonzeros and {:.2g} flops in its "
+                             "Cholesky factor, about {} of CPU; estimated from its {}-vertex graph)",
+                             what, n, n, e.nonzeros, e.flops, minutes, R.rows()),
+                 e.bytes >= 1.8e19 ? SIZE_MAX : static_cast<size_t>(e.bytes));
+}
+
 SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {
 #ifdef GEOTEX_HAVE_CHOLMOD
   impl_->chol.cholmod().print = 0;  // errors reach the caller as exceptions, not as lines on stderr

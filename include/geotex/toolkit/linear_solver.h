@@ -4,6 +4,7 @@
 //! once per sparsity pattern; factorize() may then be called again for new values.
 
 #include <memory>
+#include <string>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -20,6 +21,29 @@ enum class BlockOrdering {
   MinimumDegree,     //!< AMD on the vertex graph
   NestedDissection,  //!< METIS on the vertex graph (CHOLMOD backend; else minimum degree)
 };
+
+//! The Cholesky factor of a system not yet assembled, estimated from its vertex graph (issue 30).
+struct FactorEstimate {
+  double values = 0;     //!< stored values of the supernodal factor
+  double nonzeros = 0;   //!< nonzeros of the factor
+  double flops = 0;      //!< floating-point operations of the numeric factorization
+  double bytes = 0;      //!< memory of the numeric factorization (values, update block, row indices)
+  double cpu_seconds = 0;  //!< flops at the factorization rate measured on a linear edit (one core)
+};
+
+//! Estimates the factor of a system with \p block_size unknowns per vertex, vertices i and j coupled
+//! wherever (R Rᵀ)_ij ≠ 0 (R: #vertices rows, e.g. each vertex's closed ring as a row: R Rᵀ is then the
+//! 2-ring), ordered as SpdSolver::analyze orders a blocked system: by CHOLMOD's symbolic analysis of the
+//! vertex graph alone, each scalar value becoming a block_size × block_size block. Seconds where the
+//! system's assembly and its own analysis take minutes. All zero without CHOLMOD.
+FactorEstimate estimate_block_factor(const SparseMatrix& R, int block_size,
+                                     BlockOrdering ordering = BlockOrdering::Auto);
+
+//! Throws OutOfMemory naming \p what and the estimate when the factor estimated by
+//! estimate_block_factor() would not fit in the memory left, or would exceed CHOLMOD's 32-bit indices:
+//! a mesh too large for a method is refused before its system is assembled.
+void require_block_factor_memory(const std::string& what, const SparseMatrix& R, int block_size,
+                                 BlockOrdering ordering = BlockOrdering::Auto);
 
 class SpdSolver {
  public:
