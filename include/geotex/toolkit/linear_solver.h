@@ -17,7 +17,7 @@ using Triplet = Eigen::Triplet<double>;
 
 //! Fill-reducing ordering of a blocked analysis (SpdSolver::analyze with block_size > 1).
 enum class BlockOrdering {
-  Auto,              //!< minimum degree below 300k vertices, nested dissection above
+  Auto,              //!< minimum degree below 50k vertices, nested dissection above
   MinimumDegree,     //!< AMD on the vertex graph
   NestedDissection,  //!< METIS on the vertex graph (CHOLMOD backend; else minimum degree)
 };
