@@ -156,3 +156,70 @@ TEST(BaseShape, CopiesOfAPatchGiveCopiesOfItsBase) {
   }
   EXPECT_LT(worst, 1e-9);
 }
+
+// Issue 26: an automatic base per component and at any aspect.
+namespace {
+Mesh side_by_side(const std::vector<std::pair<Mesh, Eigen::RowVector3d>>& parts) {
+  Eigen::Index nv = 0, nf = 0;
+  for (const auto& [m, t] : parts) nv += m.n_vertices(), nf += m.n_faces();
+  MatrixX3d V(nv, 3);
+  MatrixX3i F(nf, 3);
+  Eigen::Index v0 = 0, f0 = 0;
+  for (const auto& [m, t] : parts) {
+    const MatrixX3d P = positions(m);
+    const MatrixX3i Fm = faces(m);
+    V.middleRows(v0, P.rows()) = P.rowwise() + t;
+    F.middleRows(f0, Fm.rows()) = Fm.array() + static_cast<int>(v0);
+    v0 += P.rows(), f0 += Fm.rows();
+  }
+  return make_mesh(V, F);
+}
+}  // namespace
+
+TEST(TextureBase, ASmallSeparatePieceKeepsItsOwnShapeAndTheWholeRoundTrips) {
+  // A spiky sphere beside a 20-face icosahedron of an edge's size (a button on a character): the
+  // piece is shape, its base is itself (no texture); the sphere's spikes are still texture.
+  SpikeOptions spikes;
+  spikes.count = 12;
+  const Mesh sphere = spiky(icosphere(3), spikes).textured;
+  const double h = mean_edge_length(sphere);
+  const Mesh button = icosphere(0, 1.5 * h);
+  const Mesh both = side_by_side({{sphere, Eigen::RowVector3d::Zero()}, {button, Eigen::RowVector3d(2, 0, 0)}});
+  const TextureExtraction r = texture_extraction(both, nullptr);
+  const MatrixX3d X = positions(both), B = positions(r.base);
+  const Eigen::Index ns = sphere.n_vertices();
+  EXPECT_LT((B.bottomRows(X.rows() - ns) - X.bottomRows(X.rows() - ns)).cwiseAbs().maxCoeff(), 1e-6 * h);
+  EXPECT_GT((B.topRows(ns) - X.topRows(ns)).rowwise().norm().maxCoeff(), h);  // the spikes are lifted off
+  EXPECT_LT(r.max_error, 1e-3);
+}
+
+TEST(TextureBase, AFlatOpenModelKeepsItsOutlineAndHasNoTexture) {
+  // A flat square (woody, an alligator: no relief): the base is the model itself. Before, the fit drew
+  // the outline inwards and read the shrinkage as texture lying in the plane (90 deg off the normal).
+  const Mesh flat = plane(30, 2.0);
+  const TextureExtraction r = texture_extraction(flat, nullptr);
+  const double h = mean_edge_length(flat);
+  EXPECT_LT((positions(r.base) - positions(flat)).rowwise().norm().maxCoeff(), 1e-3 * h);
+  EXPECT_NEAR(r.base_area_ratio, 1.0, 1e-3);
+  EXPECT_TRUE(r.warnings.empty());
+  BaseShapeOptions loose;  // without the outline held, the old fit: the square shrinks
+  loose.hold_boundary = false;
+  loose.size_share = 0;
+  TextureExtractOptions o;
+  o.base = loose;
+  EXPECT_LT(texture_extraction(flat, nullptr, o).base_area_ratio, 0.99);
+}
+
+TEST(TextureBase, AnAutomaticBaseThatRemovesMuchOfTheSurfaceIsWarnedAbout) {
+  // The warning follows the base's area ratio, on both sides of the threshold.
+  TentacleOptions t;
+  const std::vector<Mesh> meshes = {icosphere(3), tentacles(icosphere(3), t).textured};
+  for (const Mesh& m : meshes) {
+    const TextureExtraction r = texture_extraction(m, nullptr);
+    EXPECT_EQ(!r.warnings.empty(), r.base_area_ratio < kBaseAreaWarning) << r.base_area_ratio;
+  }
+  const TextureExtraction plain = texture_extraction(meshes[0], nullptr);
+  EXPECT_GT(plain.base_area_ratio, 0.99);
+  const TextureExtraction hairy = texture_extraction(meshes[1], nullptr);
+  EXPECT_LT(hairy.base_area_ratio, kBaseAreaWarning) << "the test needs a texture that is most of the surface";
+}

@@ -122,6 +122,7 @@ void bind_texture(py::module_& m) {
     const TextureExtraction r = run(call, [&] {
       return timed(time.seconds, [&] { return texture_extraction(textured, base ? &*base : nullptr, o); });
     });
+    for (const auto& w : r.warnings) warn(w);  // the GIL held again
     // The texture, then the fields of `geotex texture extract --report` (texture/results.h), the options used.
     py::dict d = texture_dict(r.base, r.texture);
     put_results(d, r, texture_extraction_results());

@@ -211,3 +211,28 @@ def test_python_and_cli_give_the_same_results(spiky, tmp_path):
     run("animate", tmp_path / "t.ply", "-o", tmp_path / "fr", "--frames", "2", "--op", "wrap")
     frames = geotex.texture_animate(cli_tex, frames=2, op="wrap").frames
     assert np.allclose(geotex.read_mesh(tmp_path / "fr_0001.ply")[0], frames[1], atol=1e-9)
+
+
+@pytest.mark.skipif(not os.environ.get("GEOTEX_CLI"), reason="GEOTEX_CLI not set (ctest sets it)")
+def test_an_automatic_base_keeps_a_flat_outline_and_warns_when_it_removes_much_of_the_surface(tmp_path):
+    # Issue 26: a flat open model is its own base (no texture, its outline kept); a base that keeps less
+    # than 85% of the surface's area warns, in Python and on the command line, and says so in the report.
+    Vp, Fp = geotex.generate("plane")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        flat = geotex.texture_extract(Vp, Fp)
+    assert abs(flat.base_area_ratio - 1) < 1e-3 and flat.warnings == []
+    assert np.abs(flat.V_base - Vp).max() < 1e-3 * geotex.mean_edge_length(Vp, Fp)
+    (Vt, F), _ = geotex.generate("spiky-sphere", level=0, with_base=True)  # its base keeps about 77%
+    with pytest.warns(UserWarning, match="the automatic base keeps"):
+        hairy = geotex.texture_extract(Vt, F)
+    assert hairy.base_area_ratio < 0.85 and len(hairy.warnings) == 1
+    geotex.write_mesh(tmp_path / "spiky.ply", Vt, F)
+    r = subprocess.run([os.environ["GEOTEX_CLI"], "-q", "texture", "extract", str(tmp_path / "spiky.ply"),
+                        "-o", str(tmp_path / "t.ply"), "--report", str(tmp_path / "r.json")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "geotex: warning: the automatic base keeps" in r.stderr
+    import json
+    report = json.load(open(tmp_path / "r.json"))
+    assert abs(report["base_area_ratio"] - hairy.base_area_ratio) < 1e-9 and report["warnings"] == hairy.warnings

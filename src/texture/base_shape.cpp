@@ -28,6 +28,11 @@ const OptionTable<BaseShapeOptions>& BaseShapeOptions::table() {
               "robust (reweighted screened bi-Laplacian fit, then projection) or smoothing (the thesis)", "Sec. 8.3.1")
       .add("base_scale", &O::scale, "robust: cutoff wavelength of the fit in mean edges (narrower bumps are texture)",
            positive())
+      .add("size_share", &O::size_share,
+           "robust: the cutoff wavelength at most this share of its connected component's size (its area's square "
+           "root): a coarse or small part is shape, not texture (0: the cutoff alone)", between(0, 10))
+      .add("hold_boundary", &O::hold_boundary,
+           "robust: an open surface's boundary vertices hold their place (its outline is shape, not texture)", {})
       .add("outlier", &O::outlier, "robust: protrusion bound, in robust standard deviations of the first fit's distances",
            positive())
       .add("robust_passes", &O::robust_passes, "robust: reweighted fits after the first", between(0, 20))
@@ -59,6 +64,32 @@ double median(std::vector<double> v) {
   return *mid;
 }
 
+// The fit's cutoff wavelength per vertex, in mean edges (issue 26): o.scale, but at most o.size_share ×
+// the size (√area, in mean edges) of the vertex's connected component, so that a coarse model's legs and
+// ears, or a small separate piece, are shape rather than texture; a component smaller than kOwnShapeSize
+// keeps its own shape (scale 0: the base is the component itself, no texture).
+constexpr double kOwnShapeSize = 4.0;
+
+Eigen::VectorXd component_scales(const Mesh& mesh, double scale, double share) {
+  const Eigen::Index n = mesh.n_vertices();
+  int count = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &count);
+  const Eigen::VectorXd fa = face_areas(mesh);
+  std::vector<double> area(std::max(count, 1), 0.0);
+  for (auto f : mesh.faces()) {
+    const int c = comp[mesh.to_vertex_handle(mesh.halfedge_handle(f)).idx()];
+    if (c >= 0) area[c] += fa[f.idx()];
+  }
+  const double h = std::max(mean_edge_length(mesh), 1e-300);
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(n, scale);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (comp[i] < 0) continue;
+    const double size = std::sqrt(area[comp[i]]) / h;
+    out[i] = size < kOwnShapeSize ? 0.0 : share > 0 ? std::min(scale, share * size) : scale;
+  }
+  return out;
+}
+
 // Robust screened bi-Laplacian fit (see base_shape.h). Returns the fitted positions and the weights.
 MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorXd& w, int& passes) {
   const Eigen::Index n = mesh.n_vertices();
@@ -70,7 +101,18 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
   const SparseMatrix K = SparseMatrix(d.asDiagonal()) - A;
   // On a triangle lattice of spacing h, L ≈ (h²/4)Δ and D ≈ 6: the penalty is 6 μ (h²k²/4)² ‖b̂‖² at
   // wavenumber k. It equals the data term at the wavelength 2π/k = scale·h when μ = (scale/π)⁴/6.
-  const double mu = std::pow(o.scale / M_PI, 4) / 6.0;
+  const Eigen::VectorXd scales = component_scales(mesh, o.scale, o.size_share);
+  Eigen::VectorXd mu(n);
+  for (Eigen::Index i = 0; i < n; ++i) mu[i] = std::pow(scales[i] / M_PI, 4) / 6.0;
+  // The outline of an open surface is shape: its boundary vertices (and those of a kept piece) hold
+  // their place with a data weight that no reweighting lowers (a flat open model keeps its outline).
+  std::vector<char> held(n, 0);
+  for (auto v : mesh.vertices())
+    held[v.idx()] = (o.hold_boundary && mesh.is_boundary(v)) || !(scales[v.idx()] > 0);
+  // A held boundary vertex's one-sided Laplacian is no measure of smoothness: its row would pull the
+  // vertices inside the outline towards it.
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (held[i]) mu[i] = 0;
   // The system μ Kᵀ D⁻¹ K + W = GᵀG + W with G = √μ D^{-1/2} K, one row per vertex. The row of a vertex
   // of valence k couples its k neighbours in GᵀG (k² entries: 1 GB for a fan of 8,000); the solver
   // keeps such rows out of the factor (Woodbury), so memory stays linear in the valence.
@@ -78,8 +120,11 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
   SparseMatrix G = K;
   for (int c = 0; c < G.outerSize(); ++c)
     for (SparseMatrix::InnerIterator it(G, c); it; ++it)
-      it.valueRef() *= d[it.row()] > 0 ? std::sqrt(mu / d[it.row()]) : 0.0;
+      it.valueRef() *= d[it.row()] > 0 ? std::sqrt(mu[it.row()] / d[it.row()]) : 0.0;
+  constexpr double kHeld = 1e3;
   w = Eigen::VectorXd::Ones(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (held[i]) w[i] = kHeld;
   LeastSquaresSolver solver;
   MatrixX3d B;
   double bound = 0;
@@ -108,6 +153,7 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
       const double u = r[i] / bound;
       w[i] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;
       w[i] = std::max(w[i], 1e-8);  // keeps the system definite on a component that is all protrusion
+      if (held[i]) w[i] = kHeld;
     }
   }
   return B;

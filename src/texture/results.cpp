@@ -30,7 +30,10 @@ const ResultTable<TextureExtraction>& texture_extraction_results() {
       .add("max_error", [](const R& r) { return r.max_error; },
            "largest distance of a reconstructed vertex from its textured one", "mean edge lengths")
       .add("height_only_error", [](const R& r) { return r.height_only_error; },
-           "the same for the height field alone (what the tilt adds)", "mean edge lengths");
+           "the same for the height field alone (what the tilt adds)", "mean edge lengths")
+      .add("base_area_ratio", [](const R& r) { return r.base_area_ratio; },
+           "the base's area over the textured surface's (an automatic base below 0.85 is warned about)")
+      .add("warnings", [](const R& r) { return r.warnings; }, "one line each (an automatic base that removed much of the surface)");
   return t;
 }
 

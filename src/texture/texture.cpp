@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
 
@@ -472,6 +474,13 @@ TextureExtraction texture_extraction(const Mesh& textured, const Mesh* base, con
     set_positions(r.base, r.shape.positions);
     r.median_off_normal_deg = r.shape.median_off_normal_deg;
   }
+  const double area = face_areas(textured).sum();
+  r.base_area_ratio = area > 0 ? face_areas(r.base).sum() / area : 1.0;
+  if (r.source == BaseSource::Automatic && r.base_area_ratio < kBaseAreaWarning)
+    r.warnings.push_back(fmt::format(
+        "the automatic base keeps {:.1f}% of the surface's area (less than {:.0f}%): part of the shape may have "
+        "been read as texture; a smaller base scale or size share (--base-scale, --size-share) keeps more of it",
+        100 * r.base_area_ratio, 100 * kBaseAreaWarning));
   TextureCodec codec(r.base, options.texture);
   r.texture = codec.extract(X);
   r.fit = codec.last_fit();

@@ -119,8 +119,10 @@ void run_extract(const ExtractFiles& a, const FlagSet& flags) {
                      r.fit.iterations ? fmt::format("; the iterative fit stopped at {:.3g} mean edges after {} iterations",
                                                     r.fit.error, r.fit.iterations)
                                       : ""));
-  info(fmt::format("extracted in {:.2f} s; reconstruction max error {:.3g} mean edges (height field alone: {:.3g})",
-                   seconds, r.max_error, r.height_only_error));
+  info(fmt::format("extracted in {:.2f} s; reconstruction max error {:.3g} mean edges (height field alone: {:.3g}); "
+                   "the base keeps {:.1f}% of the surface's area",
+                   seconds, r.max_error, r.height_only_error, 100 * r.base_area_ratio));
+  warn(r.warnings);
   write_texture(a.output, r.base, r.texture);
   info("wrote " + a.output);
   if (!a.reconstructed.empty()) save_mesh(with_positions(r.base, apply_texture(r.base, r.texture, o.texture)), a.reconstructed);
@@ -292,7 +294,8 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture (ch. 8)", [](CLI
     CLI::App* s = app.add_subcommand(
         "extract", "extract a texture (pseudo-height per vertex, tilt per edge) from a textured mesh (Sec. 8.3)");
     s->footer("Without --base the base is found automatically (the base-* options, --laplacian, --lambda, --steps, "
-              "--max-steps, --stop, --outlier, --robust-passes, --project; --steps N > 0 asks for the thesis' "
+              "--max-steps, --stop, --outlier, --robust-passes, --project, --size-share, --hold-boundary; --steps N > 0 "
+              "asks for the thesis' "
               "smoothing). --preset thesis: the thesis' base and encoding.");
     s->add_option("IN", a->input, "textured mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "texture file (PLY: base mesh, vertex 'height' and 'lean', edge 'tilt')")

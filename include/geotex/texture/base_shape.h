@@ -37,6 +37,13 @@ struct BaseShapeOptions {
   //! Robust: a vertex farther from the first fit than outlier × 1.4826 × the median distance (a robust
   //! standard deviation) has weight 0 and is filled from around (Tukey's biweight below it).
   double outlier = 3.0;
+  //! Robust: the cutoff wavelength at most this share of its connected component's size (√area, in mean
+  //! edges): the legs and ears of a coarse model, or a small separate piece, are shape rather than texture
+  //! (issue 26: spot's base kept 0.77 of its area, a 19-part teapot's 0.19). 0: the cutoff alone.
+  double size_share = 0.2;
+  //! Robust: an open surface's boundary vertices hold their place: a flat or open model keeps its outline
+  //! (woody's base kept 0.52 of its area, its "texture" 90° off the normal).
+  bool hold_boundary = true;
   int robust_passes = 3;  //!< robust: reweighted fits after the first
   //! Robust: project the textured vertices onto the fitted surface along its Phong normals where that
   //! helps (not on protrusions, not where it would fold the base), so displacements lie along the normal.

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "geotex/core/geometry.h"
@@ -221,7 +222,14 @@ struct TextureExtraction {
   TiltFitReport fit;                 //!< how the tilt was fitted
   double max_error = 0;  //!< largest distance of a reconstructed vertex from its textured one, in mean edges
   double height_only_error = 0;  //!< the same for the height field alone (what the tilt adds)
+  //! The base's area over the textured surface's: what share of the surface the base keeps (an automatic
+  //! base that keeps less than kBaseAreaWarning read part of the shape as texture, or the texture is large).
+  double base_area_ratio = 1;
+  std::vector<std::string> warnings;  //!< one line each (an automatic base that removed much of the surface)
 };
+
+//! An automatic base keeping less of the surface's area than this is warned about (issue 26).
+constexpr double kBaseAreaWarning = 0.85;
 
 //! The texture of \p textured over \p base, or over the automatic base when \p base is null
 //! (Sec. 8.3.1–8.3.2, Eq. 8.4–8.7), and how well it reconstructs \p textured.
