@@ -73,8 +73,12 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "seams=cut: placements are also tried in turn until one crosses no more faces near the patch (against "
            "what is placed and the target)")
       .add("drop_collisions", &O::drop_collisions,
-           "seams=cut: zero (feathered) the features of a kept placement that still crosses or folds faces, "
-           "rather than leaving folds to unfold")
+           "seams=cut: zero (feathered) the features of a kept placement that still crosses faces")
+      .add("repair_crossings", &O::repair_crossings,
+           "where the textured surface still crosses itself, zero the features there, unfold and encode again "
+           "(at most twice)")
+      .add("drop_folds", &O::drop_folds,
+           "seams=cut: zero the features of a kept placement that still folds faces too (not left to unfold)")
       .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.7 a round) until none folds")
       .add("direction", &O::direction, "the direction field's guide: its tangent part on the target")
       .nest(&O::field, DirectionFieldOptions::table())
@@ -771,13 +775,13 @@ class Placer {
       if (key < fewest) fewest = key, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
       if (i == 0 && key != std::pair<size_t, long>{0, 0} && tries > 1) retrying_ = true;
     }
-    if (crossings_ && o_.drop_collisions && fewest != std::pair<size_t, long>{0, 0} && !before_)
-      before_ = crossings_->crossed(m, b, nullptr, cv);  // what the recheck after dropping compares with
+    const bool dropping = o_.drop_collisions && (fewest.first > 0 || (o_.drop_folds && fewest.second > 0));
+    if (crossings_ && dropping && !before_) before_ = crossings_->crossed(m, b, nullptr, cv);  // for the recheck
     commit(m, b, best, patch, cv);
     if (retrying_ && fewest == std::pair<size_t, long>{0, 0}) ++res_.retried_placements;
     retrying_ = false;
-    if (o_.drop_collisions && fewest != std::pair<size_t, long>{0, 0}) {
-      if (fewest.second == 0) best_folds.clear();
+    if (dropping) {
+      if (!o_.drop_folds || fewest.second == 0) best_folds.clear();
       best_folds.insert(best_folds.end(), best_crossed.begin(), best_crossed.end());
       res_.dropped_vertices += drop(best_folds, tau_, cv);
       ++res_.dropped_patches;
@@ -988,10 +992,11 @@ void check_inputs(const Mesh& target, const SynthesisOptions& o, const Synthesis
 // Encode the displacements res.local as a height-and-tilt texture on T, apply it and count the faces
 // the textured surface crosses (self_intersecting_faces()) against the base's own. Where it crosses
 // beyond them (the texture reproduces the displacements approximately, and unfolding moved them) and
-// drop_collisions is on, the features there are zeroed (zero_features(), above \p tau, then a quarter
-// of it) and the texture encoded again: at most twice.
-void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& F, double tau, const SynthesisOptions& o,
-                      SynthesisResult& res, const std::function<void(const char*)>& stage_done) {
+// repair_crossings is on, the features there are zeroed (zero_features(), above \p tau, then a quarter
+// of it), what that folds unfolded, and the texture encoded again: at most twice.
+void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double tau,
+                      const SynthesisOptions& o, SynthesisResult& res,
+                      const std::function<void(const char*)>& stage_done) {
   report(o.progress, 0.9, "encode");
   TextureCodec codec(T, o.texture);
   const MatrixX3i Fi = faces(T);
@@ -1012,9 +1017,10 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& F, dou
     std::vector<int> extra;
     for (Eigen::Index f = 0; f < Fi.rows(); ++f)
       if (hit[f] && !base[f]) extra.push_back(static_cast<int>(f));
-    if (extra.empty() || !o.drop_collisions || round == 2) break;
+    if (extra.empty() || !o.repair_crossings || round == 2) break;
     res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
                                            [](int) { return true; }, res.local, mark);
+    if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, 0.25 * res.patch_radius, res.local, {});
   }
   if (res.repaired_vertices)
     res.warnings.push_back(fmt::format("displacements zeroed at {} vertices where the textured surface still "
@@ -1240,7 +1246,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
                                          res.unfolded_vertices));
   }
   stage_done("unfold");
-  encode_and_count(T, X, F, 0.05 * largest, o, res, stage_done);
+  encode_and_count(T, X, N, F, 0.05 * largest, o, res, stage_done);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   stage_done("count");

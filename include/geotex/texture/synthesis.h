@@ -105,10 +105,16 @@ struct SynthesisOptions {
   //! near the patch: against what is placed and the target) and tried in turn until one crosses no more
   //! faces than there were; the features of one that still crosses are dropped (drop_collisions).
   bool avoid_crossings = true;
-  //! seams = cut: where the placement kept still crosses or folds faces, zero the displacement of the
-  //! colliding features (connected vertices of the patch displaced by over 5 % of the largest
-  //! displacement, feathered) rather than leaving folds to unfold.
+  //! seams = cut: where the placement kept still crosses faces, zero the displacement of the colliding
+  //! features (connected vertices of the patch displaced by over 5 % of the largest displacement,
+  //! feathered).
   bool drop_collisions = true;
+  //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
+  //! there as drop_collisions does, unfold, and encode again (at most twice).
+  bool repair_crossings = true;
+  //! seams = cut: drop the features of a kept placement that still folds faces too (rather than leaving
+  //! the folds to unfold).
+  bool drop_folds = false;
   //! Shrink the displacements around faces they fold (and not the base), by 0.7 a round, until none does.
   bool unfold = true;
 
