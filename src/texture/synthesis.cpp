@@ -1249,7 +1249,6 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   encode_and_count(T, X, N, F, 0.05 * largest, o, res, stage_done);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
-  stage_done("count");
   report(o.progress, 1, "done");
   return res;
 }
