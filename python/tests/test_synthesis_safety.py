@@ -28,6 +28,8 @@ def test_the_damage_counts_and_the_estimate_are_returned(tentacles):
     assert r.refined_share == pytest.approx(r.added_vertices / n)
     assert r.shrunk_share == pytest.approx(r.unfolded_vertices / n)
     assert r.excess_self_intersecting == max(0, r.self_intersecting - r.base_self_intersecting)
+    assert r.excess_self_intersecting == 0          # placement avoids crossings (drops what it cannot avoid)
+    assert 0 <= r.dropped_vertices + r.repaired_vertices < n and r.retried_placements >= 0
     assert n / 1.5 < r.estimated_vertices < 1.5 * n
     assert set(r.stage_seconds) >= {"exemplar", "refine", "patches", "unfold"}
 
@@ -63,7 +65,8 @@ def test_cli_prints_the_estimate_first_refuses_beyond_the_cap_and_reports_the_co
     py = geotex.texture_synthesize(tentacles, *geotex.read_mesh(str(tmp_path / "s.ply")), direction=(0, 0, 1),
                                   vertex_budget=20000)
     for key in ("self_intersecting", "base_self_intersecting", "excess_self_intersecting", "shrunk_share",
-                "refined_share", "estimated_vertices", "exemplar_share"):
+                "refined_share", "estimated_vertices", "exemplar_share", "retried_placements", "dropped_patches",
+                "dropped_vertices", "repaired_vertices"):
         assert rep[key] == pytest.approx(getattr(py, key)), key
     V, _ = geotex.read_mesh(str(tmp_path / "o.ply"))
     assert np.allclose(V, py.V)

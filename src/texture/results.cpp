@@ -122,6 +122,13 @@ const ResultTable<SynthesisResult>& synthesis_results() {
       .add("unfolded_vertices", [](const R& r) { return r.unfolded_vertices; },
            "vertices whose displacement the unfolding shrank")
       .add("shrunk_share", [](const R& r) { return r.shrunk_share; }, "unfolded_vertices / #V")
+      .add("retried_placements", [](const R& r) { return r.retried_placements; },
+           "patches whose first placement folded or crossed faces and a later one did not")
+      .add("dropped_patches", [](const R& r) { return r.dropped_patches; },
+           "patches whose colliding features were dropped (zeroed)")
+      .add("dropped_vertices", [](const R& r) { return r.dropped_vertices; }, "vertices zeroed by dropping")
+      .add("repaired_vertices", [](const R& r) { return r.repaired_vertices; },
+           "vertices zeroed after encoding, where the textured surface still crossed itself")
       .add("refined_share", [](const R& r) { return r.refined_share; }, "added_vertices / #V")
       .add("exemplar_share", [](const R& r) { return r.estimate.exemplar_share; },
            "the exemplar share used (given, or automatic)")

@@ -6,8 +6,11 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <iterator>
 #include <memory>
+#include <optional>
 #include <queue>
 
 #include <fmt/format.h>
@@ -15,6 +18,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/random.h"
+#include "geotex/core/spatial.h"
 #include "geotex/texture/measures.h"
 #include "geotex/tools/metrics.h"
 #include "transfer_internal.h"
@@ -65,6 +69,16 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("fold_tries", &O::fold_tries,
            "seams=cut: placements tried in turn until one folds no more faces around the patch (1: no check)",
            at_least(1))
+      .add("avoid_crossings", &O::avoid_crossings,
+           "seams=cut: placements are also tried in turn until one crosses no more faces near the patch (against "
+           "what is placed and the target)")
+      .add("drop_collisions", &O::drop_collisions,
+           "seams=cut: zero (feathered) the features of a kept placement that still crosses faces")
+      .add("repair_crossings", &O::repair_crossings,
+           "where the textured surface still crosses itself, zero the features there, unfold and encode again "
+           "(at most twice)")
+      .add("drop_folds", &O::drop_folds,
+           "seams=cut: zero the features of a kept placement that still folds faces too (not left to unfold)")
       .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.7 a round) until none folds")
       .add("direction", &O::direction, "the direction field's guide: its tangent part on the target")
       .nest(&O::field, DirectionFieldOptions::table())
@@ -453,7 +467,9 @@ class FoldCheck {
   FoldCheck(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F)
       : T_(T), X_(X), N_(N), F_(F), Fi_(faces(T)), mark_(Fi_.rows(), 0), temp_(X.rows(), -1) {}
 
-  long added(const ExpMap& m, const std::vector<double>& b, const Paste& p, const Canvas& cv) {
+  //! \p fresh (optional) receives the faces folded after and not before.
+  long added(const ExpMap& m, const std::vector<double>& b, const Paste& p, const Canvas& cv,
+             std::vector<int>* fresh = nullptr) {
     std::vector<int> fs;
     std::vector<Vec3> after;  // per pasted vertex (temp_ indexes it)
     std::vector<int> touched;
@@ -466,8 +482,10 @@ class FoldCheck {
     });
     long before_count = 0, after_count = 0;
     for (int f : fs) {
-      before_count += folded(f, cv, nullptr);
-      after_count += folded(f, cv, &after);
+      const int was = folded(f, cv, nullptr), is = folded(f, cv, &after);
+      before_count += was;
+      after_count += is;
+      if (fresh && is && !was) fresh->push_back(f);
     }
     for (int f : fs) mark_[f] = 0;
     for (int v : touched) temp_[v] = -1;
@@ -506,6 +524,182 @@ class FoldCheck {
   std::vector<int> temp_;
 };
 
+// Whether segment (p, q) crosses triangle (a, b, c) inside both (self_intersecting_faces()' test).
+bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  constexpr double kEps = 1e-9;
+  const Vec3 d = q - p, e1 = b - a, e2 = c - a, pv = d.cross(e2);
+  const double det = e1.dot(pv);
+  if (!(std::abs(det) > 1e-30)) return false;
+  const Vec3 t = p - a, qv = t.cross(e1);
+  const double u = t.dot(pv) / det, v = d.dot(qv) / det, w = e2.dot(qv) / det;
+  return u > kEps && v > kEps && u + v < 1 - kEps && w > kEps && w < 1 - kEps;
+}
+
+// Boxes in a uniform grid over \p box, cells about \p cell a side (at most 64 a side): the boxes whose
+// cells a query box meets.
+class FaceGrid {
+ public:
+  FaceGrid(const std::vector<Eigen::AlignedBox3d>& boxes, const Eigen::AlignedBox3d& box, double cell)
+      : lo_(box.min()) {
+    const Vec3 size = box.sizes();
+    h_ = std::max({cell, size.maxCoeff() / 64, 1e-300});
+    for (int a = 0; a < 3; ++a) dims_[a] = std::clamp(static_cast<int>(std::ceil(size[a] / h_)), 1, 64);
+    std::vector<std::pair<int, int>> entries;  // (cell, box)
+    for (size_t j = 0; j < boxes.size(); ++j)
+      cells(boxes[j], [&](int c) { entries.emplace_back(c, static_cast<int>(j)); });
+    std::sort(entries.begin(), entries.end());
+    start_.assign(static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2] + 1, 0);
+    for (const auto& e : entries) ++start_[e.first + 1];
+    for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    items_.reserve(entries.size());
+    for (const auto& e : entries) items_.push_back(e.second);
+  }
+  //! Call \p f(box index) for the boxes in the cells \p q meets (a box may come more than once).
+  template <class Fn>
+  void visit(const Eigen::AlignedBox3d& q, Fn f) const {
+    cells(q, [&](int c) {
+      for (int k = start_[c]; k < start_[c + 1]; ++k) f(items_[k]);
+    });
+  }
+
+ private:
+  template <class Fn>
+  void cells(const Eigen::AlignedBox3d& b, Fn f) const {
+    std::array<int, 3> a, z;
+    for (int i = 0; i < 3; ++i) {
+      a[i] = std::clamp(static_cast<int>(std::floor((b.min()[i] - lo_[i]) / h_)), 0, dims_[i] - 1);
+      z[i] = std::clamp(static_cast<int>(std::floor((b.max()[i] - lo_[i]) / h_)), 0, dims_[i] - 1);
+    }
+    for (int x = a[0]; x <= z[0]; ++x)
+      for (int y = a[1]; y <= z[1]; ++y)
+        for (int w = a[2]; w <= z[2]; ++w) f((x * dims_[1] + y) * dims_[2] + w);
+  }
+  Vec3 lo_;
+  double h_ = 1;
+  std::array<int, 3> dims_{1, 1, 1};
+  std::vector<int> start_, items_;
+};
+
+// Faces crossed near a patch, with a paste or without: the written faces near the patch (what is placed,
+// and the target) crossed by an edge of a patch face or crossing one (self_intersecting_faces()' test,
+// edges sharing a vertex with the face left out), pairs found in a grid over the patch's faces. A
+// displaced point lies within `reach` (the largest displacement) of its base point, so only faces whose
+// base comes within the patch's base extent plus twice that can meet the patch: those are found once per
+// patch in a tree over the base.
+class CrossingCheck {
+ public:
+  CrossingCheck(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach)
+      : X_(X), N_(N), F_(F), Fi_(faces(T)), tree_(X, Fi_), reach_(reach), local_(X.rows(), -1) {}
+
+  //! The faces near the patch \p m and their vertices' displaced positions now (kept until the next call).
+  void near(const ExpMap& m, const Canvas& cv) {
+    for (int v : verts_) local_[v] = -1;
+    verts_.clear();
+    near_.clear();
+    const Vec3 c = X_.row(m.vertices[0]).transpose();
+    double r = 0;
+    for (int v : m.vertices) r = std::max(r, (X_.row(v).transpose() - c).norm());
+    r += 2 * reach_;
+    tree_.visit_nearest(c, r, [&](int f, double) {
+      near_.push_back(f);
+      for (int k = 0; k < 3; ++k)
+        if (const int v = Fi_(f, k); local_[v] < 0) local_[v] = static_cast<int>(verts_.size()), verts_.push_back(v);
+      return r;
+    });
+    pos_.resize(verts_.size(), 3);
+    written_.assign(verts_.size(), 0);
+    for (size_t i = 0; i < verts_.size(); ++i)
+      if (cv.has[verts_[i]]) written_[i] = 1, pos_.row(i) = displaced(verts_[i], cv.cur.row(verts_[i]).transpose());
+  }
+  //! The near faces crossed with \p p pasted (nullptr: as the canvas is now) by a patch face's edge or
+  //! crossing one, sorted.
+  std::vector<int> crossed(const ExpMap& m, const std::vector<double>& b, const Paste* p, const Canvas& cv) {
+    MatrixX3d P = pos_;
+    std::vector<char> W = written_;
+    auto set = [&](int v, const Vec3& d) {
+      if (local_[v] >= 0) P.row(local_[v]) = displaced(v, d), W[local_[v]] = 1;
+    };
+    if (p) for_pasted(m, b, *p, cv, [&](size_t, int v, const Vec3& d) { set(v, d); });
+    else
+      for (int v : m.vertices)
+        if (cv.has[v]) set(v, cv.cur.row(v).transpose());
+    // The patch's faces (a vertex in the patch), written, in a uniform grid over their boxes.
+    std::vector<int> in;
+    std::vector<Eigen::AlignedBox3d> boxes;
+    Eigen::AlignedBox3d box;
+    double diag = 0;
+    for (size_t i = 0; i < near_.size(); ++i) {
+      const int f = near_[i];
+      if (!all_written(f, W) || (cv.slot[Fi_(f, 0)] < 0 && cv.slot[Fi_(f, 1)] < 0 && cv.slot[Fi_(f, 2)] < 0)) continue;
+      in.push_back(static_cast<int>(i));
+      boxes.push_back(face_box(f, P));
+      box.extend(boxes.back());
+      diag += boxes.back().diagonal().norm();
+    }
+    if (in.empty()) return {};
+    const FaceGrid grid(boxes, box, diag / in.size());
+    std::vector<char> hit(near_.size(), 0);
+    std::vector<int> stamp(in.size(), -1);
+    for (size_t i = 0; i < near_.size(); ++i) {
+      const int f = near_[i];
+      if (!all_written(f, W)) continue;
+      const Eigen::AlignedBox3d fb = face_box(f, P);
+      if (!fb.intersects(box)) continue;
+      grid.visit(fb, [&](int j) {
+        if (stamp[j] == static_cast<int>(i)) return;
+        stamp[j] = static_cast<int>(i);
+        if (in[j] != static_cast<int>(i) && boxes[j].intersects(fb)) test(i, in[j], P, hit);
+      });
+    }
+    std::vector<int> out;
+    for (size_t i = 0; i < near_.size(); ++i)
+      if (hit[i]) out.push_back(near_[i]);
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  Vec3 displaced(int v, const Vec3& d) const {
+    const Vec3 n = N_.row(v).transpose(), e = F_.row(v).transpose();
+    return X_.row(v).transpose() + d.x() * e + d.y() * n.cross(e) + d.z() * n;
+  }
+  Eigen::AlignedBox3d face_box(int f, const MatrixX3d& P) const {
+    Eigen::AlignedBox3d b;
+    for (int k = 0; k < 3; ++k) b.extend(Vec3(P.row(local_[Fi_(f, k)]).transpose()));
+    return b;
+  }
+  bool all_written(int f, const std::vector<char>& W) const {
+    return W[local_[Fi_(f, 0)]] && W[local_[Fi_(f, 1)]] && W[local_[Fi_(f, 2)]];
+  }
+  // Near faces i and j: an edge of either crossing the other marks the other.
+  void test(size_t i, size_t j, const MatrixX3d& P, std::vector<char>& hit) const {
+    const int f = near_[i], g = near_[j];
+    auto one_way = [&](int e, int t, size_t mark) {  // edges of face e against face t
+      if (hit[mark]) return;
+      const Vec3 a = P.row(local_[Fi_(t, 0)]).transpose(), b = P.row(local_[Fi_(t, 1)]).transpose(),
+                 c = P.row(local_[Fi_(t, 2)]).transpose();
+      for (int k = 0; k < 3; ++k) {
+        const int u = Fi_(e, k), w = Fi_(e, (k + 1) % 3);
+        if (u == Fi_(t, 0) || u == Fi_(t, 1) || u == Fi_(t, 2) || w == Fi_(t, 0) || w == Fi_(t, 1) || w == Fi_(t, 2))
+          continue;
+        if (crosses(P.row(local_[u]).transpose(), P.row(local_[w]).transpose(), a, b, c)) {
+          hit[mark] = 1;
+          return;
+        }
+      }
+    };
+    one_way(g, f, i);
+    one_way(f, g, j);
+  }
+  const MatrixX3d &X_, &N_, &F_;
+  MatrixX3i Fi_;
+  TriangleTree tree_;
+  double reach_;
+  std::vector<int> near_, local_, verts_;
+  MatrixX3d pos_;
+  std::vector<char> written_;
+};
+
 void commit(const ExpMap& m, const std::vector<double>& b, const Paste& p, int patch, Canvas& cv) {
   for_pasted(m, b, p, cv, [&](size_t s, int v, const Vec3& d) {
     cv.cur.row(v) = d.transpose();
@@ -513,6 +707,117 @@ void commit(const ExpMap& m, const std::vector<double>& b, const Paste& p, int p
     if (p.share[s] >= 0.5) (*cv.owner)[v] = patch, cv.copied->row(v) = p.raw[s].transpose();
   });
 }
+
+// Zero the features holding a vertex of \p faces: the vertices where \p in holds, displaced (\p D, #V by
+// 3) by over \p tau, connected to those; then feathered outwards: ring r (1 … feather) keeps
+// r / (feather + 1) of its displacement. \p mark: #V zeros, left so. \return the vertices zeroed.
+template <class In>
+size_t zero_features(const Mesh& T, const MatrixX3i& Fi, const std::vector<int>& faces, double tau, int feather,
+                     In in, MatrixX3d& D, std::vector<char>& mark) {
+  std::vector<int> queue;
+  auto take = [&](int v) {
+    if (!in(v) || mark[v] || !(D.row(v).norm() > tau)) return;
+    mark[v] = 1;
+    queue.push_back(v);
+  };
+  for (int f : faces)
+    for (int k = 0; k < 3; ++k) take(Fi(f, k));
+  for (size_t i = 0; i < queue.size(); ++i)
+    for (auto w : T.vv_range(T.vertex_handle(queue[i]))) take(w.idx());
+  const size_t zeroed = queue.size();
+  for (int v : queue) D.row(v).setZero();
+  std::vector<int> ring = queue, next;
+  for (int r = 1; r <= feather; ++r) {
+    next.clear();
+    for (int v : ring)
+      for (auto w : T.vv_range(T.vertex_handle(v)))
+        if (in(w.idx()) && !mark[w.idx()]) mark[w.idx()] = 1, next.push_back(w.idx());
+    for (int v : next) D.row(v) *= double(r) / (feather + 1);
+    queue.insert(queue.end(), next.begin(), next.end());
+    ring.swap(next);
+  }
+  for (int v : queue) mark[v] = 0;
+  return zeroed;
+}
+
+// Paste patches by minimum cuts, placements tried in turn against collisions: the chosen placement,
+// then the others by cost, at most fold_tries, until one folds no more faces around the patch than there
+// were and crosses no more (avoid_crossings); else the one that crosses fewest, then folds fewest, whose
+// colliding features are then dropped (drop_collisions): the connected patch vertices displaced by over
+// `tau` that hold a vertex of a face it crosses or folds, zeroed, feathered over `feather` rings. Crossings
+// that remain are dropped again with a lower tau (a quarter, twice: at last the patch's whole relief there).
+class Placer {
+ public:
+  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach,
+         const SynthesisOptions& o, SynthesisResult& res)
+      : T_(T), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach) {
+    if (o.seams != SeamMethod::Cut) return;
+    if (o.fold_tries > 1) folds_ = std::make_unique<FoldCheck>(T, X, N, F);
+    if (o.avoid_crossings) crossings_ = std::make_unique<CrossingCheck>(T, X, N, F, reach);
+  }
+
+  template <class Read>
+  void place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order, Read read,
+             int patch, Canvas& cv) {
+    for (size_t s = 0; s < m.vertices.size(); ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
+    if (crossings_) crossings_->near(m, cv);
+    before_.reset();
+    Paste best;
+    std::pair<size_t, long> fewest{std::numeric_limits<size_t>::max(), 0};
+    std::vector<int> best_folds, best_crossed;
+    const size_t tries = folds_ || crossings_ ? std::min(order.size(), static_cast<size_t>(o_.fold_tries)) : 1;
+    for (size_t i = 0; i < tries && fewest != std::pair<size_t, long>{0, 0}; ++i) {
+      Paste p = cut_paste(T_, m, b, [&](size_t s, Vec3* raw) { return read(order[i], s, raw); }, cv, o_.feather);
+      std::vector<int> folded;
+      const long added = folds_ ? std::max(0L, folds_->added(m, b, p, cv, &folded)) : 0;
+      std::vector<int> crossed = crossings_ ? new_crossings(m, b, &p, cv) : std::vector<int>();
+      const std::pair<size_t, long> key{crossed.size(), added};
+      if (key < fewest) fewest = key, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
+      if (i == 0 && key != std::pair<size_t, long>{0, 0} && tries > 1) retrying_ = true;
+    }
+    const bool dropping = o_.drop_collisions && (fewest.first > 0 || (o_.drop_folds && fewest.second > 0));
+    if (crossings_ && dropping && !before_) before_ = crossings_->crossed(m, b, nullptr, cv);  // for the recheck
+    commit(m, b, best, patch, cv);
+    if (retrying_ && fewest == std::pair<size_t, long>{0, 0}) ++res_.retried_placements;
+    retrying_ = false;
+    if (dropping) {
+      if (!o_.drop_folds || fewest.second == 0) best_folds.clear();
+      best_folds.insert(best_folds.end(), best_crossed.begin(), best_crossed.end());
+      res_.dropped_vertices += drop(best_folds, tau_, cv);
+      ++res_.dropped_patches;
+      for (int round = 0; round < 2 && crossings_; ++round) {  // what zeroing left crossed, or made cross
+        best_crossed = new_crossings(m, b, nullptr, cv);
+        if (!best_crossed.empty()) res_.dropped_vertices += drop(best_crossed, tau_ * std::pow(0.25, round + 1), cv);
+      }
+    }
+    for (int v : m.vertices) cv.slot[v] = -1;
+  }
+
+ private:
+  // The faces crossed with \p p (nullptr: now) and not before the patch (its first call computes "before").
+  std::vector<int> new_crossings(const ExpMap& m, const std::vector<double>& b, const Paste* p, const Canvas& cv) {
+    std::vector<int> after = crossings_->crossed(m, b, p, cv);
+    if (after.empty()) return after;
+    if (!before_) before_ = crossings_->crossed(m, b, nullptr, cv);
+    std::vector<int> out;
+    std::set_difference(after.begin(), after.end(), before_->begin(), before_->end(), std::back_inserter(out));
+    return out;
+  }
+  size_t drop(const std::vector<int>& faces, double tau, Canvas& cv) {
+    if (mark_.empty()) mark_.assign(cv.has.size(), 0);
+    return zero_features(T_, Fi_, faces, tau, o_.feather, [&](int v) { return cv.slot[v] >= 0; }, cv.cur, mark_);
+  }
+  const Mesh& T_;
+  MatrixX3i Fi_;
+  const SynthesisOptions& o_;
+  SynthesisResult& res_;
+  double tau_;
+  std::unique_ptr<FoldCheck> folds_;
+  std::unique_ptr<CrossingCheck> crossings_;
+  std::optional<std::vector<int>> before_;
+  std::vector<char> mark_;
+  bool retrying_ = false;
+};
 
 // Shrink the displacements \p local (#V by 3 in the frames (F, n × F, n)) around the faces that X + D
 // folds (folded_faces()'s test) and the base X does not, smoothly: each round multiplies them by
@@ -684,6 +989,45 @@ void check_inputs(const Mesh& target, const SynthesisOptions& o, const Synthesis
     throw InvalidInput(fmt::format("texture synthesis: expected one guide direction per target vertex ({})", n0));
 }
 
+// Encode the displacements res.local as a height-and-tilt texture on T, apply it and count the faces
+// the textured surface crosses (self_intersecting_faces()) against the base's own. Where it crosses
+// beyond them (the texture reproduces the displacements approximately, and unfolding moved them) and
+// repair_crossings is on, the features there are zeroed (zero_features(), above \p tau, then a quarter
+// of it), what that folds unfolded, and the texture encoded again: at most twice.
+void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double tau,
+                      const SynthesisOptions& o, SynthesisResult& res,
+                      const std::function<void(const char*)>& stage_done) {
+  report(o.progress, 0.9, "encode");
+  TextureCodec codec(T, o.texture);
+  const MatrixX3i Fi = faces(T);
+  std::vector<char> base, mark(X.rows(), 0);
+  for (int round = 0;; ++round) {
+    res.texture = texture_from_local(codec, res.local, F);
+    res.textured = codec.apply(res.texture);
+    if (round == 0) {
+      stage_done("encode");
+      report(o.progress, 0.95, "self-intersections");
+      base = self_intersecting_faces(X, Fi);
+    }
+    const std::vector<char> hit = self_intersecting_faces(res.textured, Fi);
+    res.self_intersecting = std::count(hit.begin(), hit.end(), 1);
+    res.base_self_intersecting = std::count(base.begin(), base.end(), 1);
+    res.excess_self_intersecting =
+        res.self_intersecting > res.base_self_intersecting ? res.self_intersecting - res.base_self_intersecting : 0;
+    std::vector<int> extra;
+    for (Eigen::Index f = 0; f < Fi.rows(); ++f)
+      if (hit[f] && !base[f]) extra.push_back(static_cast<int>(f));
+    if (extra.empty() || !o.repair_crossings || round == 2) break;
+    res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
+                                           [](int) { return true; }, res.local, mark);
+    if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, 0.25 * res.patch_radius, res.local, {});
+  }
+  if (res.repaired_vertices)
+    res.warnings.push_back(fmt::format("displacements zeroed at {} vertices where the textured surface still "
+                                       "crossed itself", res.repaired_vertices));
+  stage_done("count");
+}
+
 }  // namespace
 
 SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
@@ -761,8 +1105,9 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   res.copied = MatrixX3d::Zero(n, 3);
   Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
             std::vector<int>(n, -1)};
-  std::unique_ptr<FoldCheck> folds;
-  if (cut && o.fold_tries > 1) folds = std::make_unique<FoldCheck>(T, X, N, F);
+  double largest = 0;  // displacement: how far a displaced point can be from its base point
+  for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
+  Placer placer(T, X, N, F, largest, o, res);
   auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
@@ -881,19 +1226,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
         res.copied.row(v) = raw.transpose();
       }
     }
-    if (cut) {  // the first placement in order that folds no face more, else the one that folds fewest
-      for (size_t s = 0; s < k; ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
-      Paste best;
-      long fewest = std::numeric_limits<long>::max();
-      const size_t tries = folds ? std::min(order.size(), static_cast<size_t>(o.fold_tries)) : 1;
-      for (size_t i = 0; i < tries && fewest > 0; ++i) {
-        Paste p = cut_paste(T, m, b, [&](size_t s, Vec3* raw) { return read(order[i], s, raw); }, cv, o.feather);
-        const long added = folds ? folds->added(m, b, p, cv) : 0;
-        if (added < fewest) fewest = added, best = std::move(p);
-      }
-      commit(m, b, best, patch, cv);
-      for (int v : m.vertices) cv.slot[v] = -1;
-    }
+    if (cut) placer.place(m, b, order, read, patch, cv);
     report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
   }
   if (covered < to_cover)
@@ -913,23 +1246,9 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
                                          res.unfolded_vertices));
   }
   stage_done("unfold");
-  report(o.progress, 0.9, "encode");
-  TextureCodec codec(T, o.texture);
-  res.texture = texture_from_local(codec, res.local, F);
-  res.textured = codec.apply(res.texture);
-  stage_done("encode");
-  report(o.progress, 0.95, "self-intersections");
-  {
-    const MatrixX3i Fi = faces(T);
-    const std::vector<char> hit = self_intersecting_faces(res.textured, Fi), base = self_intersecting_faces(X, Fi);
-    res.self_intersecting = std::count(hit.begin(), hit.end(), 1);
-    res.base_self_intersecting = std::count(base.begin(), base.end(), 1);
-    res.excess_self_intersecting =
-        res.self_intersecting > res.base_self_intersecting ? res.self_intersecting - res.base_self_intersecting : 0;
-  }
+  encode_and_count(T, X, N, F, 0.05 * largest, o, res, stage_done);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
-  stage_done("count");
   report(o.progress, 1, "done");
   return res;
 }

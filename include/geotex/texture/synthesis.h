@@ -32,8 +32,11 @@
 //!     Dinic), so features are copied whole where the two disagree. The cut is feathered over `feather`
 //!     rings (both displacements are known there). Folds: the placements are tried in turn (the chosen
 //!     one, then the others by cost) until one folds no more faces around the patch than there were
-//!     (`fold_tries`); what still folds at the end is shrunk smoothly (`unfold`: Gaussian dips of radius
-//!     ¼ patch radius around each folded face, until none folds).
+//!     (`fold_tries`) and crosses no more (`avoid_crossings`: self_intersecting_faces() over the written
+//!     faces near the patch, against what is placed and the target); the features of a placement that
+//!     still collides are dropped (`drop_collisions`: zeroed, feathered); what still folds at the end is
+//!     shrunk smoothly (`unfold`, the last resort: Gaussian dips of radius ¼ patch radius around each
+//!     folded face, until none folds).
 //!     seams = blend: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a
 //!     patch's centre, 0 at its rim, p = blend_power) — uncorrelated relief averages out, and features
 //!     from two patches cross where they overlap.
@@ -98,6 +101,20 @@ struct SynthesisOptions {
   //! seams = cut: placements tried in turn (the chosen one, then the others best first) until one folds no
   //! more faces than there were around the patch (else the one that folds fewest); 1: no check.
   int fold_tries = 8;
+  //! seams = cut: placements are also tested for crossings (self_intersecting_faces() on the written faces
+  //! near the patch: against what is placed and the target) and tried in turn until one crosses no more
+  //! faces than there were; the features of one that still crosses are dropped (drop_collisions).
+  bool avoid_crossings = true;
+  //! seams = cut: where the placement kept still crosses faces, zero the displacement of the colliding
+  //! features (connected vertices of the patch displaced by over 5 % of the largest displacement,
+  //! feathered).
+  bool drop_collisions = true;
+  //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
+  //! there as drop_collisions does, unfold, and encode again (at most twice).
+  bool repair_crossings = true;
+  //! seams = cut: drop the features of a kept placement that still folds faces too (rather than leaving
+  //! the folds to unfold).
+  bool drop_folds = false;
   //! Shrink the displacements around faces they fold (and not the base), by 0.7 a round, until none does.
   bool unfold = true;
 
@@ -159,6 +176,11 @@ struct SynthesisResult {
   double patch_radius = 0;   //!< patch radius on the target (target units)
   size_t added_vertices = 0; //!< vertices the refinement added
   size_t unfolded_vertices = 0;  //!< vertices whose displacement \ref SynthesisOptions::unfold shrank
+  //! Collisions at placement (seams = cut): patches whose first placement folded or crossed faces and a
+  //! later one did not; patches whose features were dropped; vertices zeroed by dropping.
+  size_t retried_placements = 0, dropped_patches = 0, dropped_vertices = 0;
+  //! Vertices zeroed after encoding, where the textured surface still crossed itself (drop_collisions).
+  size_t repaired_vertices = 0;
   int exemplar_center = -1;  //!< the exemplar disk used (automatic or given)
   double exemplar_radius = 0;   //!< its geodesic radius (exemplar units)
   double exemplar_extent = 0;   //!< R: exemplar length per unit-disk length (the map's scale over |z| < 0.8)
