@@ -223,3 +223,19 @@ TEST(TextureBase, AnAutomaticBaseThatRemovesMuchOfTheSurfaceIsWarnedAbout) {
   const TextureExtraction hairy = texture_extraction(meshes[1], nullptr);
   EXPECT_LT(hairy.base_area_ratio, kBaseAreaWarning) << "the test needs a texture that is most of the surface";
 }
+
+TEST(TextureBase, EachComponentsBaseIsTheBaseItHasAlone) {
+  // Issue 26: a spiky sphere beside finer flat sheets and small spheres (a character's pieces). The sheets
+  // are their own fit; before, their zero distances set the whole mesh's protrusion bound, every vertex of
+  // the sphere became a protrusion and its base collapsed (area 0). Each component's base is now the one it
+  // has alone.
+  SpikeOptions spikes;
+  spikes.count = 12;
+  const Mesh sphere = spiky(icosphere(3), spikes).textured;
+  std::vector<std::pair<Mesh, Eigen::RowVector3d>> parts = {{sphere, Eigen::RowVector3d::Zero()}};
+  for (int k = 0; k < 4; ++k) parts.push_back({plane(40, 0.3), Eigen::RowVector3d(-3, 0.7 * k, 0)});
+  for (int k = 0; k < 6; ++k) parts.push_back({icosphere(1, 0.05), Eigen::RowVector3d(3, 0.4 * k, 0)});
+  const MatrixX3d B = extract_base_shape(side_by_side(parts));
+  const MatrixX3d B1 = extract_base_shape(sphere);
+  EXPECT_LT((B.topRows(B1.rows()) - B1).cwiseAbs().maxCoeff(), 1e-6 * mean_edge_length(sphere));
+}

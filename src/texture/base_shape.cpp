@@ -64,28 +64,35 @@ double median(std::vector<double> v) {
   return *mid;
 }
 
-// The fit's cutoff wavelength per vertex, in mean edges (issue 26): o.scale, but at most o.size_share ×
-// the size (√area, in mean edges) of the vertex's connected component, so that a coarse model's legs and
-// ears, or a small separate piece, are shape rather than texture; a component smaller than kOwnShapeSize
-// keeps its own shape (scale 0: the base is the component itself, no texture).
+// The fit's cutoff wavelength per vertex, in the component's own mean edges (issue 26): o.scale, but at
+// most o.size_share × the size (√area, in its own mean edges) of the vertex's connected component, so that
+// a coarse model's legs and ears are shape rather than texture; a component smaller than kOwnShapeSize mean
+// edges (its own or the whole mesh's: a button beside a body) keeps its own shape (scale 0: the base is the
+// component itself, no texture). Each component's fit is then independent of the others.
 constexpr double kOwnShapeSize = 4.0;
 
-Eigen::VectorXd component_scales(const Mesh& mesh, double scale, double share) {
+Eigen::VectorXd component_scales(const Mesh& mesh, const Eigen::VectorXi& comp, int count, double scale, double share) {
   const Eigen::Index n = mesh.n_vertices();
-  int count = 0;
-  const Eigen::VectorXi comp = connected_components(mesh, &count);
   const Eigen::VectorXd fa = face_areas(mesh);
-  std::vector<double> area(std::max(count, 1), 0.0);
+  std::vector<double> area(std::max(count, 1), 0.0), length(area.size(), 0.0), edges(area.size(), 0.0);
   for (auto f : mesh.faces()) {
     const int c = comp[mesh.to_vertex_handle(mesh.halfedge_handle(f)).idx()];
     if (c >= 0) area[c] += fa[f.idx()];
   }
+  for (auto e : mesh.edges()) {
+    const int c = comp[mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx()];
+    if (c < 0) continue;
+    length[c] += mesh.calc_edge_length(e);
+    edges[c] += 1;
+  }
   const double h = std::max(mean_edge_length(mesh), 1e-300);
   Eigen::VectorXd out = Eigen::VectorXd::Constant(n, scale);
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (comp[i] < 0) continue;
-    const double size = std::sqrt(area[comp[i]]) / h;
-    out[i] = size < kOwnShapeSize ? 0.0 : share > 0 ? std::min(scale, share * size) : scale;
+    const int c = comp[i];
+    if (c < 0) continue;
+    const double own = std::sqrt(area[c]) / std::max(length[c] / std::max(edges[c], 1.0), 1e-300);
+    const bool small = own < kOwnShapeSize || std::sqrt(area[c]) / h < kOwnShapeSize;
+    out[i] = small ? 0.0 : share > 0 ? std::min(scale, share * own) : scale;
   }
   return out;
 }
@@ -101,7 +108,9 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
   const SparseMatrix K = SparseMatrix(d.asDiagonal()) - A;
   // On a triangle lattice of spacing h, L ≈ (h²/4)Δ and D ≈ 6: the penalty is 6 μ (h²k²/4)² ‖b̂‖² at
   // wavenumber k. It equals the data term at the wavelength 2π/k = scale·h when μ = (scale/π)⁴/6.
-  const Eigen::VectorXd scales = component_scales(mesh, o.scale, o.size_share);
+  int count = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &count);
+  const Eigen::VectorXd scales = component_scales(mesh, comp, count, o.scale, o.size_share);
   Eigen::VectorXd mu(n);
   for (Eigen::Index i = 0; i < n; ++i) mu[i] = std::pow(scales[i] / M_PI, 4) / 6.0;
   // The outline of an open surface is shape: its boundary vertices (and those of a kept piece) hold
@@ -127,7 +136,7 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
     if (held[i]) w[i] = kHeld;
   LeastSquaresSolver solver;
   MatrixX3d B;
-  double bound = 0;
+  std::vector<double> bound;  // per component: a flat piece beside a spiky one must not make it all protrusion
   const int total = 1 + o.robust_passes;
   for (int pass = 0; pass < total; ++pass) {
     if (pass == 0) solver.compute(G, w);
@@ -147,10 +156,17 @@ MatrixX3d robust_fit(const Mesh& mesh, const BaseShapeOptions& o, Eigen::VectorX
     const Eigen::VectorXd r = (B - X).rowwise().norm();
     // The bound is set once, from the first fit: later fits move away from protrusions, and a bound
     // that followed them would let the filled region creep outwards.
-    if (pass == 0) bound = o.outlier * 1.4826 * median(std::vector<double>(r.data(), r.data() + n));
-    if (!(bound > 0)) break;  // the surface is its own fit: nothing to reweight
+    if (pass == 0) {
+      std::vector<std::vector<double>> rc(std::max(count, 1));
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (comp[i] >= 0 && !held[i]) rc[comp[i]].push_back(r[i]);
+      bound.resize(rc.size());
+      for (size_t c = 0; c < rc.size(); ++c) bound[c] = o.outlier * 1.4826 * median(std::move(rc[c]));
+    }
     for (Eigen::Index i = 0; i < n; ++i) {
-      const double u = r[i] / bound;
+      // A component that is its own fit (bound 0) has nothing to reweight.
+      if (comp[i] < 0 || !(bound[comp[i]] > 0)) continue;
+      const double u = r[i] / bound[comp[i]];
       w[i] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;
       w[i] = std::max(w[i], 1e-8);  // keeps the system definite on a component that is all protrusion
       if (held[i]) w[i] = kHeld;
