@@ -106,7 +106,9 @@ void feather_cut(const Mesh& mesh, const std::vector<int>& vertices, const std::
 }  // namespace
 
 std::vector<double> seam_cut(const Mesh& mesh, const std::vector<int>& vertices, const std::vector<Vec3>& fresh,
-                             const std::vector<Vec3>& old, const std::function<bool(int)>& written, int feather) {
+                             const std::vector<Vec3>& old, const std::function<bool(int)>& written, int feather,
+                             const std::vector<double>& cost_fresh, const std::vector<double>& cost_old,
+                             bool take_centre) {
   const size_t k = vertices.size();
   std::vector<int> slot(mesh.n_vertices(), -1), node(k, -1);  // overlap vertices: their node (0: keep, 1: new)
   for (size_t s = 0; s < k; ++s) slot[vertices[s]] = static_cast<int>(s);
@@ -143,13 +145,19 @@ std::vector<double> seam_cut(const Mesh& mesh, const std::vector<int>& vertices,
       total += c;
     }
   }
-  if (!any_new && node[0] >= 0) renew[node[0]] = 1;
+  if (take_centre && !any_new && node[0] >= 0) renew[node[0]] = 1;
+  std::vector<double> take(nodes, 0.0), stay(nodes, 0.0);  // data costs of taking / keeping
+  for (size_t s = 0; s < k; ++s) {
+    if (node[s] < 0) continue;
+    if (!cost_fresh.empty()) take[node[s]] = cost_fresh[s], total += cost_fresh[s];
+    if (!cost_old.empty()) stay[node[s]] = cost_old[s], total += cost_old[s];
+  }
   const double inf = 2 * total + 1;
   MaxFlow g(nodes);
   for (const Link& l : links) g.add(l.a, l.b, l.c, l.c);
-  for (int i = 2; i < nodes; ++i) {
-    if (keep[i]) g.add(0, i, inf, 0);
-    if (renew[i]) g.add(i, 1, inf, 0);
+  for (int i = 2; i < nodes; ++i) {  // source → i is cut when i takes the patch's, i → sink when it keeps
+    if (keep[i] || take[i] > 0) g.add(0, i, keep[i] ? inf : take[i], 0);
+    if (renew[i] || stay[i] > 0) g.add(i, 1, renew[i] ? inf : stay[i], 0);
   }
   g.run(0, 1);
   const std::vector<char> side = g.source_side(0);

@@ -69,12 +69,17 @@ struct Part {
 };
 
 // What one disk brings: per vertex it covers (weight b = (1 − |z|²)² > 0; the centre first) the part
-// vertex, b, and the displacement D and the source's mean M in the vertex's frame (world coordinates).
+// vertex, b, the displacement D and the source's mean M in the vertex's frame (world coordinates), and
+// what pasting it there costs a cut: kRimCost × |D − M| × the smoothstep from 0 at |z| = spacing to 1 at
+// the rim. A feature the source disk's rim cuts through is pasted only where no disk nearer its centre
+// (every vertex lies within spacing of a centre) can give that vertex a value as cheaply.
 struct DiskSample {
   std::vector<int> local;
-  std::vector<double> w;
+  std::vector<double> w, rim;
   std::vector<Vec3> D, M;
 };
+constexpr double kRimCost = 2.0;
+
 
 // What the disks leave at each target vertex. Blend: the variance-preserving blend (as by-example
 // noise blends, Heitz and Neyret 2018): with normalised weights w̃_k = b_k^p / Σ_j b_j^p,
@@ -85,12 +90,13 @@ struct DiskSample {
 struct Overlaps {
   MatrixX3d sumM, sumDM;
   Eigen::VectorXd sumW, sumW2;
-  MatrixX3d cur;          // cut: the displacement so far
-  std::vector<char> has;  // cut: whether a disk wrote it
+  MatrixX3d cur;           // cut: the displacement so far
+  std::vector<char> has;   // cut: whether a disk wrote it
+  std::vector<double> rim; // cut: what keeping it costs (DiskSample::rim, mixed as the displacement)
 
   explicit Overlaps(Eigen::Index n)
       : sumM(MatrixX3d::Zero(n, 3)), sumDM(MatrixX3d::Zero(n, 3)), sumW(Eigen::VectorXd::Zero(n)),
-        sumW2(Eigen::VectorXd::Zero(n)), cur(MatrixX3d::Zero(n, 3)), has(n, 0) {}
+        sumW2(Eigen::VectorXd::Zero(n)), cur(MatrixX3d::Zero(n, 3)), has(n, 0), rim(n, 0.0) {}
   MatrixX3d displacements(AtlasOverlap rule) const {
     if (rule == AtlasOverlap::Cut) return cur;
     MatrixX3d D = MatrixX3d::Zero(cur.rows(), 3);
@@ -124,17 +130,19 @@ void blend_in(const Part& part, const DiskSample& d, int disk, double power, Atl
 // Paste the disk along a minimum cut of its overlap with the disks before it (seam_cut()).
 void cut_in(const Part& part, const DiskSample& d, int disk, int feather, AtlasResult& res, Overlaps& c) {
   std::vector<Vec3> old(d.local.size(), Vec3::Zero());
+  std::vector<double> old_rim(d.local.size(), 0.0);
   for (size_t k = 0; k < d.local.size(); ++k) {
     const int v = part.target(d.local[k]);
-    if (c.has[v]) old[k] = c.cur.row(v).transpose();
+    if (c.has[v]) old[k] = c.cur.row(v).transpose(), old_rim[k] = c.rim[v];
   }
-  const std::vector<double> share =
-      detail::seam_cut(part.mesh, d.local, d.D, old, [&](int w) { return c.has[part.target(w)] != 0; }, feather);
+  const std::vector<double> share = detail::seam_cut(
+      part.mesh, d.local, d.D, old, [&](int w) { return c.has[part.target(w)] != 0; }, feather, d.rim, old_rim, false);
   for (size_t k = 0; k < d.local.size(); ++k) {
     const int v = part.target(d.local[k]);
     res.coverage[v] = std::max(res.coverage[v], d.w[k]);
     if (!(share[k] > 0)) continue;
     c.cur.row(v) = ((1 - share[k]) * old[k] + share[k] * d.D[k]).transpose();
+    c.rim[v] = (1 - share[k]) * old_rim[k] + share[k] * d.rim[k];
     c.has[v] = 1;
     if (share[k] >= 0.5) res.owner[v] = disk;
   }
@@ -171,6 +179,8 @@ bool sample_disk(const Part& part, int c, const Eigen::VectorXd& dist, const Mat
     out.w.push_back(w);
     out.D.push_back(frame * (height_factor * src.sample(z)));
     out.M.push_back(frame * (height_factor * mean_local));
+    const double t = std::clamp((z.norm() - o.spacing) / std::max(1 - o.spacing, 1e-9), 0.0, 1.0);
+    out.rim.push_back(kRimCost * t * t * (3 - 2 * t) * (out.D.back() - out.M.back()).norm());
   }
   return !out.local.empty();
 }

@@ -222,8 +222,12 @@ struct AtlasOptions {
   double blend_power = 4.0;
   //! Overlaps: cut (the default) pastes the disks in the order they are placed, each along a minimum cut
   //! of its overlap with those before (Kwatra et al. 2003, as synthesis does: the border runs where the
-  //! two displacements agree, so a feature is copied whole from one disk); blend averages them (above),
-  //! which mixes unrelated parts of the source: ghosted features, and spikes that cross.
+  //! two displacements agree, so a feature is copied whole from one disk). A disk's rim slices the
+  //! source's features, so a cut also pays for pasting (or keeping) relief beyond |z| = spacing, by a
+  //! smoothstep up to the rim: each vertex goes to a disk that has it whole. A disk inside the area
+  //! already covered takes only what it improves (nothing forces its centre in: a lone vertex would be a
+  //! needle). blend averages them (above), which mixes unrelated parts of the source: ghosted features,
+  //! and spikes that cross.
   AtlasOverlap overlap = AtlasOverlap::Cut;
   int feather = 1;  //!< overlap = cut: rings on either side of a cut over which the two are mixed
   //! Shrink the displacements smoothly around every face the texture folds or makes cross another face
