@@ -224,7 +224,7 @@ size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& 
     const double gap = dmin.maxCoeff(&next);
     c = gap > o.spacing * R ? static_cast<int>(next) : -1;
     if (o.progress && part.to_target.empty())
-      report(o.progress, c < 0 ? 0.9 : 0.9 * double((dmin.array() <= o.spacing * R).count()) / n, "disks");
+      report(o.progress, c < 0 ? 1.0 : double((dmin.array() <= o.spacing * R).count()) / n, "disks");
   }
   return skipped;
 }
@@ -244,7 +244,7 @@ size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const 
   int visit = 0;
   rounds = 0;
   for (int round = 0; round < 40; ++round) {
-    report(progress, 0.9 + 0.1 * round / 40.0, "unfold");
+    report(progress, round / 40.0, "unfold");
     const MatrixX3d P = X + alpha.asDiagonal() * D;
     const std::vector<char> now = detail::damaged_faces(T, P);
     bool any = false;
@@ -266,6 +266,7 @@ size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const 
     if (!any) break;
     ++rounds;
   }
+  report(progress, 1.0, "unfold");
   size_t shrunk = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i) {
     shrunk += alpha[i] < 0.99 && D.row(i).norm() > 0;  // a zero displacement is not reduced
@@ -349,7 +350,7 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
       if (piece.n_edges() > 0) g.time_factor *= std::pow(h / mean_edge_length(piece), 2);
       skipped += place_disks(Part{piece, parts[p]}, HeatGeodesics(piece, g), N, src, R, o, res, b);
       done += static_cast<Eigen::Index>(parts[p].size());
-      if (o.progress) report(o.progress, 0.9 * double(done) / n, "disks");
+      if (o.progress) report(o.progress, double(done) / n, "disks");
     }
   }
   if (skipped)

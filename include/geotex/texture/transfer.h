@@ -242,7 +242,7 @@ struct AtlasOptions {
   int damage_warning = 0;       //!< warn above this many excess folded or self-intersecting faces (AtlasResult::damage)
   HeatGeodesicOptions geodesic;
   TextureOptions texture;
-  ProgressFn progress;  //!< called after each disk with the share of the target covered
+  ProgressFn progress;  //!< called after each disk with the share of the target covered ("disks"), then per unfolding round
   static const OptionTable<AtlasOptions>& table();
 };
 
