@@ -92,6 +92,9 @@ const ResultTable<AtlasResult>& atlas_results() {
              kPythonOnly)
       .add("height_factor", [](const R& r) { return r.height_factor; },
            "what the source heights were multiplied by (height rule x height_scale)")
+      .add("unfolded_vertices", [](const R& r) { return r.unfolded_vertices; },
+           "vertices whose displacement the unfolding lowered (faces it folded or made cross)")
+      .add("unfold_rounds", [](const R& r) { return r.unfold_rounds; }, "unfolding rounds that found damage")
       .part(texture_damage_results(), [](const R& r) -> const TextureDamage& { return r.damage; })
       .add("warnings", [](const R& r) { return r.warnings; }, "one line each (refined target, damage, ...)");
   return t;

@@ -1,5 +1,5 @@
 // Whole-surface texture transfer: an atlas of overlapping geodesic disks, each a copy of one source disk,
-// blended where they overlap (see transfer.h).
+// pasted along minimum cuts (or blended) where they overlap, then unfolded (see transfer.h).
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/texture/transfer.h"
+#include "seam_cut.h"
 #include "transfer_internal.h"
 
 namespace geotex {
@@ -26,8 +27,18 @@ const OptionTable<AtlasOptions>& AtlasOptions::table() {
            "orientation field on the target: each disk's anchor is this direction's tangent part at its centre")
       .add("spacing", &O::spacing, "disk centres until every vertex is within this share of the radius of one",
            between(0.05, 1))  // below, a disk per vertex or so: a conformal map each, for no visible change
+      .choice("overlap", &O::overlap, atlas_overlap_names(),
+              "cut: each vertex takes one disk's displacement, the borders minimum cuts of the overlaps; blend: "
+              "overlapping disks averaged (ghosts)", "Kwatra et al. 2003")
       .add("blend_power", &O::blend_power,
-           "overlapping disks are averaged with weights (1 - |z|^2)^(2p): large p, narrow blends", at_least(1))
+           "overlap=blend: overlapping disks are averaged with weights (1 - |z|^2)^(2p): large p, narrow blends",
+           at_least(1))
+      .add("feather", &O::feather, "overlap=cut: rings on either side of a cut over which the two disks are mixed",
+           between(0, 16))
+      .add("unfold", &O::unfold,
+           "shrink the displacements around faces they fold or make cross (beyond the target's own) until none does")
+      .add("unfold_radius", &O::unfold_radius, "unfold: radius of each dip, as a share of the target radius",
+           between(0.01, 1))
       .choice("height_rule", &O::height_rule, height_rule_names(),
               "patch-radius (heights times target/source radius) or absolute (model units)")
       .add("height_scale", &O::height_scale, "multiply the heights by this, on top of the height rule", between(0, 1e6))
@@ -42,17 +53,12 @@ const OptionTable<AtlasOptions>& AtlasOptions::table() {
   return t;
 }
 
-namespace {
+const EnumNames<AtlasOverlap>& atlas_overlap_names() {
+  static const EnumNames<AtlasOverlap> n = {{"cut", AtlasOverlap::Cut}, {"blend", AtlasOverlap::Blend}};
+  return n;
+}
 
-// Variance-preserving blend (as by-example noise blends, Heitz and Neyret 2018): with normalised
-// weights w̃_k = b_k^p / Σ_j b_j^p, D = Σ w̃_k M_k + Σ w̃_k (D_k − M_k) / √(Σ w̃_k²), M_k the source
-// patch's mean displacement in disk k's frame. A plain average of two unrelated pieces of texture
-// has 1/√2 of their contrast; this keeps it. Sums are kept relative to the largest b_k seen so far
-// (b^p underflows for large p).
-struct Blend {
-  MatrixX3d sumM, sumDM;
-  Eigen::VectorXd sumW, sumW2;
-};
+namespace {
 
 // The vertices the disks of one part cover: \p part is the target itself (to_target empty) or a
 // piece of it, whose vertex i is the target's to_target[i].
@@ -62,19 +68,136 @@ struct Part {
   int target(int v) const { return to_target.empty() ? v : to_target[v]; }
 };
 
-// Farthest-point sampling of disk centres over one part; each disk is blended in as soon as it is
-// placed. A centre in a component no disk has reached yet moves to the vertex farthest from it (an
+// What one disk brings: per vertex it covers (weight b = (1 − |z|²)² > 0; the centre first) the part
+// vertex, b, the displacement D and the source's mean M in the vertex's frame (world coordinates), and
+// what pasting it there costs a cut: kRimCost × |D − M| × the smoothstep from 0 at |z| = spacing to 1 at
+// the rim. A feature the source disk's rim cuts through is pasted only where no disk nearer its centre
+// (every vertex lies within spacing of a centre) can give that vertex a value as cheaply.
+struct DiskSample {
+  std::vector<int> local;
+  std::vector<double> w, rim;
+  std::vector<Vec3> D, M;
+};
+constexpr double kRimCost = 2.0;
+
+
+// What the disks leave at each target vertex. Blend: the variance-preserving blend (as by-example
+// noise blends, Heitz and Neyret 2018): with normalised weights w̃_k = b_k^p / Σ_j b_j^p,
+// D = Σ w̃_k M_k + Σ w̃_k (D_k − M_k) / √(Σ w̃_k²), M_k the source patch's mean displacement in disk k's
+// frame (a plain average of two unrelated pieces of texture has 1/√2 of their contrast; this keeps it);
+// sums kept relative to the largest b_k seen so far (b^p underflows for large p). Cut: the canvas of
+// displacements pasted so far (seam_cut()).
+struct Overlaps {
+  MatrixX3d sumM, sumDM;
+  Eigen::VectorXd sumW, sumW2;
+  MatrixX3d cur;           // cut: the displacement so far
+  std::vector<char> has;   // cut: whether a disk wrote it
+  std::vector<double> rim; // cut: what keeping it costs (DiskSample::rim, mixed as the displacement)
+
+  explicit Overlaps(Eigen::Index n)
+      : sumM(MatrixX3d::Zero(n, 3)), sumDM(MatrixX3d::Zero(n, 3)), sumW(Eigen::VectorXd::Zero(n)),
+        sumW2(Eigen::VectorXd::Zero(n)), cur(MatrixX3d::Zero(n, 3)), has(n, 0), rim(n, 0.0) {}
+  MatrixX3d displacements(AtlasOverlap rule) const {
+    if (rule == AtlasOverlap::Cut) return cur;
+    MatrixX3d D = MatrixX3d::Zero(cur.rows(), 3);
+    for (Eigen::Index i = 0; i < D.rows(); ++i)
+      if (sumW[i] > 0) D.row(i) = sumM.row(i) / sumW[i] + sumDM.row(i) / std::sqrt(sumW2[i]);
+    return D;
+  }
+};
+
+void blend_in(const Part& part, const DiskSample& d, int disk, double power, AtlasResult& res, Overlaps& b) {
+  for (size_t k = 0; k < d.local.size(); ++k) {
+    const int v = part.target(d.local[k]);
+    const double w = d.w[k];
+    if (w > res.coverage[v]) {  // rescale the sums to the new largest weight
+      const double f = res.coverage[v] > 0 ? std::pow(res.coverage[v] / w, power) : 0.0;
+      b.sumW[v] *= f;
+      b.sumW2[v] *= f * f;
+      b.sumM.row(v) *= f;
+      b.sumDM.row(v) *= f;
+      res.coverage[v] = w;
+      res.owner[v] = disk;
+    }
+    const double wp = std::pow(w / res.coverage[v], power);
+    b.sumW[v] += wp;
+    b.sumW2[v] += wp * wp;
+    b.sumM.row(v) += wp * d.M[k].transpose();
+    b.sumDM.row(v) += wp * (d.D[k] - d.M[k]).transpose();
+  }
+}
+
+// Paste the disk along a minimum cut of its overlap with the disks before it (seam_cut()).
+void cut_in(const Part& part, const DiskSample& d, int disk, int feather, AtlasResult& res, Overlaps& c) {
+  std::vector<Vec3> old(d.local.size(), Vec3::Zero());
+  std::vector<double> old_rim(d.local.size(), 0.0);
+  for (size_t k = 0; k < d.local.size(); ++k) {
+    const int v = part.target(d.local[k]);
+    if (c.has[v]) old[k] = c.cur.row(v).transpose(), old_rim[k] = c.rim[v];
+  }
+  const std::vector<double> share = detail::seam_cut(
+      part.mesh, d.local, d.D, old, [&](int w) { return c.has[part.target(w)] != 0; }, feather, d.rim, old_rim, false);
+  for (size_t k = 0; k < d.local.size(); ++k) {
+    const int v = part.target(d.local[k]);
+    res.coverage[v] = std::max(res.coverage[v], d.w[k]);
+    if (!(share[k] > 0)) continue;
+    c.cur.row(v) = ((1 - share[k]) * old[k] + share[k] * d.D[k]).transpose();
+    c.rim[v] = (1 - share[k]) * old_rim[k] + share[k] * d.rim[k];
+    c.has[v] = 1;
+    if (share[k] >= 0.5) res.owner[v] = disk;
+  }
+}
+
+// The disk around part vertex \p c, shrunk when the full radius is not a disk there (a thin part, a
+// handle), sampled from the source; \return false when no radius down to R/2 gives a disk.
+bool sample_disk(const Part& part, int c, const Eigen::VectorXd& dist, const MatrixX3d& N,
+                 const detail::SourceDisk& src, double R, const AtlasOptions& o, double height_factor, DiskSample& out) {
+  DiskPatch patch;
+  bool ok = false;
+  for (double r = R; !ok && r >= 0.5 * R; r *= 0.8) {
+    try {
+      patch = extract_disk_patch(part.mesh, c, r, dist);
+      ok = true;
+    } catch (const InvalidInput&) {
+    }
+  }
+  if (!ok) return false;
+  const DiskMap map = disk_map(patch, o.target_direction);
+  const MatrixX3d e1 = detail::vertex_u_directions(patch.mesh, map.e1);
+  const Vec3 mean_local = src.mean_local();
+  out = DiskSample{};
+  std::vector<size_t> order(patch.vertices.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::swap(order[0], order[patch.center]);  // the centre first
+  for (size_t k : order) {
+    const int v = part.target(patch.vertices[k]);
+    const Eigen::Vector2d z = map.uv.row(k).transpose();
+    const double w = std::pow(std::max(0.0, 1 - z.squaredNorm()), 2);
+    if (!(w > 0)) continue;
+    const Eigen::Matrix3d frame = local_frame(N.row(v).transpose(), e1.row(k).transpose());
+    out.local.push_back(patch.vertices[k]);
+    out.w.push_back(w);
+    out.D.push_back(frame * (height_factor * src.sample(z)));
+    out.M.push_back(frame * (height_factor * mean_local));
+    const double t = std::clamp((z.norm() - o.spacing) / std::max(1 - o.spacing, 1e-9), 0.0, 1.0);
+    out.rim.push_back(kRimCost * t * t * (3 - 2 * t) * (out.D.back() - out.M.back()).norm());
+  }
+  return !out.local.empty();
+}
+
+// Farthest-point sampling of disk centres over one part; each disk is pasted (or blended) in as soon as
+// it is placed. A centre in a component no disk has reached yet moves to the vertex farthest from it (an
 // extremity, so the disks pack from the outside in). \return the disks left out (not disks).
 size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& N, const detail::SourceDisk& src,
-                   double R, const AtlasOptions& o, AtlasResult& res, Blend& b) {
+                   double R, const AtlasOptions& o, AtlasResult& res, Overlaps& b) {
   const Mesh& T = part.mesh;
   const Eigen::Index n = T.n_vertices();
   Eigen::VectorXd dmin = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
   for (auto v : T.vertices())
     if (T.is_isolated(v)) dmin[v.idx()] = 0;  // nothing to cover
-  const Vec3 mean_local = src.mean_local();
   size_t skipped = 0;
   Eigen::Index next = 0;
+  DiskSample sample;
   for (int c = dmin.maxCoeff(&next) > o.spacing * R ? static_cast<int>(next) : -1; c >= 0;) {
     if (std::isinf(dmin[c])) {  // a component's first disk: start from its extremity
       const Eigen::VectorXd d0 = geo.distance(c);
@@ -87,42 +210,10 @@ size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& 
     }
     const Eigen::VectorXd d = geo.distance(c);
     dmin = dmin.cwiseMin(d);
-    // The disk, shrunk when the full radius is not a disk there (a thin part, a handle).
-    DiskPatch patch;
-    bool ok = false;
-    for (double r = R; !ok && r >= 0.5 * R; r *= 0.8) {
-      try {
-        patch = extract_disk_patch(T, c, r, d);
-        ok = true;
-      } catch (const InvalidInput&) {
-      }
-    }
-    if (ok) {
-      const DiskMap map = disk_map(patch, o.target_direction);
-      const MatrixX3d e1 = detail::vertex_u_directions(patch.mesh, map.e1);
+    if (sample_disk(part, c, d, N, src, R, o, res.height_factor, sample)) {
       const int disk = static_cast<int>(res.centers.size());
-      for (size_t k = 0; k < patch.vertices.size(); ++k) {
-        const int v = part.target(patch.vertices[k]);
-        const Eigen::Vector2d z = map.uv.row(k).transpose();
-        const double w = std::pow(std::max(0.0, 1 - z.squaredNorm()), 2);
-        if (!(w > 0)) continue;
-        const Eigen::Matrix3d frame = local_frame(N.row(v).transpose(), e1.row(k).transpose());
-        const Vec3 D = frame * (res.height_factor * src.sample(z)), M = frame * (res.height_factor * mean_local);
-        if (w > res.coverage[v]) {  // rescale the sums to the new largest weight
-          const double f = res.coverage[v] > 0 ? std::pow(res.coverage[v] / w, o.blend_power) : 0.0;
-          b.sumW[v] *= f;
-          b.sumW2[v] *= f * f;
-          b.sumM.row(v) *= f;
-          b.sumDM.row(v) *= f;
-          res.coverage[v] = w;
-          res.owner[v] = disk;
-        }
-        const double wp = std::pow(w / res.coverage[v], o.blend_power);
-        b.sumW[v] += wp;
-        b.sumW2[v] += wp * wp;
-        b.sumM.row(v) += wp * M.transpose();
-        b.sumDM.row(v) += wp * (D - M).transpose();
-      }
+      if (o.overlap == AtlasOverlap::Cut) cut_in(part, sample, disk, o.feather, res, b);
+      else blend_in(part, sample, disk, o.blend_power, res, b);
       res.centers.push_back(part.target(c));
     } else {
       ++skipped;
@@ -136,6 +227,52 @@ size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& 
       report(o.progress, c < 0 ? 1.0 : double((dmin.array() <= o.spacing * R).count()) / n, "disks");
   }
   return skipped;
+}
+
+// Shrink the displacements \p D (#V by 3) around the faces that X + D folds or makes cross another face
+// (detail::damaged_faces()) and the bare X does not, smoothly: each round multiplies them by
+// 1 − 0.25 exp(−d² / ρ²), d the distance on the bare target from the damaged face's centroid (within 2ρ),
+// until none is damaged (at most 40 rounds; a step cut would fold the surface at its rim, and a dip about
+// a spike's foot lowers the whole spike). \return the vertices shrunk by over 1 %; \p rounds the rounds
+// that found damage.
+size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const ProgressFn& progress) {
+  const MatrixX3d X = positions(T);
+  const MatrixX3i F = faces(T);
+  const std::vector<char> base = detail::damaged_faces(T, X);
+  Eigen::VectorXd alpha = Eigen::VectorXd::Ones(X.rows());
+  std::vector<int> seen(X.rows(), -1), queue;
+  int visit = 0;
+  rounds = 0;
+  for (int round = 0; round < 40; ++round) {
+    report(progress, round / 40.0, "unfold");
+    const MatrixX3d P = X + alpha.asDiagonal() * D;
+    const std::vector<char> now = detail::damaged_faces(T, P);
+    bool any = false;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      if (!now[f] || base[f]) continue;
+      any = true;
+      const Vec3 c = (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3;
+      queue.assign({F(f, 0), F(f, 1), F(f, 2)});
+      for (int v : queue) seen[v] = visit;
+      for (size_t i = 0; i < queue.size(); ++i) {
+        const int v = queue[i];
+        alpha[v] *= 1 - 0.25 * std::exp(-(X.row(v).transpose() - c).squaredNorm() / (rho * rho));
+        for (auto w : T.vv_range(T.vertex_handle(v)))
+          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * rho)
+            seen[w.idx()] = visit, queue.push_back(w.idx());
+      }
+      ++visit;
+    }
+    if (!any) break;
+    ++rounds;
+  }
+  report(progress, 1.0, "unfold");
+  size_t shrunk = 0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    shrunk += alpha[i] < 0.99 && D.row(i).norm() > 0;  // a zero displacement is not reduced
+    D.row(i) *= alpha[i];
+  }
+  return shrunk;
 }
 
 // Components packed into parts of at least kPartVertices vertices (a larger component is a part of
@@ -183,7 +320,7 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
   const Mesh& T = res.target;
   const Eigen::Index n = T.n_vertices();
   const MatrixX3d N = vertex_normals(T, o.texture.normals);
-  Blend b{MatrixX3d::Zero(n, 3), MatrixX3d::Zero(n, 3), Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+  Overlaps b(n);
   res.coverage = Eigen::VectorXd::Zero(n);
   res.owner = Eigen::VectorXi::Constant(n, -1);
   size_t skipped = 0;
@@ -220,9 +357,13 @@ AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, c
     res.warnings.push_back(fmt::format("{} disk(s) of radius down to {:.4g} were not disks (thin parts or handles) "
                                        "and were left out: coverage may have gaps there",
                                        skipped, 0.5 * R));
-  MatrixX3d D = MatrixX3d::Zero(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (b.sumW[i] > 0) D.row(i) = b.sumM.row(i) / b.sumW[i] + b.sumDM.row(i) / std::sqrt(b.sumW2[i]);
+  MatrixX3d D = b.displacements(o.overlap);
+  if (o.unfold) {
+    res.unfolded_vertices = unfold_atlas(T, o.unfold_radius * R, D, res.unfold_rounds, o.progress);
+    if (res.unfolded_vertices)
+      res.warnings.push_back(fmt::format("{} vertices' displacements were lowered so that no face folds or crosses "
+                                         "another ({} rounds)", res.unfolded_vertices, res.unfold_rounds));
+  }
   TextureCodec codec(T, o.texture);
   res.texture = codec.from_displacements(D);
   res.damage = texture_damage(T, codec.apply(res.texture));

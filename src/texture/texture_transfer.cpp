@@ -130,6 +130,22 @@ TextureDamage texture_damage(const Mesh& base, const MatrixX3d& textured) {
   return d;
 }
 
+std::vector<char> detail::damaged_faces(const Mesh& mesh, const MatrixX3d& P) {
+  const MatrixX3i F = faces(mesh);
+  MatrixX3d FN(F.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Vec3 a = P.row(F(f, 0)).transpose(), b = P.row(F(f, 1)).transpose(), c = P.row(F(f, 2)).transpose();
+    FN.row(f) = (b - a).cross(c - a).normalized().transpose();
+  }
+  std::vector<char> out = self_intersecting_faces(P, F);
+  for (auto f : mesh.faces()) {
+    Vec3 s = Vec3::Zero();
+    for (auto g : mesh.ff_range(f)) s += FN.row(g.idx()).transpose();
+    if (s.dot(FN.row(f.idx()).transpose()) < 0) out[f.idx()] = 1;
+  }
+  return out;
+}
+
 std::string damage_warning(const TextureDamage& d, size_t threshold) {
   if (d.excess_folded() <= threshold && d.excess_self_intersecting() <= threshold) return {};
   return fmt::format("the textured surface has {} folded and {} self-intersecting faces beyond the base's own "

@@ -361,7 +361,7 @@ Registrar reg{70, "texture", "height-and-tilt geometric texture (ch. 8)", [](CLI
   {
     auto a = std::make_shared<AtlasFiles>();
     CLI::App* s = app.add_subcommand(
-        "atlas", "cover a whole surface with copies of one texture disk, blended where they overlap");
+        "atlas", "cover a whole surface with copies of one texture disk, cut (or blended) where they overlap");
     s->add_option("TEXTURE", a->source, "source texture file")->required()->check(ExistingFile);
     s->add_option("TARGET", a->target, "target base mesh")->required()->check(ExistingMeshFile);
     s->add_option("-o,--output", a->output, "textured target mesh")->required()->check(MeshOutputFile);

@@ -127,7 +127,7 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
                                           o.source_radius, o.target_radius, tr.target_patch.vertices.size(),
                                           tr.added_vertices)});
 
-  // Cover the whole sphere with copies of one disk of the spiky plate (an atlas of blended disks).
+  // Cover the whole sphere with copies of one disk of the spiky plate (an atlas of disks pasted along minimum cuts).
   const TexturedShape sp = make_shape("spiky-plane", ctx.quick ? 0 : 1);
   TextureCodec sc(sp.base);
   const Texture stex = sc.extract(positions(sp.textured));
@@ -153,8 +153,8 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
                       covered.n_vertices(), at.added_vertices));
   add_figure(ctx, {.mesh = "texture-atlas-sphere.ply",
                    .caption = fmt::format("Atlas: the whole sphere covered by {} overlapping geodesic disks, each a copy "
-                                          "of one disk of the spiky plate, blended where they overlap (the 3D page "
-                                          "colours each vertex by its disk).",
+                                          "of one disk of the spiky plate, pasted along minimum cuts where they overlap "
+                                          "(the 3D page colours each vertex by its disk).",
                                           at.centers.size())});
   summary(fmt::format("{:.1f} s for the whole step",
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));

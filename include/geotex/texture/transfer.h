@@ -192,6 +192,14 @@ TransferResult transfer_texture(const Mesh& source_base, const Texture& source, 
 // ---------------------------------------------------------------------------------------------
 // Whole-surface transfer: an atlas of overlapping disks
 
+//! How overlapping disks share a vertex.
+enum class AtlasOverlap {
+  Cut,    //!< each vertex takes one disk's displacement, the borders minimum cuts of the overlaps (feathered)
+  Blend,  //!< the disks' displacements averaged with weights (ghosts: unrelated features mixed)
+};
+//! "cut", "blend".
+const EnumNames<AtlasOverlap>& atlas_overlap_names();
+
 struct AtlasOptions {
   int source_center = 0;        //!< source base vertex at the centre of the texture patch
   double source_radius = 0;     //!< geodesic radius of the source patch
@@ -204,7 +212,7 @@ struct AtlasOptions {
   //! Disk centres are placed (farthest-point sampling, geodesic) until every vertex lies within
   //! spacing × target_radius of one; smaller is more overlap.
   double spacing = 0.6;
-  //! Blending: disk k weighs b_k = (1 − |z_k|²)² at a vertex with disk coordinate z_k (1 at its centre,
+  //! overlap = blend: disk k weighs b_k = (1 − |z_k|²)² at a vertex with disk coordinate z_k (1 at its centre,
   //! 0 at its rim), and the disks covering a vertex are averaged with weights b_k^p / Σ_j b_j^p. The
   //! disk whose centre is nearest dominates; between two neighbours the blend is about 1.7/p of the
   //! radius wide (large p: nearly a cut, steeper at the borders; at 8 the 99th percentile of |Δh|/edge
@@ -212,13 +220,29 @@ struct AtlasOptions {
   //! keeps the texture's contrast: Σ w̃_k M_k + Σ w̃_k (D_k − M_k) / √(Σ w̃_k²), M_k the source's mean
   //! displacement (a plain average of two unrelated pieces of texture has 1/√2 of their contrast).
   double blend_power = 4.0;
+  //! Overlaps: cut (the default) pastes the disks in the order they are placed, each along a minimum cut
+  //! of its overlap with those before (Kwatra et al. 2003, as synthesis does: the border runs where the
+  //! two displacements agree, so a feature is copied whole from one disk). A disk's rim slices the
+  //! source's features, so a cut also pays for pasting (or keeping) relief beyond |z| = spacing, by a
+  //! smoothstep up to the rim: each vertex goes to a disk that has it whole. A disk inside the area
+  //! already covered takes only what it improves (nothing forces its centre in: a lone vertex would be a
+  //! needle). blend averages them (above), which mixes unrelated parts of the source: ghosted features,
+  //! and spikes that cross.
+  AtlasOverlap overlap = AtlasOverlap::Cut;
+  int feather = 1;  //!< overlap = cut: rings on either side of a cut over which the two are mixed
+  //! Shrink the displacements smoothly around every face the texture folds or makes cross another face
+  //! (beyond the bare target's own) until none does: a spike that still crosses a neighbour is lowered
+  //! as a whole (Gaussian dips of radius unfold_radius × target_radius about the damaged faces on the
+  //! bare target, at most 40 rounds). Counted in AtlasResult::unfolded_vertices.
+  bool unfold = true;
+  double unfold_radius = 0.1;  //!< the dips' radius, as a share of target_radius
   HeightRule height_rule = HeightRule::PatchRadius;
   double height_scale = 1.0;
   double refine_ratio = 1.0;    //!< refine the target where coarser than this × the scaled source (0: never)
   int damage_warning = 0;       //!< warn above this many excess folded or self-intersecting faces (AtlasResult::damage)
   HeatGeodesicOptions geodesic;
   TextureOptions texture;
-  ProgressFn progress;  //!< called after each disk with the share of the target covered
+  ProgressFn progress;  //!< called after each disk with the share of the target covered ("disks"), then per unfolding round
   static const OptionTable<AtlasOptions>& table();
 };
 
@@ -233,12 +257,15 @@ struct AtlasResult {
   Eigen::VectorXi owner;           //!< #V: the disk with the largest weight there (−1: none)
   size_t added_vertices = 0;
   double height_factor = 1;
+  //! Vertices whose displacement AtlasOptions::unfold shrank by over 1 %, and its rounds (0: nothing folded).
+  size_t unfolded_vertices = 0;
+  int unfold_rounds = 0;
   TextureDamage damage;            //!< of the textured target against \ref target's own
   std::vector<std::string> warnings;
 };
 
-//! Cover the whole of \p target_base with copies of one source disk (an atlas of geodesic disks with
-//! blended overlaps): a step towards texture synthesis. \throw InvalidInput for bad options.
+//! Cover the whole of \p target_base with copies of one source disk (an atlas of geodesic disks, cut or
+//! blended where they overlap): a step towards texture synthesis. \throw InvalidInput for bad options.
 AtlasResult cover_with_texture(const Mesh& source_base, const Texture& source, const Mesh& target_base,
                                const AtlasOptions& options);
 
