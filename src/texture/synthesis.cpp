@@ -21,6 +21,7 @@
 #include "geotex/core/spatial.h"
 #include "geotex/texture/measures.h"
 #include "geotex/tools/metrics.h"
+#include "seam_cut.h"
 #include "transfer_internal.h"
 
 namespace geotex {
@@ -267,70 +268,7 @@ class ExpMapper {
   std::vector<int> slot_, parent_;
 };
 
-// Maximum flow (Dinic: BFS levels, blocking flows by DFS) on a small graph; what graph-cut seams need.
-class MaxFlow {
- public:
-  explicit MaxFlow(int nodes) : head_(nodes, -1), level_(nodes), it_(nodes) {}
-  //! An edge a → b of capacity \p ab and its reverse of capacity \p ba.
-  void add(int a, int b, double ab, double ba) {
-    link(a, b, ab);
-    link(b, a, ba);
-  }
-  double run(int s, int t) {
-    double total = 0;
-    while (levels(s, t)) {
-      it_ = head_;
-      while (const double f = push(s, t, std::numeric_limits<double>::infinity())) total += f;
-    }
-    return total;
-  }
-  //! After run(): the nodes reachable from \p s in the residual graph (the source side of a minimum cut).
-  std::vector<char> source_side(int s) const {
-    std::vector<char> seen(head_.size(), 0);
-    std::vector<int> stack{s};
-    seen[s] = 1;
-    while (!stack.empty()) {
-      const int a = stack.back();
-      stack.pop_back();
-      for (int e = head_[a]; e >= 0; e = next_[e])
-        if (cap_[e] > kEps && !seen[to_[e]]) seen[to_[e]] = 1, stack.push_back(to_[e]);
-    }
-    return seen;
-  }
-
- private:
-  static constexpr double kEps = 1e-15;
-  void link(int a, int b, double c) {
-    to_.push_back(b);
-    cap_.push_back(c);
-    next_.push_back(head_[a]);
-    head_[a] = static_cast<int>(to_.size()) - 1;
-  }
-  bool levels(int s, int t) {
-    std::fill(level_.begin(), level_.end(), -1);
-    std::vector<int> queue{s};
-    level_[s] = 0;
-    for (size_t i = 0; i < queue.size(); ++i)
-      for (int e = head_[queue[i]]; e >= 0; e = next_[e])
-        if (cap_[e] > kEps && level_[to_[e]] < 0) level_[to_[e]] = level_[queue[i]] + 1, queue.push_back(to_[e]);
-    return level_[t] >= 0;
-  }
-  double push(int a, int t, double f) {
-    if (a == t) return f;
-    for (int& e = it_[a]; e >= 0; e = next_[e]) {
-      const int b = to_[e];
-      if (cap_[e] <= kEps || level_[b] != level_[a] + 1) continue;
-      if (const double g = push(b, t, std::min(f, cap_[e])); g > 0) {
-        cap_[e] -= g;
-        cap_[e ^ 1] += g;
-        return g;
-      }
-    }
-    return 0;
-  }
-  std::vector<int> head_, level_, it_, to_, next_;
-  std::vector<double> cap_;
-};
+using detail::MaxFlow;  // seam_cut.h
 
 Eigen::VectorXd vertex_areas(const Mesh& mesh) {
   const Eigen::VectorXd fa = face_areas(mesh);
@@ -740,6 +678,9 @@ size_t zero_features(const Mesh& T, const MatrixX3i& Fi, const std::vector<int>&
   return zeroed;
 }
 
+// Displacements longer than this share of the target's bounding-box diagonal are not tested for crossings.
+constexpr double kCrossingReach = 0.5;
+
 // Paste patches by minimum cuts, placements tried in turn against collisions: the chosen placement,
 // then the others by cost, at most fold_tries, until one folds no more faces around the patch than there
 // were and crosses no more (avoid_crossings); else the one that crosses fewest, then folds fewest, whose
@@ -1107,7 +1048,18 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
             std::vector<int>(n, -1)};
   double largest = 0;  // displacement: how far a displaced point can be from its base point
   for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
-  Placer placer(T, X, N, F, largest, o, res);
+  // Displacements as large as the target itself (a height scale far beyond the exemplar's): every placement
+  // crosses the whole target, and testing each would cost the whole target per try (a sphere at
+  // --height-scale 1e6: past 120 s). There crossings are counted, not avoided.
+  SynthesisOptions placing = o;
+  if (largest > kCrossingReach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm() &&
+      (o.avoid_crossings || o.repair_crossings)) {
+    placing.avoid_crossings = placing.drop_collisions = placing.repair_crossings = false;
+    res.warnings.push_back(fmt::format("displacements up to {:.3g} are as large as the target ({:.3g} across): "
+                                       "crossings are counted, not avoided",
+                                       largest, (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm()));
+  }
+  Placer placer(T, X, N, F, largest, placing, res);
   auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
@@ -1246,7 +1198,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
                                          res.unfolded_vertices));
   }
   stage_done("unfold");
-  encode_and_count(T, X, N, F, 0.05 * largest, o, res, stage_done);
+  encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   report(o.progress, 1, "done");

@@ -57,16 +57,26 @@ struct Rings {
   }
   int size(int i) const { return offset[i + 1] - offset[i]; }
   const int* begin(int i) const { return ids.data() + offset[i]; }
-  //! The rings as the columns of a pattern matrix R (= Rᵀ): R Rᵀ couples the vertices that the linear
-  //! method's normal equations couple (the 2-ring).
-  SparseMatrix pattern() const {
+  //! The rings as the columns of a pattern matrix R: R Rᵀ couples the vertices that the linear method's
+  //! normal equations couple (the 2-ring). A ring longer than \p longest is a row the solver keeps out of
+  //! its factor (a fan's hub): its column holds its own vertex only.
+  SparseMatrix pattern(int longest) const {
     const int n = static_cast<int>(offset.size()) - 1;
     SparseMatrix R(n, n);
-    R.resizeNonZeros(static_cast<Eigen::Index>(ids.size()));
-    std::copy(offset.begin(), offset.end(), R.outerIndexPtr());
-    std::copy(ids.begin(), ids.end(), R.innerIndexPtr());
-    std::fill(R.valuePtr(), R.valuePtr() + ids.size(), 1.0);
-    for (int i = 0; i < n; ++i) std::sort(R.innerIndexPtr() + offset[i], R.innerIndexPtr() + offset[i + 1]);
+    std::vector<int> outer(n + 1, 0);
+    for (int i = 0; i < n; ++i) outer[i + 1] = outer[i] + (size(i) > longest ? 1 : size(i));
+    R.resizeNonZeros(outer[n]);
+    std::copy(outer.begin(), outer.end(), R.outerIndexPtr());
+    for (int i = 0; i < n; ++i) {
+      int* col = R.innerIndexPtr() + outer[i];
+      if (size(i) > longest) {
+        col[0] = i;
+        continue;
+      }
+      std::copy(begin(i), begin(i) + size(i), col);
+      std::sort(col, col + size(i));
+    }
+    std::fill(R.valuePtr(), R.valuePtr() + outer[n], 1.0);
     return R;
   }
 };
@@ -355,7 +365,7 @@ LaplacianEditor::LaplacianEditor(const Mesh& mesh, std::vector<int> handles, std
   // estimated from the 2-ring first: a mesh too large for the method is refused in seconds, not after
   // minutes of assembly (a 2.6 M-vertex sphere: 218 s; issue 30).
   const Rings rings(mesh);
-  require_block_factor_memory("the linear editing method", rings.pattern(), 3);
+  require_block_factor_memory("the linear editing method", rings.pattern(kDenseRowNonzeros / 3), 3);
   RowSparseMatrix G = linear_method_matrix(rings, X_, D_, L_);
   Eigen::VectorXd w3(3 * n);
   for (int d = 0; d < 3; ++d) w3.segment(d * n, n) = Wd.diagonal();

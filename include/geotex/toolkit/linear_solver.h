@@ -32,8 +32,8 @@ struct FactorEstimate {
 };
 
 //! Estimates the factor of a system with \p block_size unknowns per vertex, vertices i and j coupled
-//! wherever (R Rᵀ)_ij ≠ 0 (R: #vertices rows, e.g. each vertex's closed ring as a row: R Rᵀ is then the
-//! 2-ring), ordered as SpdSolver::analyze orders a blocked system: by CHOLMOD's symbolic analysis of the
+//! wherever (R Rᵀ)_ij ≠ 0 (R: #vertices rows, e.g. each vertex's closed ring as a column: R Rᵀ is then the
+//! 2-ring; a column for a row that LeastSquaresSolver keeps out of its factor is left out of R), ordered as SpdSolver::analyze orders a blocked system: by CHOLMOD's symbolic analysis of the
 //! vertex graph alone, each scalar value becoming a block_size × block_size block. Seconds where the
 //! system's assembly and its own analysis take minutes. All zero without CHOLMOD.
 FactorEstimate estimate_block_factor(const SparseMatrix& R, int block_size,
@@ -81,12 +81,16 @@ class SpdSolver {
 //! are left out of the factored matrix S = G_sᵀG_s + diag(d) and added back by the Sherman–Morrison–
 //! Woodbury identity, (S + UUᵀ)⁻¹ = S⁻¹ − S⁻¹U (I + UᵀS⁻¹U)⁻¹ UᵀS⁻¹, U the long rows' transposes:
 //! memory and time stay linear in the nonzeros of G. Without long rows it is a plain Cholesky solve.
+//! LeastSquaresSolver's default: rows of G with more nonzeros are left out of its factor (Woodbury).
+constexpr int kDenseRowNonzeros = 512;
+
 class LeastSquaresSolver {
  public:
   //! \param G #rows by #unknowns; \param d #unknowns non-negative diagonal; \param block_size as SpdSolver::analyze.
   //! \throw SolverError if GᵀG + diag(d) is singular.
-  void compute(RowSparseMatrix G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512);
-  void compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = 512) {
+  void compute(RowSparseMatrix G, const Eigen::VectorXd& d, int block_size = 1, int dense_row_nnz = kDenseRowNonzeros);
+  void compute(const SparseMatrix& G, const Eigen::VectorXd& d, int block_size = 1,
+               int dense_row_nnz = kDenseRowNonzeros) {
     compute(RowSparseMatrix(G), d, block_size, dense_row_nnz);
   }
   //! Factor GᵀG + diag(\p d) for the G of the last compute() and a new diagonal, reusing its analysis.
