@@ -1,7 +1,7 @@
 #pragma once
 // Graph-cut seams between overlapping texture patches (Kwatra, Schödl, Essa, Turk and Bobick, "Graphcut
 // textures", SIGGRAPH 2003), shared by what pastes patches over a canvas of per-vertex displacements: the
-// atlas uses seam_cut(); synthesis uses MaxFlow with its own cut over its canvas (cut_paste).
+// atlas and synthesis (cut_paste) both paste through seam_cut().
 
 #include <functional>
 #include <vector>

@@ -268,8 +268,6 @@ class ExpMapper {
   std::vector<int> slot_, parent_;
 };
 
-using detail::MaxFlow;  // seam_cut.h
-
 Eigen::VectorXd vertex_areas(const Mesh& mesh) {
   const Eigen::VectorXd fa = face_areas(mesh);
   Eigen::VectorXd va = Eigen::VectorXd::Zero(mesh.n_vertices());
@@ -309,82 +307,22 @@ Paste cut_paste(const Mesh& T, const ExpMap& m, const std::vector<double>& b, Re
   p.value.resize(k);
   p.raw.resize(k);
   p.share.assign(k, 0.0);
-  std::vector<int> node(k, -1);  // overlap vertices: their node (0: the source, keep; 1: the sink, new)
-  int nodes = 2;
+  // The patch's vertices (b > 0), its centre first where it has it, cut by seam_cut() (seam_cut.h).
+  std::vector<int> vertices;
+  std::vector<size_t> index;
+  std::vector<Vec3> fresh, old;
   for (size_t s = 0; s < k; ++s) {
     if (!(b[s] > 0)) continue;
     p.value[s] = read(s, &p.raw[s]);
-    if (cv.has[m.vertices[s]]) node[s] = nodes++;
+    const int v = m.vertices[s];
+    vertices.push_back(v);
+    index.push_back(s);
+    fresh.push_back(p.value[s]);
+    old.push_back(cv.has[v] ? Vec3(cv.cur.row(v).transpose()) : Vec3::Zero());
   }
-  std::vector<char> side(nodes, 0);  // 1: keeps the old displacement
-  if (nodes > 2) {
-    struct Link {
-      int a, b;
-      double c;
-    };
-    std::vector<Link> links;
-    std::vector<char> keep(nodes, 0), renew(nodes, 0);
-    double total = 0;
-    bool any_new = false;
-    for (size_t s = 0; s < k; ++s) {
-      if (node[s] < 0) continue;
-      const int v = m.vertices[s];
-      const double ds = (p.value[s] - cv.cur.row(v).transpose()).norm();
-      for (auto wh : T.vv_range(T.vertex_handle(v))) {
-        const int w = wh.idx(), j = cv.slot[w];
-        if (j < 0 || !(b[j] > 0)) {
-          if (cv.has[w]) keep[node[s]] = 1;
-          continue;
-        }
-        if (node[j] < 0) {
-          renew[node[s]] = 1, any_new = true;
-          continue;
-        }
-        if (w < v) continue;  // each edge once
-        const double c = ds + (p.value[j] - cv.cur.row(w).transpose()).norm();
-        links.push_back({node[s], node[j], c});
-        total += c;
-      }
-    }
-    if (!any_new && node[0] >= 0) renew[node[0]] = 1;  // m.vertices[0] is the centre
-    const double inf = 2 * total + 1;
-    MaxFlow g(nodes);
-    for (const Link& l : links) g.add(l.a, l.b, l.c, l.c);
-    for (int i = 2; i < nodes; ++i) {
-      if (keep[i]) g.add(0, i, inf, 0);
-      if (renew[i]) g.add(i, 1, inf, 0);
-    }
-    g.run(0, 1);
-    side = g.source_side(0);
-  }
-  for (size_t s = 0; s < k; ++s)
-    if (b[s] > 0 && !(node[s] >= 0 && side[node[s]])) p.share[s] = 1;
-  if (feather > 0 && nodes > 2) {  // rings from the cut, within the overlap
-    std::vector<int> ring(k, -1), queue;
-    for (size_t s = 0; s < k; ++s) {
-      if (node[s] < 0) continue;
-      for (auto wh : T.vv_range(T.vertex_handle(m.vertices[s]))) {
-        const int j = cv.slot[wh.idx()];
-        if (j >= 0 && node[j] >= 0 && p.share[j] != p.share[s]) {
-          ring[s] = 0, queue.push_back(static_cast<int>(s));
-          break;
-        }
-      }
-    }
-    for (size_t i = 0; i < queue.size(); ++i) {
-      const int s = queue[i];
-      if (ring[s] + 1 >= feather) continue;
-      for (auto wh : T.vv_range(T.vertex_handle(m.vertices[s]))) {
-        const int j = cv.slot[wh.idx()];
-        if (j >= 0 && node[j] >= 0 && ring[j] < 0 && p.share[j] == p.share[s]) ring[j] = ring[s] + 1, queue.push_back(j);
-      }
-    }
-    for (size_t s = 0; s < k; ++s) {
-      if (ring[s] < 0) continue;
-      const double own = 0.5 + 0.5 * (ring[s] + 0.5) / (feather + 0.5);  // ½ at the cut, → 1 at `feather` rings
-      p.share[s] = p.share[s] > 0 ? own : 1 - own;
-    }
-  }
+  const std::vector<double> share = detail::seam_cut(T, vertices, fresh, old, [&](int v) { return cv.has[v] != 0; },
+                                                     feather, {}, {}, !index.empty() && index[0] == 0);
+  for (size_t i = 0; i < index.size(); ++i) p.share[index[i]] = share[i];
   return p;
 }
 
