@@ -223,6 +223,49 @@ TEST(FactorEstimate, AGraphsFactorTooLargeForTheMemoryLeftIsRefusedByName) {
   EXPECT_NO_THROW(require_block_factor_memory("a test method", R, 3));  // 144 MB without the cap
 }
 
+// Closed 1-rings of a mesh as the columns of a pattern matrix (R Rᵀ: the 2-ring), as the linear edit builds it.
+SparseMatrix ring_pattern(const Mesh& mesh) {
+  std::vector<Triplet> t;
+  for (auto v : mesh.vertices()) {
+    t.emplace_back(v.idx(), v.idx(), 1.0);
+    for (auto w : mesh.vv_range(v)) t.emplace_back(w.idx(), v.idx(), 1.0);
+  }
+  SparseMatrix R(mesh.n_vertices(), mesh.n_vertices());
+  R.setFromTriplets(t.begin(), t.end());
+  return R;
+}
+
+TEST(FactorEstimate, ExtrapolatedFromSamplesItIsNearTheWholeGraphsAnalysis) {
+  // A 41k-vertex sphere's 2-ring, estimated from breadth-first samples of 2.5k and 10k vertices (a 4×
+  // extrapolation), against the analysis of the whole graph; and disjoint triangles, whose factor is
+  // exactly linear in their number: the growth exponent is 1 and the extrapolation exact.
+  if (std::string(SpdSolver::backend()) != "cholmod-supernodal") GTEST_SKIP() << "the estimate is CHOLMOD's analysis";
+  const SparseMatrix R = ring_pattern(icosphere(6));
+  const BlockOrdering nd = BlockOrdering::NestedDissection;  // the ordering of the graphs sampled in use
+  const FactorEstimate whole = estimate_block_factor(R, 3, nd), guess = extrapolate_block_factor(R, 3, 10000, nd);
+  EXPECT_EQ(whole.sampled_vertices, 0);
+  EXPECT_EQ(guess.sampled_vertices, 10000);
+  EXPECT_GT(guess.values, 0.7 * whole.values);
+  EXPECT_LT(guess.values, 1.4 * whole.values);
+  EXPECT_GT(guess.flops, 0.5 * whole.flops);
+  EXPECT_LT(guess.flops, 2.0 * whole.flops);
+  EXPECT_GT(guess.bytes, 0.7 * whole.bytes);
+  EXPECT_LT(guess.bytes, 1.4 * whole.bytes);
+
+  const int triangles = 20000;
+  std::vector<Triplet> t;
+  for (int f = 0; f < triangles; ++f)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) t.emplace_back(3 * f + a, 3 * f + b, 1.0);
+  SparseMatrix soup(3 * triangles, 3 * triangles);
+  soup.setFromTriplets(t.begin(), t.end());
+  const FactorEstimate s_whole = estimate_block_factor(soup, 3), s_guess = extrapolate_block_factor(soup, 3, 6000);
+  EXPECT_NEAR(s_guess.nonzeros, s_whole.nonzeros, 1e-6 * s_whole.nonzeros);
+  EXPECT_NEAR(s_guess.flops, s_whole.flops, 1e-6 * s_whole.flops);
+  // A sample as large as the graph is the whole graph's analysis.
+  EXPECT_EQ(extrapolate_block_factor(soup, 3, 3 * triangles).sampled_vertices, 0);
+}
+
 TEST(SpdSolver, AFactorBeyondTheMemoryLeftIsRefusedByItsAnalysis) {
   // The symbolic analysis knows the factor's size (issue 30): with no memory left beside the process's
   // resident set (GEOTEX_MAX_MEMORY below it), the analysis refuses with the estimate; without the cap

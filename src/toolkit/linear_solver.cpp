@@ -1,6 +1,7 @@
 #include "geotex/toolkit/linear_solver.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <new>
 
@@ -176,13 +177,12 @@ FactorEstimate estimate_block_factor(const SparseMatrix& R, int block_size, Bloc
   cholmod_start(&cc);
   cc.print = 0;
   cc.supernodal = CHOLMOD_SUPERNODAL;
-  // Auto: CHOLMOD's own choice (AMD, then METIS where AMD fills badly), as an unblocked analysis of the
-  // system orders it; otherwise the named ordering.
-  const bool nd = ordering == BlockOrdering::NestedDissection;
-  if (ordering != BlockOrdering::Auto) {
-    cc.nmethods = 1;
-    cc.method[0].ordering = nd ? CHOLMOD_METIS : CHOLMOD_AMD;
-  }
+  // The ordering SpdSolver::analyze gives the blocked system (blocked_ordering): Auto is minimum degree
+  // below kNestedDissectionVertices, METIS from there.
+  const bool nd = ordering == BlockOrdering::NestedDissection ||
+                  (ordering == BlockOrdering::Auto && R.rows() >= kNestedDissectionVertices);
+  cc.nmethods = 1;
+  cc.method[0].ordering = nd ? CHOLMOD_METIS : CHOLMOD_AMD;
   cholmod_sparse view = Eigen::viewAsCholmod(A);
   view.stype = 0;  // unsymmetric: CHOLMOD analyzes R Rᵀ without forming the system
   cholmod_factor* L = cholmod_analyze(&view, &cc);
@@ -218,21 +218,100 @@ FactorEstimate estimate_block_factor(const SparseMatrix& R, int block_size, Bloc
   return e;
 }
 
+namespace {
+
+// The first `count` vertices reached breadth first over R's columns (the rings), component after component,
+// and R restricted to them (renumbered in that order).
+SparseMatrix sample_graph(const SparseMatrix& R, int count) {
+  const int n = static_cast<int>(R.cols());
+  std::vector<int> order, id(n, -1);
+  order.reserve(count);
+  for (int seed = 0; seed < n && static_cast<int>(order.size()) < count; ++seed) {
+    if (id[seed] >= 0) continue;
+    id[seed] = static_cast<int>(order.size());
+    order.push_back(seed);
+    for (size_t head = order.size() - 1; head < order.size() && static_cast<int>(order.size()) < count; ++head)
+      for (SparseMatrix::InnerIterator it(R, order[head]); it && static_cast<int>(order.size()) < count; ++it)
+        if (id[it.row()] < 0) {
+          id[it.row()] = static_cast<int>(order.size());
+          order.push_back(static_cast<int>(it.row()));
+        }
+  }
+  const int m = static_cast<int>(order.size());
+  std::vector<Triplet> t;
+  for (int c = 0; c < m; ++c)
+    for (SparseMatrix::InnerIterator it(R, order[c]); it; ++it)
+      if (id[it.row()] >= 0) t.emplace_back(id[it.row()], c, 1.0);
+  SparseMatrix S(m, m);
+  S.setFromTriplets(t.begin(), t.end());
+  return S;
+}
+
+}  // namespace
+
+FactorEstimate extrapolate_block_factor(const SparseMatrix& R, int block_size, int sample, BlockOrdering ordering) {
+  const double n = static_cast<double>(R.rows());
+  if (sample < 16 || n <= sample) return estimate_block_factor(R, block_size, ordering);
+  // Both samples are ordered as the whole graph would be (its size decides Auto's ordering).
+  const BlockOrdering o = ordering != BlockOrdering::Auto ? ordering
+                          : R.rows() >= kNestedDissectionVertices ? BlockOrdering::NestedDissection
+                                                                  : BlockOrdering::MinimumDegree;
+  const SparseMatrix S1 = sample_graph(R, sample);
+  const SparseMatrix S0 = sample_graph(S1, sample / 4);  // a prefix of the same breadth-first order
+  const FactorEstimate a = estimate_block_factor(S0, block_size, o), b = estimate_block_factor(S1, block_size, o);
+  const double n0 = static_cast<double>(S0.rows()), n1 = static_cast<double>(S1.rows());
+  auto grow = [&](double q0, double q1) {
+    if (q0 <= 0 || q1 <= 0) return q1 * n / n1;
+    const double e = std::clamp(std::log(q1 / q0) / std::log(n1 / n0), 1.0, 2.0);
+    return q1 * std::pow(n / n1, e);
+  };
+  FactorEstimate e;
+  e.values = grow(a.values, b.values);
+  e.nonzeros = grow(a.nonzeros, b.nonzeros);
+  e.flops = grow(a.flops, b.flops);
+  e.bytes = grow(a.bytes, b.bytes);
+  e.cpu_seconds = e.flops / kFactorFlopsPerSecond;
+  e.sampled_vertices = static_cast<int>(n1);
+  return e;
+}
+
+namespace {
+
+// Above this many vertices the factor is first extrapolated from a sample of this size (a few seconds):
+// a system far beyond the machine is refused from it; one within reach gets the exact analysis.
+constexpr int kFactorSampleVertices = 200000;
+// How far past a limit the extrapolation must be to refuse without the exact analysis.
+constexpr double kSampleRefusalMargin = 2.0;
+
+}  // namespace
+
 void require_block_factor_memory(const std::string& what, const SparseMatrix& R, int block_size,
                                  BlockOrdering ordering) {
-  const FactorEstimate e = estimate_block_factor(R, block_size, ordering);
+  FactorEstimate e;
+  if (R.rows() > 4 * kFactorSampleVertices) {
+    e = extrapolate_block_factor(R, block_size, kFactorSampleVertices, ordering);
+    const bool far = e.values > kSampleRefusalMargin * double(INT32_MAX) ||
+                     e.bytes > kSampleRefusalMargin * double(available_memory_bytes());
+    if (!far) e = estimate_block_factor(R, block_size, ordering);
+  } else {
+    e = estimate_block_factor(R, block_size, ordering);
+  }
+  const std::string source = e.sampled_vertices > 0
+                                 ? fmt::format("extrapolated from a {}-vertex sample of its {}-vertex graph",
+                                               e.sampled_vertices, R.rows())
+                                 : fmt::format("estimated from its {}-vertex graph", R.rows());
   const double n = double(R.rows()) * block_size;
   const std::string minutes = e.cpu_seconds >= 120 ? fmt::format("{:.0f} minutes", e.cpu_seconds / 60)
                                                    : fmt::format("{:.0f} s", e.cpu_seconds);
   if (e.values > double(INT32_MAX))
     throw OutOfMemory(fmt::format("{}: factoring its {:.0f} x {:.0f} system needs a Cholesky factor of about {:.2g} "
-                                  "values (estimated from its {}-vertex graph before assembling it), more than its "
-                                  "32-bit indices address (2^31), and about {} of CPU; the mesh is too large for "
-                                  "this method", what, n, n, e.values, R.rows(), minutes));
+                                  "values ({} before assembling it), more than its 32-bit indices address (2^31), and "
+                                  "about {} of CPU; the mesh is too large for this method",
+                                  what, n, n, e.values, source, minutes));
   if (e.bytes <= 0) return;
   require_memory(fmt::format("{}: factoring its {:.0f} x {:.0f} system (about {:.2g} nonzeros and {:.2g} flops in its "
-                             "Cholesky factor, about {} of CPU; estimated from its {}-vertex graph)",
-                             what, n, n, e.nonzeros, e.flops, minutes, R.rows()),
+                             "Cholesky factor, about {} of CPU; {})",
+                             what, n, n, e.nonzeros, e.flops, minutes, source),
                  e.bytes >= 1.8e19 ? SIZE_MAX : static_cast<size_t>(e.bytes));
 }
 
