@@ -13,6 +13,8 @@
 #include "geotex/texture/synthesis.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/shapes.h"
+#include "../src/texture/keep_out.h"
+#include "geotex/tools/shapes.h"
 
 using namespace geotex;
 
@@ -352,4 +354,36 @@ TEST(Synthesis, RefusesAnEstimateBeyondTheCap) {
   // The public estimate agrees with what the run would have been refused for.
   const SynthesisEstimate est = estimate_synthesis(e.p.base, e.t, icosphere(2), o);
   EXPECT_GT(est.vertices, 20'000u);
+}
+
+// The automatic keep-out (issue 27): a cube's edges are creases, its faces' middles are not; a sphere has
+// none; a tube far narrower than the texture's span is a part smaller than the texture, a wide sphere is not.
+TEST(SynthesisKeepOut, CreasesAndPartsSmallerThanTheTextureAreKeptOutAndNothingElse) {
+  const Mesh cube = subdivided_cube(10, 1.0);
+  const MatrixX3d X = positions(cube);
+  const detail::KeepOut k = detail::keep_out(cube, 0.3, 60, true);
+  int edges = 0, middles = 0;
+  for (Eigen::Index v = 0; v < X.rows(); ++v) {
+    const Eigen::Array3d a = X.row(v).transpose().array().abs();
+    const int at_side = (a > 0.499).count();  // the cube spans [-0.5, 0.5]^3
+    if (at_side >= 2) {
+      ++edges;
+      EXPECT_LT(k.creases[v], 1e-9) << v;
+      EXPECT_LT(k.weight[v], 1e-9) << v;
+    }
+    if (at_side == 1 && (a < 0.05).count() == 2) {  // a face's middle: 0.5 from every edge
+      ++middles;
+      EXPECT_DOUBLE_EQ(k.weight[v], 1.0) << v;
+    }
+  }
+  EXPECT_GT(edges, 0);
+  EXPECT_GT(middles, 0);
+  EXPECT_NEAR(k.area.sum(), 6.0, 1e-9);  // the vertex areas add up to the surface's
+  EXPECT_DOUBLE_EQ(detail::keep_out(cube, 0.3, 0, false).weight.minCoeff(), 1.0);  // both off: nothing kept out
+
+  const detail::KeepOut ball = detail::keep_out(icosphere(4, 5.0), 1.0, 60, true);
+  EXPECT_DOUBLE_EQ(ball.weight.minCoeff(), 1.0);
+  const detail::KeepOut tube = detail::keep_out(cylinder(0.05, 4.0, 24, 80), 1.0, 60, true);
+  EXPECT_LT(tube.thin.maxCoeff(), 1e-9);  // 4ρ / span = 0.2 of a disk's area
+  EXPECT_DOUBLE_EQ(detail::keep_out(cylinder(0.05, 4.0, 24, 80), 1.0, 60, false).thin.minCoeff(), 1.0);
 }

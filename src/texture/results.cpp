@@ -133,6 +133,12 @@ const ResultTable<SynthesisResult>& synthesis_results() {
       .add("repaired_vertices", [](const R& r) { return r.repaired_vertices; },
            "vertices zeroed after encoding, where the textured surface still crossed itself")
       .add("refined_share", [](const R& r) { return r.refined_share; }, "added_vertices / #V")
+      .array("weight", [](const R& r) { return r.weight; },
+             "#V the growth weight used (the user's times the automatic keep-out)", "", kPythonOnly)
+      .add("kept_out_share", [](const R& r) { return r.kept_out_share; },
+           "area share of the target kept out automatically (weight below 0.5)")
+      .add("kept_out_creases", [](const R& r) { return r.kept_out_creases; }, "the same, near sharp creases")
+      .add("kept_out_thin", [](const R& r) { return r.kept_out_thin; }, "the same, on parts smaller than the features")
       .add("exemplar_share", [](const R& r) { return r.estimate.exemplar_share; },
            "the exemplar share used (given, or automatic)")
       .add("estimated_vertices", [](const R& r) { return r.estimate.vertices; },

@@ -21,6 +21,7 @@
 #include "geotex/core/spatial.h"
 #include "geotex/texture/measures.h"
 #include "geotex/tools/metrics.h"
+#include "keep_out.h"
 #include "seam_cut.h"
 #include "transfer_internal.h"
 
@@ -81,6 +82,11 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("drop_folds", &O::drop_folds,
            "seams=cut: zero the features of a kept placement that still folds faces too (not left to unfold)")
       .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.7 a round) until none folds")
+      .add("keep_out_crease_angle", &O::keep_out_crease_angle,
+           "keep texture off edges sharper than this dihedral angle, faded in to the texture's span away (0: off)",
+           angle_deg())
+      .add("keep_out_thin", &O::keep_out_thin,
+           "keep texture off parts smaller than its features (the surface within its span under half a disk's area)")
       .add("direction", &O::direction, "the direction field's guide: its tangent part on the target")
       .nest(&O::field, DirectionFieldOptions::table())
       .add("seed", &O::seed, "random seed: same seed, same result")
@@ -907,6 +913,26 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   stage_done("count");
 }
 
+// The automatic keep-out (keep_out.h) multiplied into the growth weight, its area shares in the result.
+void apply_keep_out(const Mesh& target, const Exemplar& ex, const SynthesisOptions& o, Eigen::VectorXd& weight,
+                    SynthesisResult& res) {
+  if (!(o.keep_out_crease_angle > 0) && !o.keep_out_thin) return;
+  double length = 0;  // the features' length on the target
+  for (const Vec3& d : ex.grid) length = std::max(length, res.height_factor * d.norm());
+  const double span = std::min(length, res.scale * o.patch_radius * ex.extent);  // and their patch radius
+  const detail::KeepOut k = detail::keep_out(target, span, o.keep_out_crease_angle, o.keep_out_thin);
+  weight = weight.cwiseProduct(k.weight);
+  const double total = k.area.sum();
+  auto share = [&](const Eigen::VectorXd& w) {
+    double a = 0;
+    for (Eigen::Index i = 0; i < w.size(); ++i) a += w[i] < 0.5 ? k.area[i] : 0.0;
+    return total > 0 ? a / total : 0.0;
+  };
+  res.kept_out_share = share(k.weight);
+  res.kept_out_creases = share(k.creases);
+  res.kept_out_thin = share(k.thin);
+}
+
 }  // namespace
 
 SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
@@ -927,7 +953,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   res.exemplar_center = ex.center;
   res.exemplar_radius = ex.radius;
   res.exemplar_extent = ex.extent;
-  const Eigen::VectorXd weight = guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0);
+  Eigen::VectorXd weight = guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0);
   res.estimate = estimate_for(ex, target, weight, o);
   if (res.estimate.vertices > static_cast<size_t>(o.max_vertices))
     throw InvalidInput(fmt::format(
@@ -938,6 +964,8 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   res.scale = res.estimate.scale;
   res.height_factor = res.scale * o.height_scale;
   stage_done("exemplar");
+  apply_keep_out(target, ex, o, weight, res);
+  stage_done("keep-out");
 
   // Refine where the target is coarser than the exemplar scaled to it.
   res.target = target;

@@ -53,6 +53,10 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
                    "at vertex {} of radius {:.4g})",
                    r.centers.size(), r.patch_radius, r.target.n_vertices(), sec, r.scale, r.exemplar_center,
                    r.exemplar_radius));
+  if (r.kept_out_share > 0)
+    info(fmt::format("synthesize: kept out {:.1f}% of the target's area (near creases {:.1f}%, parts smaller than the "
+                     "texture {:.1f}%; --keep-out-crease-angle 0 and --no-keep-out-thin cover them)",
+                     100 * r.kept_out_share, 100 * r.kept_out_creases, 100 * r.kept_out_thin));
   Mesh textured = r.target;
   set_positions(textured, r.textured);
   save_mesh(textured, a.output);

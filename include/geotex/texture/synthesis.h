@@ -118,6 +118,17 @@ struct SynthesisOptions {
   //! Shrink the displacements around faces they fold (and not the base), by 0.7 a round, until none does.
   bool unfold = true;
 
+  // Keep-out: where a person would not cover the target by default (each multiplies the growth weight, by
+  // degree; bench/synthesis.md). The texture's feature length (its largest displacement on the target) sets
+  // the scale of each.
+  //! Keep texture off sharp creases: edges whose dihedral angle exceeds this (degrees), faded in from a
+  //! quarter of the texture's span to the span away from them (0: no crease keep-out).
+  double keep_out_crease_angle = 60;
+  //! Keep texture off parts smaller than its features: where the surface within the texture's span (the
+  //! smaller of its feature length and patch radius) is under a quarter of a flat disk's area (none), rising
+  //! to full texture at a half (a finger or leg of radius ρ holds about 4ρ / span).
+  bool keep_out_thin = true;
+
   // Orientation
   //! The direction field's guide (when no per-vertex guide is given): its tangent part on the target.
   Vec3 direction = Vec3::UnitX();
@@ -190,6 +201,8 @@ struct SynthesisResult {
   size_t self_intersecting = 0, base_self_intersecting = 0, excess_self_intersecting = 0;
   double shrunk_share = 0;   //!< unfolded_vertices / #V: vertices whose (non-zero) displacement unfold shrank by over 1 %
   double refined_share = 0;  //!< added_vertices / #V
+  //! Area shares of the target kept out (automatic keep-out weight below 0.5): in all, and by each reason.
+  double kept_out_share = 0, kept_out_creases = 0, kept_out_thin = 0;
   std::vector<std::pair<std::string, double>> stage_seconds;  //!< wall seconds per stage, in order
   std::vector<std::string> warnings;
 };

@@ -1,0 +1,114 @@
+#include "keep_out.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <vector>
+
+#include "geotex/core/geometry.h"
+
+namespace geotex::detail {
+
+namespace {
+
+// 0 below a, 1 above b, smooth between.
+double ramp(double x, double a, double b) {
+  const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+// Distance along edges from the vertices where `seed` is set, up to `limit` (beyond: limit).
+Eigen::VectorXd edge_distance(const Mesh& mesh, const MatrixX3d& X, const std::vector<char>& seed, double limit) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(n, limit);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+  for (int v = 0; v < n; ++v)
+    if (seed[v]) d[v] = 0, q.emplace(0.0, v);
+  while (!q.empty()) {
+    const auto [dv, v] = q.top();
+    q.pop();
+    if (dv > d[v]) continue;
+    for (auto w : mesh.vv_range(mesh.vertex_handle(v))) {
+      const double dw = dv + (X.row(v) - X.row(w.idx())).norm();
+      if (dw < d[w.idx()]) d[w.idx()] = dw, q.emplace(dw, w.idx());
+    }
+  }
+  return d;
+}
+
+// Creases: vertices on an edge whose dihedral angle exceeds the threshold; the weight rises with the
+// distance from them, from a quarter of the texture's span to the span (a feature rooted farther than its
+// own length cannot lean over one).
+Eigen::VectorXd crease_weight(const Mesh& mesh, const MatrixX3d& X, double reach, double angle_deg) {
+  const Eigen::VectorXd a = dihedral_angles(mesh);
+  std::vector<char> on(mesh.n_vertices(), 0);
+  const double limit = angle_deg * M_PI / 180;
+  for (auto e : mesh.edges())
+    if (std::abs(a[e.idx()]) > limit) on[e.v0().idx()] = on[e.v1().idx()] = 1;
+  const Eigen::VectorXd d = edge_distance(mesh, X, on, reach);
+  return d.unaryExpr([&](double x) { return ramp(x, 0.25 * reach, reach); });
+}
+
+// Parts smaller than the texture: the surface area within `span` of the vertex (along edges) against a flat
+// disk's, π span². A finger or a leg of radius ρ holds about 4ρ / span of it, a small piece its own area, a
+// wide sheet (an ear) all of it, however thin: 0 under a quarter, 1 from a half on.
+Eigen::VectorXd thin_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& area, double span) {
+  const int n = static_cast<int>(X.rows());
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
+  const double disk = M_PI * span * span;
+#pragma omp parallel
+  {
+    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+    std::vector<int> touched;
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+#pragma omp for schedule(dynamic, 256)
+    for (int v = 0; v < n; ++v) {
+      double reached = 0;
+      dist[v] = 0;
+      touched.push_back(v);
+      q.emplace(0.0, v);
+      while (!q.empty() && reached < 0.5 * disk) {
+        const auto [du, u] = q.top();
+        q.pop();
+        if (du > dist[u]) continue;
+        reached += area[u];
+        for (auto t : mesh.vv_range(mesh.vertex_handle(u))) {
+          const double dt = du + (X.row(u) - X.row(t.idx())).norm();
+          if (dt < span && dt < dist[t.idx()]) {
+            if (!std::isfinite(dist[t.idx()])) touched.push_back(t.idx());
+            dist[t.idx()] = dt;
+            q.emplace(dt, t.idx());
+          }
+        }
+      }
+      w[v] = ramp(reached / disk, 0.25, 0.5);
+      for (int t : touched) dist[t] = std::numeric_limits<double>::infinity();
+      touched.clear();
+      q = decltype(q)();
+    }
+  }
+  return w;
+}
+
+}  // namespace
+
+KeepOut keep_out(const Mesh& target, double span, double crease_angle_deg, bool thin) {
+  const Eigen::Index n = target.n_vertices();
+  KeepOut k;
+  k.creases = k.thin = k.weight = Eigen::VectorXd::Ones(n);
+  k.area = Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd fa = face_areas(target);
+  for (auto f : target.faces())
+    for (auto v : target.fv_range(f)) k.area[v.idx()] += fa[f.idx()] / 3;
+  if (n == 0 || !(span > 0) || !std::isfinite(span)) return k;
+  const MatrixX3d X = positions(target);
+  if (crease_angle_deg > 0) k.creases = crease_weight(target, X, span, crease_angle_deg);
+  if (thin) k.thin = thin_weight(target, X, k.area, span);
+  k.weight = k.creases.cwiseProduct(k.thin);
+  return k;
+}
+
+}  // namespace geotex::detail
