@@ -20,8 +20,6 @@ KNOWN = {
     "apps/geotex/demo/texture.cpp: lambda",
     "src/core/io.cpp: parse_ply",
     "src/denoise/auto_denoise.cpp: denoise_or_sample",
-    "src/resize/resize.cpp: similarity_resize",
-    "src/resize/resize.cpp: sliding_resize",
     "src/texture/synthesis.cpp: synthesize_texture",
     "src/toolkit/one_form.cpp: fit_iterative",
 }
