@@ -18,7 +18,6 @@ ROOTS = ("src", "apps")
 # Known, listed so that no new one comes in; split them by stage and remove them here.
 KNOWN = {
     "apps/geotex/demo/texture.cpp: lambda",
-    "src/core/io.cpp: parse_ply",
     "src/denoise/auto_denoise.cpp: denoise_or_sample",
     "src/texture/synthesis.cpp: synthesize_texture",
     "src/toolkit/one_form.cpp: fit_iterative",
