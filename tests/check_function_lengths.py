@@ -20,7 +20,6 @@ KNOWN = {
     "apps/geotex/demo/texture.cpp: lambda",
     "src/denoise/auto_denoise.cpp: denoise_or_sample",
     "src/texture/synthesis.cpp: synthesize_texture",
-    "src/toolkit/one_form.cpp: fit_iterative",
 }
 
 CONTROL = {"if", "for", "while", "switch", "catch", "return", "sizeof", "decltype", "alignof", "noexcept",
