@@ -907,65 +907,76 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   stage_done("count");
 }
 
-}  // namespace
-
-SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
-                                   const SynthesisOptions& o, const SynthesisGuides& guides) {
-  check_inputs(target, o, guides);
-  const Eigen::Index n0 = target.n_vertices();
-  // Stages: progress fractions and wall seconds per stage.
-  using Clock = std::chrono::steady_clock;
-  SynthesisResult res;
-  auto stage_start = Clock::now();
-  auto stage_done = [&](const char* name) {
-    const auto now = Clock::now();
-    res.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - stage_start).count());
-    stage_start = now;
-  };
-  report(o.progress, 0, "exemplar");
-  const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
-  res.exemplar_center = ex.center;
-  res.exemplar_radius = ex.radius;
-  res.exemplar_extent = ex.extent;
-  const Eigen::VectorXd weight = guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0);
-  res.estimate = estimate_for(ex, target, weight, o);
-  if (res.estimate.vertices > static_cast<size_t>(o.max_vertices))
-    throw InvalidInput(fmt::format(
-        "texture synthesis: about {} output vertices estimated (about {:.0f} s), beyond max_vertices {}: choose a "
-        "larger exemplar_share (now {:.3g}) or scale, refine_ratio 0, or a larger max_vertices",
-        res.estimate.vertices, res.estimate.seconds, o.max_vertices, res.estimate.exemplar_share));
-  if (o.on_estimate) o.on_estimate(res.estimate);
-  res.scale = res.estimate.scale;
-  res.height_factor = res.scale * o.height_scale;
-  stage_done("exemplar");
-
-  // Refine where the target is coarser than the exemplar scaled to it.
-  res.target = target;
-  {
-    const ProgressFn refine_progress = [&](double f, std::string_view) { report(o.progress, 0.02 + 0.2 * f, "refine"); };
-    const std::string line = detail::refine_for(res.target, growth_region(weight), res.scale * ex.mean_edge,
-                                                o.refine_ratio, &res.added_vertices, refine_progress);
-    if (!line.empty()) res.warnings.push_back(line);
+// The placement of a patch that overlaps what is written: o.candidates random placements (\p t the
+// first), \p t set to one of those whose overlap matches within o.match_tolerance of the best, \p order
+// to it and then the others, best first (cut: the placements to try against folds). \p overlap: the
+// patch vertices with a weight \p b that are written (a seeded subsample of o.match_samples is kept).
+template <class Read, class OldAt, class RandomPlacement>
+void choose_placement(std::vector<size_t>& overlap, const std::vector<double>& b, const ExpMap& m,
+                      const SynthesisOptions& o, Rng& rng, const Read& read, const OldAt& old_at,
+                      const RandomPlacement& random_placement, Eigen::Vector2d& t,
+                      std::vector<Eigen::Vector2d>& order) {
+  if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
+    for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
+      std::swap(overlap[i], overlap[i + rng.below(overlap.size() - i)]);
+    overlap.resize(o.match_samples);
   }
-  stage_done("refine");
-  const Mesh& T = res.target;
+  std::vector<Eigen::Vector2d> ts(o.candidates);
+  std::vector<double> cost(o.candidates, 0.0);
+  ts[0] = t;
+  for (int q = 1; q < o.candidates; ++q) ts[q] = random_placement();
+  // Normalised: Σ b |new − old|² / Σ b (|new|² + |old|²), 0 for a match, ~1 for unrelated relief of any
+  // size (the plain sum would prefer the exemplar's quietest parts wherever nothing matches: a
+  // non-stationary exemplar's synthesis came out at half its rms).
+  for (int q = 0; q < o.candidates; ++q) {
+    double energy = 0;
+    for (size_t s : overlap) {
+      const Vec3 d = read(ts[q], s, nullptr), old = old_at(m.vertices[s]);
+      cost[q] += b[s] * (d - old).squaredNorm();
+      energy += b[s] * (d.squaredNorm() + old.squaredNorm());
+    }
+    cost[q] = energy > 0 ? cost[q] / energy : 0.0;
+  }
+  const double best = *std::min_element(cost.begin(), cost.end());
+  std::vector<int> good;
+  for (int q = 0; q < o.candidates; ++q)
+    if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
+  if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
+  const int pick = good[rng.below(good.size())];
+  t = ts[pick];
+  std::vector<int> rest;  // then the others, best first
+  for (int q = 0; q < o.candidates; ++q)
+    if (q != pick) rest.push_back(q);
+  std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
+  order = {t};
+  for (int q : rest) order.push_back(ts[q]);
+}
+
+// The options patches are placed with: \p o, without avoiding or repairing crossings when the
+// displacements (up to \p largest) are as large as the target \p X (with a warning in \p warnings).
+SynthesisOptions placing_options(const SynthesisOptions& o, double largest, const MatrixX3d& X,
+                                 std::vector<std::string>& warnings) {
+  // Displacements as large as the target itself (a height scale far beyond the exemplar's): every placement
+  // crosses the whole target, and testing each would cost the whole target per try (a sphere at
+  // --height-scale 1e6: past 120 s). There crossings are counted, not avoided.
+  SynthesisOptions placing = o;
+  if (largest > kCrossingReach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm() &&
+      (o.avoid_crossings || o.repair_crossings)) {
+    placing.avoid_crossings = placing.drop_collisions = placing.repair_crossings = false;
+    warnings.push_back(fmt::format("displacements up to {:.3g} are as large as the target ({:.3g} across): "
+                                   "crossings are counted, not avoided",
+                                   largest, (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm()));
+  }
+  return placing;
+}
+
+// Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
+// and the displacements written, faded by the weights, in res.local. \p largest: how far a displaced
+// point can be from its base point; \p placing: the options placements are made with (placing_options()).
+void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F,
+                   double largest, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
+                   const std::function<void(const char*)>& stage_done) {
   const Eigen::Index n = T.n_vertices();
-  res.weight = n > n0 ? spread_weight(T, weight) : weight;
-  report(o.progress, 0.22, "direction field");
-  const MatrixX3d X = positions(T);
-  const MatrixX3d N = vertex_normals(T, o.texture.normals);
-  if (guides.direction.rows()) {
-    MatrixX3d g(n, 3);
-    g.topRows(n0) = guides.direction;
-    for (Eigen::Index i = n0; i < n; ++i) g.row(i) = o.direction.transpose();  // new vertices: the global guide
-    res.field = direction_field(T, g, o.field);
-  } else {
-    res.field = direction_field(T, o.direction.transpose(), o.field);
-  }
-  const MatrixX3d& F = res.field;
-  stage_done("field");
-
-  // Patches in a growing front.
   const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
   const double rp = res.scale * rp_ex;               // and on the target
   res.patch_radius = rp;
@@ -984,19 +995,6 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   res.copied = MatrixX3d::Zero(n, 3);
   Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
             std::vector<int>(n, -1)};
-  double largest = 0;  // displacement: how far a displaced point can be from its base point
-  for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
-  // Displacements as large as the target itself (a height scale far beyond the exemplar's): every placement
-  // crosses the whole target, and testing each would cost the whole target per try (a sphere at
-  // --height-scale 1e6: past 120 s). There crossings are counted, not avoided.
-  SynthesisOptions placing = o;
-  if (largest > kCrossingReach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm() &&
-      (o.avoid_crossings || o.repair_crossings)) {
-    placing.avoid_crossings = placing.drop_collisions = placing.repair_crossings = false;
-    res.warnings.push_back(fmt::format("displacements up to {:.3g} are as large as the target ({:.3g} across): "
-                                       "crossings are counted, not avoided",
-                                       largest, (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm()));
-  }
   Placer placer(T, X, N, F, largest, placing, res);
   auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
   auto old_at = [&](int v) -> Vec3 {
@@ -1056,42 +1054,8 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
     };
     Eigen::Vector2d t = random_placement();
     std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
-    if (!overlap.empty() && o.candidates > 1) {
-      if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
-        for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
-          std::swap(overlap[i], overlap[i + rng.below(overlap.size() - i)]);
-        overlap.resize(o.match_samples);
-      }
-      std::vector<Eigen::Vector2d> ts(o.candidates);
-      std::vector<double> cost(o.candidates, 0.0);
-      ts[0] = t;
-      for (int q = 1; q < o.candidates; ++q) ts[q] = random_placement();
-      // Normalised: Σ b |new − old|² / Σ b (|new|² + |old|²), 0 for a match, ~1 for unrelated relief of any
-      // size (the plain sum would prefer the exemplar's quietest parts wherever nothing matches: a
-      // non-stationary exemplar's synthesis came out at half its rms).
-      for (int q = 0; q < o.candidates; ++q) {
-        double energy = 0;
-        for (size_t s : overlap) {
-          const Vec3 d = read(ts[q], s, nullptr), old = old_at(m.vertices[s]);
-          cost[q] += b[s] * (d - old).squaredNorm();
-          energy += b[s] * (d.squaredNorm() + old.squaredNorm());
-        }
-        cost[q] = energy > 0 ? cost[q] / energy : 0.0;
-      }
-      const double best = *std::min_element(cost.begin(), cost.end());
-      std::vector<int> good;
-      for (int q = 0; q < o.candidates; ++q)
-        if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
-      if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
-      const int pick = good[rng.below(good.size())];
-      t = ts[pick];
-      std::vector<int> rest;  // then the others, best first
-      for (int q = 0; q < o.candidates; ++q)
-        if (q != pick) rest.push_back(q);
-      std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
-      order = {t};
-      for (int q : rest) order.push_back(ts[q]);
-    }
+    if (!overlap.empty() && o.candidates > 1)
+      choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, t, order);
     // Blend the chosen placement in.
     for (size_t s = 0; s < k; ++s) {
       const int v = m.vertices[s];
@@ -1129,8 +1093,73 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   res.local = MatrixX3d::Zero(n, 3);
   for (Eigen::Index i = 0; i < n; ++i)
     if (written(static_cast<int>(i))) res.local.row(i) = detail::fade(old_at(static_cast<int>(i)), res.weight[i]).transpose();
+}
+
+}  // namespace
+
+SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exemplar, const Mesh& target,
+                                   const SynthesisOptions& o, const SynthesisGuides& guides) {
+  check_inputs(target, o, guides);
+  const Eigen::Index n0 = target.n_vertices();
+  // Stages: progress fractions and wall seconds per stage.
+  using Clock = std::chrono::steady_clock;
+  SynthesisResult res;
+  auto stage_start = Clock::now();
+  auto stage_done = [&](const char* name) {
+    const auto now = Clock::now();
+    res.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - stage_start).count());
+    stage_start = now;
+  };
+  report(o.progress, 0, "exemplar");
+  const Exemplar ex = make_exemplar(exemplar_base, exemplar, o);
+  res.exemplar_center = ex.center;
+  res.exemplar_radius = ex.radius;
+  res.exemplar_extent = ex.extent;
+  const Eigen::VectorXd weight = guides.weight.size() ? guides.weight : Eigen::VectorXd::Ones(n0);
+  res.estimate = estimate_for(ex, target, weight, o);
+  if (res.estimate.vertices > static_cast<size_t>(o.max_vertices))
+    throw InvalidInput(fmt::format(
+        "texture synthesis: about {} output vertices estimated (about {:.0f} s), beyond max_vertices {}: choose a "
+        "larger exemplar_share (now {:.3g}) or scale, refine_ratio 0, or a larger max_vertices",
+        res.estimate.vertices, res.estimate.seconds, o.max_vertices, res.estimate.exemplar_share));
+  if (o.on_estimate) o.on_estimate(res.estimate);
+  res.scale = res.estimate.scale;
+  res.height_factor = res.scale * o.height_scale;
+  stage_done("exemplar");
+
+  // Refine where the target is coarser than the exemplar scaled to it.
+  res.target = target;
+  {
+    const ProgressFn refine_progress = [&](double f, std::string_view) { report(o.progress, 0.02 + 0.2 * f, "refine"); };
+    const std::string line = detail::refine_for(res.target, growth_region(weight), res.scale * ex.mean_edge,
+                                                o.refine_ratio, &res.added_vertices, refine_progress);
+    if (!line.empty()) res.warnings.push_back(line);
+  }
+  stage_done("refine");
+  const Mesh& T = res.target;
+  const Eigen::Index n = T.n_vertices();
+  res.weight = n > n0 ? spread_weight(T, weight) : weight;
+  report(o.progress, 0.22, "direction field");
+  const MatrixX3d X = positions(T);
+  const MatrixX3d N = vertex_normals(T, o.texture.normals);
+  if (guides.direction.rows()) {
+    MatrixX3d g(n, 3);
+    g.topRows(n0) = guides.direction;
+    for (Eigen::Index i = n0; i < n; ++i) g.row(i) = o.direction.transpose();  // new vertices: the global guide
+    res.field = direction_field(T, g, o.field);
+  } else {
+    res.field = direction_field(T, o.direction.transpose(), o.field);
+  }
+  const MatrixX3d& F = res.field;
+  stage_done("field");
+
+  // Patches in a growing front.
+  double largest = 0;  // displacement: how far a displaced point can be from its base point
+  for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
+  const SynthesisOptions placing = placing_options(o, largest, X, res.warnings);
+  place_patches(ex, T, X, N, F, largest, o, placing, res, stage_done);
   if (o.unfold) {
-    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * rp, res.local, o.progress);
+    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * res.patch_radius, res.local, o.progress);
     if (res.unfolded_vertices)
       res.warnings.push_back(fmt::format("displacements shrunk at {} vertices where they folded the surface",
                                          res.unfolded_vertices));
