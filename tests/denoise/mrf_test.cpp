@@ -16,7 +16,7 @@
 #include "geotex/tools/noise.h"
 #include "geotex/core/random.h"
 #include "geotex/tools/shapes.h"
-#include "../src/denoise/mrf_internal.h"
+#include "../../src/denoise/mrf_internal.h"
 #include "test_util.h"
 
 using namespace geotex;
