@@ -9,7 +9,7 @@
 # handles, and the text quirks of issue 14 made from them (BOM, CRLF, lone CR, PLY properties declared
 # twice, fractional / huge / NaN indices and list counts). fuzz/mesh.dict gives every target the words.
 # A crash leaves its input in build-fuzz/crashes/; copy it to tests/fuzz_regressions/ with the prefix of
-# its reader (see tests/fuzz_regressions_test.cpp: the test replays every file through every reader).
+# its reader (see tests/cli/fuzz_regressions_test.cpp: the test replays every file through every reader).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 secs="${1:-60}"

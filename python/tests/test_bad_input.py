@@ -1,5 +1,5 @@
 """Issue 14 through Python: one test per class of bad input (the CLI's are in
-tests/bad_input_classes_test.cpp). Anything that could crash the interpreter runs in a child process,
+tests/cli/bad_input_classes_test.cpp). Anything that could crash the interpreter runs in a child process,
 so that a segfault or an abort is a failed test, not a dead test run."""
 
 import os

@@ -294,7 +294,7 @@ def test_process_pool_and_bad_files(folder, tmp_path):
     assert "8 ok, 3 failed, 11 files" in result.table()
 
 
-def test_batch_cli(folder, tmp_path):
+def test_batch_cli_reports_ok_and_failed_files(folder, tmp_path):
     out = tmp_path / "cli-out"
     proc = subprocess.run(
         [sys.executable, "-m", "geotex.batch", "noise", str(folder), "-o", str(out), "--workers", "2",

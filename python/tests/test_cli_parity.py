@@ -34,7 +34,7 @@ def read(path):
     return geotex.read_mesh(str(path))
 
 
-def test_generate_and_noise(work):
+def test_generate_and_noise_match_the_cli(work):
     V, F = read(work / "cube.ply")
     Vp, Fp = geotex.generate("cube", level=1)
     assert np.array_equal(V, Vp) and np.array_equal(F, Fp)
@@ -42,7 +42,7 @@ def test_generate_and_noise(work):
     assert np.array_equal(Vn, geotex.add_noise(V, F, sigma=0.3, seed=7))
 
 
-def test_info_and_compare(work):
+def test_info_and_compare_match_the_cli(work):
     V, F = read(work / "noisy.ply")
     j = json.loads(cli("info", "--json", work / "noisy.ply", stdout=True))
     p = geotex.info(V, F)
@@ -59,7 +59,7 @@ def test_info_and_compare(work):
             assert c[key] == pytest.approx(q[key], rel=1e-9), key
 
 
-def test_smooth(work):
+def test_smooth_matches_the_cli(work):
     cli("smooth", work / "noisy.ply", "--laplacian", "umbrella", "--lambda", 0.5, "--steps", 3, "-o", work / "s.ply")
     V, F = read(work / "noisy.ply")
     assert np.allclose(read(work / "s.ply")[0], geotex.smooth(V, F, laplacian="umbrella", lambda_=0.5, steps=3),
@@ -72,7 +72,7 @@ def test_smooth(work):
     ("mrf-normal", ["--optimizer", "icm"], {"optimizer": "icm"}),
     ("surfel", ["--retrieval", "fit"], {"retrieval": "fit"}),
 ])
-def test_denoise(work, method, flags, kw):
+def test_denoise_matches_the_cli_positions_and_labels(work, method, flags, kw):
     out, edges = work / f"d-{method}.ply", work / f"e-{method}.ply"
     cli("denoise", work / "noisy.ply", "--method", method, *flags, "-o", out, "--edges", edges, "--ascii",
         "--threads", 1)
@@ -90,7 +90,7 @@ def test_denoise(work, method, flags, kw):
     assert 0 < np.sum(r.edge_labels > 0.5) < len(r.edges)
 
 
-def test_deform(work):
+def test_deform_matches_the_cli(work):
     V, F = read(work / "plane.ply")
     handles = [0, 7, len(V) // 3, len(V) - 1]
     targets = V[handles] + np.array([[0, 0, 0], [0, 0, 0.1], [0, 0, 0.3], [0.1, 0, 0]])
@@ -100,14 +100,14 @@ def test_deform(work):
     assert np.allclose(read(work / "def.ply")[0], geotex.deform(V, F, handles, targets), atol=1e-9)
 
 
-def test_param(work):
+def test_param_matches_the_cli(work):
     cli("param", work / "plane.ply", "--method", "authalic", "-o", work / "uv.obj")
     uv = np.array([[float(t) for t in line.split()[1:3]] for line in open(work / "uv.obj") if line.startswith("vt ")])
     V, F = read(work / "plane.ply")
     assert np.allclose(uv, geotex.parametrize(V, F, method="authalic"), atol=1e-6)  # OBJ text: %.9g or so
 
 
-def test_project(work):
+def test_phong_project_matches_the_cli(work):
     cli("project", work / "noisy.ply", work / "cube.ply", "--search-factor", 2, "-o", work / "p.ply")
     Vn, F = read(work / "noisy.ply")
     Vc, Fc = read(work / "cube.ply")
@@ -116,7 +116,7 @@ def test_project(work):
     assert np.allclose(read(work / "p.ply")[0], r["point"], atol=1e-12)
 
 
-def test_surfels(work):
+def test_surfels_match_the_cli(work):
     V, _ = read(work / "noisy.ply")
     C, N = geotex.point_surfels(V, neighbors=8)
     cli("surfels", work / "noisy.ply", "--neighbors", 8, "--ascii", "-o", work / "pts_ascii.ply")
@@ -126,7 +126,7 @@ def test_surfels(work):
     assert np.allclose(data[:, :3], C, atol=1e-6) and np.allclose(data[:, 3:], N, atol=1e-6)
 
 
-def test_render(work):
+def test_render_writes_the_cli_png_bytes(work):
     cli("render", work / "cube.ply", "--width", 160, "--height", 120, "-o", work / "cli.png")
     V, F = read(work / "cube.ply")
     img = geotex.render(V, F, str(work / "py.png"), width=160, height=120)

@@ -79,7 +79,7 @@ def test_smoothing_matches_mean_curvature_flow_and_cli_defaults():
     assert r == pytest.approx(1 / (1 + 2 * t), abs=2e-3)  # linearized backward Euler on a unit sphere
 
 
-def test_noise_and_compare():
+def test_noise_is_seeded_and_smoothing_lowers_the_normal_error():
     V, F = geotex.generate("cube", level=1)
     Vn = geotex.add_noise(V, F, sigma=0.3, seed=4)
     assert np.array_equal(Vn, geotex.add_noise(V, F, sigma=0.3, seed=4))
@@ -91,7 +91,7 @@ def test_noise_and_compare():
     assert same["ev"] == 0 and same["hausdorff"] == 0
 
 
-def test_geometry_helpers():
+def test_geometry_helpers_give_the_cube_angles_and_sphere_curvature():
     V, F = geotex.generate("cube", level=0)
     D = geotex.dihedral_angles(V, F)
     E = geotex.edges(V, F)

@@ -96,7 +96,7 @@ def test_read_write_round_trip(spiky, tmp_path):
         geotex.write_texture(tmp_path / "b.ply", {"V_base": Vb, "F": F, "height": tex.height})
 
 
-def test_edit(spiky):
+def test_edits_change_what_they_name_and_refuse_unknown_ops(spiky):
     _, F, Vb, tex, h = spiky
     doubled = geotex.texture_edit(tex, op="scale-height", factor=2.0)
     assert np.allclose(doubled.height, 2 * tex.height) and np.array_equal(doubled.tilt, tex.tilt)
@@ -113,7 +113,7 @@ def test_edit(spiky):
         geotex.texture_edit(tex, direction=(1, 0))
 
 
-def test_animate(spiky):
+def test_animation_runs_from_the_base_to_the_texture(spiky):
     _, F, Vb, tex, h = spiky
     seen = []
     r = geotex.texture_animate(tex, op="grow", frames=4, progress=lambda f, stage: seen.append(f))
@@ -125,7 +125,7 @@ def test_animate(spiky):
     assert w.frames.shape == (3, len(Vb), 3) and np.isfinite(w.frames).all()
 
 
-def test_transfer_and_atlas():
+def test_transfer_textures_the_target_patch_and_atlas_covers_the_target():
     (Vp, Fp), (Vpb, _) = geotex.generate("bumpy-plate", level=0, with_base=True)
     tex = geotex.texture_extract(Vp, Fp, base=Vpb)
     Vs, Fs = geotex.generate("sphere", level=1)

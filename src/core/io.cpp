@@ -552,9 +552,10 @@ double load_as_double(const char* p, PlyType t, bool swap) {
   return 0;
 }
 
-PlyData parse_ply(const fs::path& path, std::string_view data) {
-  data = without_bom(data);
-  LineReader lr{data};
+// The header of a PLY file: its format (into \p format) and its element declarations; leaves \p lr at
+// the body's first byte.
+std::vector<PlyElemDecl> parse_ply_header(const fs::path& path, std::string_view data, LineReader& lr,
+                                          std::string& format) {
   std::string_view line;
   if (!lr.next(line) || line != "ply") throw IoError(fmt::format("{}: not a PLY file (no 'ply' magic)", path.string()));
   // The magic line's end tells how the header's lines end; it decides where a binary body starts
@@ -563,16 +564,15 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
   // A header cut short would otherwise be reported by whichever line the cut made malformed.
   if (data.find("end_header") == std::string_view::npos)
     throw IoError(fmt::format("{}: PLY header has no end_header (truncated?)", path.string()));
-  PlyData out;
   std::vector<PlyElemDecl> decls;
   bool header_done = false;
   while (lr.next(line)) {
     std::string_view rest = line;
     const auto key = next_token(rest);
     if (key == "format") {
-      out.format = std::string(next_token(rest));
-      if (out.format != "ascii" && out.format != "binary_little_endian" && out.format != "binary_big_endian")
-        malformed(path, lr.line_no, fmt::format("unknown PLY format '{}'", out.format));
+      format = std::string(next_token(rest));
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        malformed(path, lr.line_no, fmt::format("unknown PLY format '{}'", format));
     } else if (key == "comment" || key == "obj_info" || key.empty()) {
       continue;
     } else if (key == "element") {
@@ -618,20 +618,105 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
     }
   }
   if (!header_done) throw IoError(fmt::format("{}: PLY header has no end_header (truncated?)", path.string()));
-  if (out.format.empty()) throw IoError(fmt::format("{}: PLY header has no format line", path.string()));
+  if (format.empty()) throw IoError(fmt::format("{}: PLY header has no format line", path.string()));
+  return decls;
+}
 
-  {
-    // The memory the counts need, once they fit in the file (a count the file cannot hold is a truncated
-    // file, said below). A strip holds at least one triangle.
-    size_t nv = 0, nf = 0;
-    bool fits = true;
-    for (const auto& d : decls) {
-      if (d.name == "vertex") nv += d.count;
-      if (d.name == "face" || d.name == "tristrips") nf += d.count;
-      fits = fits && d.count <= data.size() - std::min(lr.pos, data.size()) + 1;
-    }
-    if (fits) require_memory(fmt::format("{}: reading {} faces and {} vertices", path.string(), nf, nv), mesh_read_bytes(nf, nv));
+// The memory the declared counts need, once they fit in the file (a count the file cannot hold is a
+// truncated file, said when its element is read). A strip holds at least one triangle.
+void require_ply_memory(const fs::path& path, const std::vector<PlyElemDecl>& decls, std::string_view data,
+                        size_t body) {
+  size_t nv = 0, nf = 0;
+  bool fits = true;
+  for (const auto& d : decls) {
+    if (d.name == "vertex") nv += d.count;
+    if (d.name == "face" || d.name == "tristrips") nf += d.count;
+    fits = fits && d.count <= data.size() - std::min(body, data.size()) + 1;
   }
+  if (fits) require_memory(fmt::format("{}: reading {} faces and {} vertices", path.string(), nf, nv), mesh_read_bytes(nf, nv));
+}
+
+[[noreturn]] void ply_truncated(const fs::path& path, const PlyElemDecl& d, size_t row) {
+  throw IoError(fmt::format("{}: truncated: element '{}' declares {} rows, the file ends in row {}",
+                            path.string(), d.name, d.count, row));
+}
+
+// The rows of element \p d in an ascii body, from \p body on; \p scal and \p lst: where each property's
+// values go (one of the two per property).
+void read_ply_ascii_rows(const fs::path& path, std::string_view data, const PlyElemDecl& d,
+                         const std::vector<std::vector<double>*>& scal, const std::vector<PlyList*>& lst,
+                         LineReader& body) {
+  for (size_t r = 0; r < d.count; ++r) {
+    std::string_view row;
+    do {
+      if (!body.next(row)) ply_truncated(path, d, r);
+    } while ([&] { std::string_view probe = row; return next_token(probe).empty(); }());
+    for (size_t k = 0; k < d.props.size(); ++k) {
+      const auto& p = d.props[k];
+      auto tok = next_token(row);
+      if (p.is_list) {
+        // A float count type takes any number: only a whole one that the row could hold is a count
+        // (casting 9.2e18 to int64 is undefined, truncating 2.5 silently wrong).
+        double nd;
+        if (!parse_ply_ascii(tok, p.count_type, nd) || !(nd >= 0) || nd != std::floor(nd) ||
+            nd > static_cast<double>(data.size()))
+          malformed(path, body.line_no, fmt::format("bad list length '{}' (the header declares '{}')", tok,
+                                                    type_name(p.count_type)));
+        const auto n = static_cast<int64_t>(nd);
+        for (int64_t i = 0; i < n; ++i) {
+          double v;
+          tok = next_token(row);
+          if (tok.empty()) malformed(path, body.line_no, fmt::format("list of {} items has fewer (truncated?)", n));
+          if (!parse_ply_ascii(tok, p.type, v)) malformed(path, body.line_no, ascii_value_error(tok, p.type));
+          lst[k]->items.push_back(v);
+        }
+        lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
+      } else {
+        double v;
+        if (!parse_ply_ascii(tok, p.type, v)) malformed(path, body.line_no, ascii_value_error(tok, p.type));
+        scal[k]->push_back(v);
+      }
+    }
+  }
+}
+
+// The rows of element \p d in a binary body, from byte \p pos on (left after them); \p swap: the
+// file's byte order is not the machine's.
+void read_ply_binary_rows(const fs::path& path, std::string_view data, const PlyElemDecl& d,
+                          const std::vector<std::vector<double>*>& scal, const std::vector<PlyList*>& lst, bool swap,
+                          size_t& pos) {
+  for (size_t r = 0; r < d.count; ++r) {
+    for (size_t k = 0; k < d.props.size(); ++k) {
+      const auto& p = d.props[k];
+      if (p.is_list) {
+        const size_t cs = type_size(p.count_type);
+        if (pos + cs > data.size()) ply_truncated(path, d, r);
+        const double nd = load_as_double(data.data() + pos, p.count_type, swap);
+        pos += cs;
+        if (!(nd >= 0) || nd > static_cast<double>(data.size()) || nd != std::floor(nd))
+          throw IoError(fmt::format("{}: bad list length {} in element '{}' row {}", path.string(), nd, d.name, r));
+        const size_t n = static_cast<size_t>(nd);
+        const size_t is = type_size(p.type);
+        if (pos + n * is > data.size()) ply_truncated(path, d, r);
+        for (size_t i = 0; i < n; ++i, pos += is)
+          lst[k]->items.push_back(load_as_double(data.data() + pos, p.type, swap));
+        lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
+      } else {
+        const size_t is = type_size(p.type);
+        if (pos + is > data.size()) ply_truncated(path, d, r);
+        scal[k]->push_back(load_as_double(data.data() + pos, p.type, swap));
+        pos += is;
+      }
+    }
+  }
+}
+
+PlyData parse_ply(const fs::path& path, std::string_view data) {
+  data = without_bom(data);
+  LineReader lr{data};
+  PlyData out;
+  const std::vector<PlyElemDecl> decls = parse_ply_header(path, data, lr, out.format);
+  require_ply_memory(path, decls, data, lr.pos);
   const bool ascii = out.format == "ascii";
   const bool swap = (out.format == "binary_big_endian") == (std::endian::native == std::endian::little);
   size_t pos = lr.pos;
@@ -661,73 +746,15 @@ PlyData parse_ply(const fs::path& path, std::string_view data) {
       if (d.props[k].is_list) lst[k] = &el.lists[d.props[k].name];
       else scal[k] = &el.scalars[d.props[k].name];
     }
-    auto truncated = [&](size_t row) {
-      throw IoError(fmt::format("{}: truncated: element '{}' declares {} rows, the file ends in row {}",
-                                path.string(), d.name, d.count, row));
-    };
     if (ascii) {
       LineReader body{data};
       body.pos = pos;
       body.line_no = lr.line_no;
-      for (size_t r = 0; r < d.count; ++r) {
-        std::string_view row;
-        do {
-          if (!body.next(row)) truncated(r);
-        } while ([&] { std::string_view probe = row; return next_token(probe).empty(); }());
-        for (size_t k = 0; k < d.props.size(); ++k) {
-          const auto& p = d.props[k];
-          auto tok = next_token(row);
-          if (p.is_list) {
-            // A float count type takes any number: only a whole one that the row could hold is a count
-            // (casting 9.2e18 to int64 is undefined, truncating 2.5 silently wrong).
-            double nd;
-            if (!parse_ply_ascii(tok, p.count_type, nd) || !(nd >= 0) || nd != std::floor(nd) ||
-                nd > static_cast<double>(data.size()))
-              malformed(path, body.line_no, fmt::format("bad list length '{}' (the header declares '{}')", tok,
-                                                        type_name(p.count_type)));
-            const auto n = static_cast<int64_t>(nd);
-            for (int64_t i = 0; i < n; ++i) {
-              double v;
-              tok = next_token(row);
-              if (tok.empty()) malformed(path, body.line_no, fmt::format("list of {} items has fewer (truncated?)", n));
-              if (!parse_ply_ascii(tok, p.type, v)) malformed(path, body.line_no, ascii_value_error(tok, p.type));
-              lst[k]->items.push_back(v);
-            }
-            lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
-          } else {
-            double v;
-            if (!parse_ply_ascii(tok, p.type, v)) malformed(path, body.line_no, ascii_value_error(tok, p.type));
-            scal[k]->push_back(v);
-          }
-        }
-      }
+      read_ply_ascii_rows(path, data, d, scal, lst, body);
       pos = body.pos;
       lr.line_no = body.line_no;
     } else {
-      for (size_t r = 0; r < d.count; ++r) {
-        for (size_t k = 0; k < d.props.size(); ++k) {
-          const auto& p = d.props[k];
-          if (p.is_list) {
-            const size_t cs = type_size(p.count_type);
-            if (pos + cs > data.size()) truncated(r);
-            const double nd = load_as_double(data.data() + pos, p.count_type, swap);
-            pos += cs;
-            if (!(nd >= 0) || nd > static_cast<double>(data.size()) || nd != std::floor(nd))
-              throw IoError(fmt::format("{}: bad list length {} in element '{}' row {}", path.string(), nd, d.name, r));
-            const size_t n = static_cast<size_t>(nd);
-            const size_t is = type_size(p.type);
-            if (pos + n * is > data.size()) truncated(r);
-            for (size_t i = 0; i < n; ++i, pos += is)
-              lst[k]->items.push_back(load_as_double(data.data() + pos, p.type, swap));
-            lst[k]->offsets.push_back(static_cast<int64_t>(lst[k]->items.size()));
-          } else {
-            const size_t is = type_size(p.type);
-            if (pos + is > data.size()) truncated(r);
-            scal[k]->push_back(load_as_double(data.data() + pos, p.type, swap));
-            pos += is;
-          }
-        }
-      }
+      read_ply_binary_rows(path, data, d, scal, lst, swap, pos);
     }
     out.elements.push_back(std::move(el));
   }

@@ -284,6 +284,167 @@ ReadingSamples reading_samples_from(const Mesh& mesh, const Eigen::MatrixXd& fea
 
 namespace {
 
+// Step 1: the noise level, given (r.resolved.sigma) or estimated (into r.noise and r.resolved.sigma).
+// \return the normal noise (impulses included).
+double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
+  AutoDenoiseOptions& o = r.resolved;
+  if (!o.sigma) {
+    try {
+      r.noise = estimate_noise(mesh);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(fmt::format("{} (too small a mesh to read its noise level from: give the noise level, sigma)", e.what()));
+    }
+  }
+  double normal_noise = r.noise.rms_normal_sigma;
+  if (o.sigma) {
+    normal_noise = *o.sigma / std::sqrt(3.0);
+    r.choices.push_back(fmt::format("noise: sigma {:.3f} mean edge lengths (given)", *o.sigma));
+  } else {
+    o.sigma = r.noise.sigma;
+    r.choices.push_back(fmt::format("noise: sigma {:.3f} mean edge lengths (estimated{})", r.noise.sigma,
+                                    r.noise.outliers > 0.02 ? fmt::format(", {:.0f}% outliers", 100 * r.noise.outliers)
+                                                            : std::string()));
+  }
+  return normal_noise;
+}
+
+// No noise found: the mesh returned as it is, its edges labelled.
+void keep_noise_free(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, AutoDenoiseResult& r) {
+  AutoDenoiseOptions& o = r.resolved;
+  r.positions = X;
+  r.choices.push_back("no noise found: the mesh is returned as it is");
+  if (!o.creased) o.creased = false;
+  if (!o.label_angle_deg) o.label_angle_deg = *o.creased ? kLabelCreased : kLabelSmooth;
+  EdgeProcessOptions e;
+  e.phi0_deg = *o.label_angle_deg;
+  r.edge_labels = label_sharp_edges(mesh, r.positions, e);
+  r.creased = Eigen::VectorXd::Constant(F.rows(), *o.creased ? 1.0 : 0.0);
+  r.creased_share = *o.creased ? 1.0 : 0.0;
+  r.relief = Eigen::VectorXd::Ones(F.rows());  // every detail kept as it is
+  r.relief_share = 1;
+}
+
+// Each face's target normal: the sharp (\p FNs) and mild (\p FNm) readings' blended by how creased the
+// face is (a reading not computed is null).
+MatrixX3d blended_face_normals(const Eigen::VectorXd& creased, const MatrixX3d* FNs, const MatrixX3d* FNm) {
+  MatrixX3d FN(creased.size(), 3);
+  for (Eigen::Index f = 0; f < creased.size(); ++f) {
+    const double c = creased[f];
+    const Vec3 s_n = FNs ? Vec3(FNs->row(f).transpose()) : Vec3::Zero();
+    const Vec3 m_n = FNm ? Vec3(FNm->row(f).transpose()) : Vec3::Zero();
+    const Vec3 t = c * s_n + (1 - c) * m_n;
+    FN.row(f) = (t.norm() > 0 ? Vec3(t.normalized()) : (c >= 0.5 ? s_n : m_n)).transpose();
+  }
+  return FN;
+}
+
+// The shares of creased and relief area (r.creased_share, r.relief_share) and the choices that say them;
+// \p look: the range of the look feature over the parts.
+void describe_reading(const Mesh& mesh, const MatrixX3i& F, std::pair<double, double> look, AutoDenoiseResult& r) {
+  const AutoDenoiseOptions& o = r.resolved;
+  const Eigen::VectorXd A = face_areas(mesh);
+  double creased_area = 0, blend_area = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (r.creased[f] >= 0.5) creased_area += A[f];
+    if (r.creased[f] > 0.1 && r.creased[f] < 0.9) blend_area += A[f];
+  }
+  const double total = A.sum() > 0 ? A.sum() : 1.0;
+  r.creased_share = creased_area / total;
+  double smooth_area = 0, relief_area = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (r.creased[f] < 0.5) smooth_area += A[f], relief_area += A[f] * r.relief[f];
+  r.relief_share = smooth_area > 0 ? relief_area / smooth_area : 0.0;
+  if (o.creased)
+    r.choices.push_back(fmt::format("surface: {} everywhere (given)", *o.creased ? "creased" : "smooth"));
+  else
+    r.choices.push_back(fmt::format("surface, read per region: {:.0f}% creased (CAD-like), {:.0f}% smooth (organic), "
+                                    "{:.0f}% in transitions",
+                                    100 * r.creased_share, 100 * (1 - r.creased_share), 100 * blend_area / total));
+  if (!o.creased)
+    r.choices.push_back(fmt::format("reading: {}; look (the share of the neighbour-normal angles the sharp fit "
+                                    "keeps; CAD-like near 0.2-0.5, organic near 0.7-1.1): {:.3f}{}",
+                                    o.reading == ReadingRule::Rule      ? "the hand-made rule"
+                                    : o.reading == ReadingRule::Learned ? "learned"
+                                                                        : "the hand-made rule, sharp where the learned model is sure",
+                                    look.first,
+                                    look.second > look.first ? fmt::format(" to {:.3f} over the parts", look.second) : ""));
+}
+
+// Step 8: the edge process (Eq. 6.12) on the result, with the threshold of each edge's reading (the
+// mean of its faces'), unless one is given.
+void label_edges_by_reading(const Mesh& mesh, AutoDenoiseResult& r) {
+  const AutoDenoiseOptions& o = r.resolved;
+  EdgeProcessOptions e;
+  e.phi0_deg = o.label_angle_deg.value_or(kLabelCreased);
+  r.edge_labels = label_sharp_edges(mesh, r.positions, e);
+  if (!o.label_angle_deg && r.creased_share < 1) {
+    e.phi0_deg = kLabelSmooth;
+    const Eigen::VectorXd smooth_labels = label_sharp_edges(mesh, r.positions, e);
+    for (auto edge : mesh.edges()) {
+      double c = 0;
+      int k = 0;
+      for (int side = 0; side < 2; ++side)
+        if (const auto face = edge.h(side).face(); face.is_valid()) c += r.creased[face.idx()], ++k;
+      if (k == 0 || c / k < 0.5) r.edge_labels[edge.idx()] = smooth_labels[edge.idx()];
+    }
+  }
+  int labelled = 0;
+  for (Eigen::Index k = 0; k < r.edge_labels.size(); ++k) labelled += r.edge_labels[k] > 0.5;
+  const std::string label_rule = o.label_angle_deg ? fmt::format("{:.0f} deg", *o.label_angle_deg)
+                                                   : fmt::format("{:.0f} deg (creased regions), {:.0f} deg (smooth)",
+                                                                 kLabelCreased, kLabelSmooth);
+  r.choices.push_back(fmt::format("labels: {} edges sharper than {}", labelled, label_rule));
+}
+
+// 1 at the vertices read creased, 0 elsewhere: the rule's reading, the learned model's (p > 1/2), or the
+// rule's where the model is not confident (p <= kConfident) and sharp where it is.
+Eigen::VectorXd sharp_vertices(const Eigen::MatrixXd& features, ReadingRule reading) {
+  const Eigen::VectorXd rule = rule_reading(features);
+  Eigen::VectorXd sharp_here = rule;
+  if (reading != ReadingRule::Rule) {
+    const Eigen::VectorXd p = default_reading_model().probability(features);
+    for (Eigen::Index v = 0; v < p.size(); ++v)
+      sharp_here[v] = reading == ReadingRule::Learned ? (p[v] > 0.5 ? 1.0 : 0.0)
+                                                      : (p[v] > kConfident ? 1.0 : rule[v]);
+  }
+  return sharp_here;
+}
+
+// Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
+// above the noise; \p relief: per face, how much of it was kept.
+void add_light_relief(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, const Neighborhoods& N,
+                      const Surfels& S0, const SurfelOptions& mild, const AutoDenoiseOptions& o, MatrixX3d& Xm,
+                      MatrixX3d& FNm, Eigen::VectorXd& relief) {
+  SurfelOptions l = mild;
+  l.iterations = o.light_iterations;
+  l.progress = nullptr;
+  const SurfelResult light = optimize_surfels(X, N, S0, l);
+  const MatrixX3d FNl = mild_face_normals(mesh, X, F, light.surfels.normals);
+  const MatrixX3d Xl = fit_vertices_to_normals(F, X, FNl, o.light_fit_iterations, kRelaxation);
+  const Eigen::VectorXd w = keep_unfolded(N, F, Xm, Xl, relief_weights(N, F, X, Xm, Xl, o.relief_floor));
+  Xm += w.asDiagonal() * (Xl - Xm);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    relief[f] = (w[F(f, 0)] + w[F(f, 1)] + w[F(f, 2)]) / 3;
+    const Vec3 t = relief[f] * FNl.row(f) + (1 - relief[f]) * FNm.row(f);
+    if (t.norm() > 0) FNm.row(f) = t.normalized().transpose();
+  }
+}
+
+// The choices that say how the surfel passes ran (a pass not run is null) and how much relief was kept.
+void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool want_light, AutoDenoiseResult& r) {
+  const AutoDenoiseOptions& o = r.resolved;
+  if (sharp && r.creased_share > 0)
+    r.choices.push_back(fmt::format("sharp surfel pass: thresholds {:.1f} -> {:.0f} deg over {} steps", sharp->t_start_deg,
+                                    sharp->t_end_deg, sharp->iterations));
+  if (mild && r.creased_share < 1)
+    r.choices.push_back(fmt::format("mild surfel pass: threshold {:.1f} -> {:.0f} deg over {} sweeps",
+                                    mild->t_start_deg, mild->t_end_deg, mild->iterations));
+  if (want_light && r.creased_share < 1)
+    r.choices.push_back(fmt::format("relief (smooth regions): {:.0f}% of the light fit ({} sweep(s), {} updates) "
+                                    "kept where it stands above {} x the local noise energy",
+                                    100 * r.relief_share, o.light_iterations, o.light_fit_iterations, o.relief_floor));
+}
+
 // auto_denoise(); with \p truth (the clean positions), stops after the two fits and fills \p samples instead.
 AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& options, const MatrixX3d* truth,
                                     ReadingSamples* samples) {
@@ -303,37 +464,11 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
   // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
-  if (!o.sigma) {
-    try {
-      r.noise = estimate_noise(mesh);
-    } catch (const InvalidInput& e) {
-      throw InvalidInput(fmt::format("{} (too small a mesh to read its noise level from: give the noise level, sigma)", e.what()));
-    }
-  }
-  double normal_noise = r.noise.rms_normal_sigma;
-  if (o.sigma) {
-    normal_noise = *o.sigma / std::sqrt(3.0);
-    r.choices.push_back(fmt::format("noise: sigma {:.3f} mean edge lengths (given)", *o.sigma));
-  } else {
-    o.sigma = r.noise.sigma;
-    r.choices.push_back(fmt::format("noise: sigma {:.3f} mean edge lengths (estimated{})", r.noise.sigma,
-                                    r.noise.outliers > 0.02 ? fmt::format(", {:.0f}% outliers", 100 * r.noise.outliers)
-                                                            : std::string()));
-  }
+  const double normal_noise = resolve_noise(mesh, r);
   stage("noise estimate");
   const double s4 = std::pow(normal_noise / o.keep_below, 4), keep = s4 / (1 + s4);
   if (keep < 1e-6) {
-    r.positions = X;
-    r.choices.push_back("no noise found: the mesh is returned as it is");
-    if (!o.creased) o.creased = false;
-    if (!o.label_angle_deg) o.label_angle_deg = *o.creased ? kLabelCreased : kLabelSmooth;
-    EdgeProcessOptions e;
-    e.phi0_deg = *o.label_angle_deg;
-    r.edge_labels = label_sharp_edges(mesh, r.positions, e);
-    r.creased = Eigen::VectorXd::Constant(F.rows(), *o.creased ? 1.0 : 0.0);
-    r.creased_share = *o.creased ? 1.0 : 0.0;
-    r.relief = Eigen::VectorXd::Ones(F.rows());  // every detail kept as it is
-    r.relief_share = 1;
+    keep_noise_free(mesh, X, F, r);
     return r;
   }
 
@@ -395,17 +530,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
       return r;
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
-    // The rule's reading, the learned model's (p > 1/2), or the rule's where the model is not confident
-    // (p <= kConfident) and sharp where it is.
-    const Eigen::VectorXd rule = rule_reading(features);
-    Eigen::VectorXd sharp_here = rule;
-    if (o.reading != ReadingRule::Rule) {
-      const Eigen::VectorXd p = default_reading_model().probability(features);
-      for (Eigen::Index v = 0; v < p.size(); ++v)
-        sharp_here[v] = o.reading == ReadingRule::Learned ? (p[v] > 0.5 ? 1.0 : 0.0)
-                                                          : (p[v] > kConfident ? 1.0 : rule[v]);
-    }
-    cv = ring_average(N, sharp_here, kReadingRings);
+    cv = ring_average(N, sharp_vertices(features, o.reading), kReadingRings);
   }
   r.creased.resize(F.rows());
   for (Eigen::Index f = 0; f < F.rows(); ++f) r.creased[f] = (cv[F(f, 0)] + cv[F(f, 1)] + cv[F(f, 2)]) / 3;
@@ -416,70 +541,15 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   // The light pass: not needed where no vertex is read smooth, or where it would be the mild pass itself.
   const bool want_light = want_mild && o.light_iterations != o.mild_iterations && cv.minCoeff() < 0.5;
   if (want_light) {
-    SurfelOptions l = mild;
-    l.iterations = o.light_iterations;
-    l.progress = nullptr;
-    const SurfelResult light = optimize_surfels(X, N, S0, l);
-    const MatrixX3d FNl = mild_face_normals(mesh, X, F, light.surfels.normals);
-    const MatrixX3d Xl = fit_vertices_to_normals(F, X, FNl, o.light_fit_iterations, kRelaxation);
-    const Eigen::VectorXd w = keep_unfolded(N, F, Xm, Xl, relief_weights(N, F, X, Xm, Xl, o.relief_floor));
-    Xm += w.asDiagonal() * (Xl - Xm);
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
-      r.relief[f] = (w[F(f, 0)] + w[F(f, 1)] + w[F(f, 2)]) / 3;
-      const Vec3 t = r.relief[f] * FNl.row(f) + (1 - r.relief[f]) * FNm.row(f);
-      if (t.norm() > 0) FNm.row(f) = t.normalized().transpose();
-    }
+    add_light_relief(mesh, X, F, N, S0, mild, o, Xm, FNm, r.relief);
     stage("relief");
   }
   if (!want_mild) r.positions = Xs;
   else if (!want_sharp) r.positions = Xm;
   else r.positions = cv.asDiagonal() * Xs + (Eigen::VectorXd::Ones(cv.size()) - cv).asDiagonal() * Xm;
-  MatrixX3d FN(F.rows(), 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const double c = r.creased[f];
-    const Vec3 s_n = want_sharp ? Vec3(FNs.row(f).transpose()) : Vec3::Zero();
-    const Vec3 m_n = want_mild ? Vec3(FNm.row(f).transpose()) : Vec3::Zero();
-    const Vec3 t = c * s_n + (1 - c) * m_n;
-    FN.row(f) = (t.norm() > 0 ? Vec3(t.normalized()) : (c >= 0.5 ? s_n : m_n)).transpose();
-  }
-  {
-    const Eigen::VectorXd A = face_areas(mesh);
-    double creased_area = 0, blend_area = 0;
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
-      if (r.creased[f] >= 0.5) creased_area += A[f];
-      if (r.creased[f] > 0.1 && r.creased[f] < 0.9) blend_area += A[f];
-    }
-    const double total = A.sum() > 0 ? A.sum() : 1.0;
-    r.creased_share = creased_area / total;
-    double smooth_area = 0, relief_area = 0;
-    for (Eigen::Index f = 0; f < F.rows(); ++f)
-      if (r.creased[f] < 0.5) smooth_area += A[f], relief_area += A[f] * r.relief[f];
-    r.relief_share = smooth_area > 0 ? relief_area / smooth_area : 0.0;
-    if (o.creased)
-      r.choices.push_back(fmt::format("surface: {} everywhere (given)", *o.creased ? "creased" : "smooth"));
-    else
-      r.choices.push_back(fmt::format("surface, read per region: {:.0f}% creased (CAD-like), {:.0f}% smooth (organic), "
-                                      "{:.0f}% in transitions",
-                                      100 * r.creased_share, 100 * (1 - r.creased_share), 100 * blend_area / total));
-    if (!o.creased)
-      r.choices.push_back(fmt::format("reading: {}; look (the share of the neighbour-normal angles the sharp fit "
-                                      "keeps; CAD-like near 0.2-0.5, organic near 0.7-1.1): {:.3f}{}",
-                                      o.reading == ReadingRule::Rule      ? "the hand-made rule"
-                                      : o.reading == ReadingRule::Learned ? "learned"
-                                                                          : "the hand-made rule, sharp where the learned model is sure",
-                                      look.first,
-                                      look.second > look.first ? fmt::format(" to {:.3f} over the parts", look.second) : ""));
-  }
-  if (want_sharp && r.creased_share > 0)
-    r.choices.push_back(fmt::format("sharp surfel pass: thresholds {:.1f} -> {:.0f} deg over {} steps", sharp.t_start_deg,
-                                    sharp.t_end_deg, sharp.iterations));
-  if (want_mild && r.creased_share < 1)
-    r.choices.push_back(fmt::format("mild surfel pass: threshold {:.1f} -> {:.0f} deg over {} sweeps",
-                                    mild.t_start_deg, mild.t_end_deg, mild.iterations));
-  if (want_light && r.creased_share < 1)
-    r.choices.push_back(fmt::format("relief (smooth regions): {:.0f}% of the light fit ({} sweep(s), {} updates) "
-                                    "kept where it stands above {} x the local noise energy",
-                                    100 * r.relief_share, o.light_iterations, o.light_fit_iterations, o.relief_floor));
+  const MatrixX3d FN = blended_face_normals(r.creased, want_sharp ? &FNs : nullptr, want_mild ? &FNm : nullptr);
+  describe_reading(mesh, F, look, r);
+  describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
   if (keep < 0.999) {
     r.positions = X + keep * (r.positions - X);
@@ -489,28 +559,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   stage("untangle");
   report(o.progress, 0.95, "auto: fit");
 
-  // 8. Labels: the edge process (Eq. 6.12) on the result, with the threshold of each edge's reading
-  // (the mean of its faces'), unless one is given.
-  EdgeProcessOptions e;
-  e.phi0_deg = o.label_angle_deg.value_or(kLabelCreased);
-  r.edge_labels = label_sharp_edges(mesh, r.positions, e);
-  if (!o.label_angle_deg && r.creased_share < 1) {
-    e.phi0_deg = kLabelSmooth;
-    const Eigen::VectorXd smooth_labels = label_sharp_edges(mesh, r.positions, e);
-    for (auto edge : mesh.edges()) {
-      double c = 0;
-      int k = 0;
-      for (int side = 0; side < 2; ++side)
-        if (const auto face = edge.h(side).face(); face.is_valid()) c += r.creased[face.idx()], ++k;
-      if (k == 0 || c / k < 0.5) r.edge_labels[edge.idx()] = smooth_labels[edge.idx()];
-    }
-  }
-  int labelled = 0;
-  for (Eigen::Index k = 0; k < r.edge_labels.size(); ++k) labelled += r.edge_labels[k] > 0.5;
-  const std::string label_rule = o.label_angle_deg ? fmt::format("{:.0f} deg", *o.label_angle_deg)
-                                                   : fmt::format("{:.0f} deg (creased regions), {:.0f} deg (smooth)",
-                                                                 kLabelCreased, kLabelSmooth);
-  r.choices.push_back(fmt::format("labels: {} edges sharper than {}", labelled, label_rule));
+  // 8. Labels (see label_edges_by_reading).
+  label_edges_by_reading(mesh, r);
   stage("labels");
   report(o.progress, 1.0, "auto");
   return r;

@@ -506,6 +506,181 @@ struct Push {
   double delta = 0;  // how far the region and its surroundings are pushed along the axis
 };
 
+// The sliding method's base: faces whose vertices are all background (feature weight < ½), and
+// vertex normals of the deformed (\p C) base's own faces (the plain vertex normal where a vertex has none).
+struct SlidingBase {
+  MatrixX3i faces;
+  MatrixX3d normals;
+};
+
+SlidingBase sliding_base(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features) {
+  const int n = static_cast<int>(C.rows());
+  MatrixX3i Fb;
+  MatrixX3d Nv;
+  Mesh deformed = mesh;
+  set_positions(deformed, C);
+  Nv = vertex_normals(deformed);
+  const MatrixX3i F = faces(mesh);
+  const MatrixX3d Fn = face_normals(deformed);
+  const Eigen::VectorXd area = face_areas(deformed);
+  std::vector<int> base_faces;
+  MatrixX3d acc = MatrixX3d::Zero(n, 3);
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    if (features[F(k, 0)] >= 0.5 || features[F(k, 1)] >= 0.5 || features[F(k, 2)] >= 0.5) continue;
+    base_faces.push_back(static_cast<int>(k));
+    for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area[k] * Fn.row(k);
+  }
+  Fb.resize(static_cast<Eigen::Index>(base_faces.size()), 3);
+  for (size_t k = 0; k < base_faces.size(); ++k) Fb.row(k) = F.row(base_faces[k]);
+  for (int i = 0; i < n; ++i)
+    if (acc.row(i).norm() > 0) Nv.row(i) = acc.row(i).normalized();
+  return {std::move(Fb), std::move(Nv)};
+}
+
+// T spread from the features (f > 0) to the map's J over the background.
+void spread_transforms(std::vector<Eigen::Matrix3d>& T, const std::vector<Eigen::Matrix3d>& J, const Eigen::VectorXd& f,
+                       const BackgroundSpread& spread) {
+  const int n = static_cast<int>(f.size());
+  Eigen::MatrixXd V(n, 9);
+  for (int i = 0; i < n; ++i) V.row(i) = Eigen::Map<const Eigen::Matrix<double, 1, 9>>((f[i] > 0 ? T[i] : J[i]).data());
+  V = spread(V);
+  for (int i = 0; i < n; ++i) Eigen::Map<Eigen::Matrix<double, 1, 9>>(T[i].data()) = V.row(i);
+}
+
+// The features to push so that the box is scaled as asked (see Push), and in \p pin_w (#V by 3, zero
+// on entry) the weight pulling extreme background vertices to the map along their axis.
+std::vector<Push> extreme_pushes(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& features,
+                                 const Regions& regions, const Frame& frame, double frame_weight, MatrixX3d& pin_w) {
+  const int n = static_cast<int>(X.rows());
+  std::vector<Push> pushes;
+  const Regions cores = feature_regions(mesh, features);
+  for (size_t k = 0; k < cores.members.size(); ++k)
+    for (int a = 0; a < 3; ++a) {
+      if (!frame.axis[a]) continue;
+      int lo = -1, hi = -1;
+      for (int v : cores.members[k]) {
+        if (X(v, a) <= frame.lo[a] + frame.band && (lo < 0 || X(v, a) < X(lo, a))) lo = v;
+        if (X(v, a) >= frame.hi[a] - frame.band && (hi < 0 || X(v, a) > X(hi, a))) hi = v;
+      }
+      if ((lo >= 0) != (hi >= 0)) {
+        const int e = lo >= 0 ? lo : hi;
+        pushes.push_back({regions.id[e], a, e, 0.0});
+      }
+    }
+  for (int a = 0; a < 3; ++a) {
+    if (!frame.axis[a]) continue;
+    int lo = -1, hi = -1;
+    for (int i = 0; i < n; ++i) {
+      if (mesh.is_isolated(mesh.vertex_handle(i))) continue;
+      if (lo < 0 || X(i, a) < X(lo, a)) lo = i;
+      if (hi < 0 || X(i, a) > X(hi, a)) hi = i;
+    }
+    for (int v : {lo, hi}) {
+      if (v < 0) continue;
+      const int r = regions.id[v];  // a feature's taper reaches the extreme: push the feature
+      if (r >= 0) {
+        const int other = v == lo ? hi : lo;
+        if (regions.id[other] == r) continue;  // spans the model
+        auto q = std::find_if(pushes.begin(), pushes.end(), [&](const Push& q) { return q.region == r && q.axis == a; });
+        if (q == pushes.end()) pushes.push_back({r, a, v, 0.0});
+        else q->extreme = v;  // the region's outermost vertex is the model's
+      } else {
+        pin_w(v, a) = frame_weight;
+      }
+    }
+  }
+  return pushes;
+}
+
+// The sliding energy's edge terms: their weights as an #V by #V Laplacian \p G, their right-hand
+// side (per coordinate) in \p lap_rhs (#V by 3, zero on entry).
+void sliding_edge_terms(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const std::vector<Eigen::Matrix3d>& T,
+                        const std::vector<Eigen::Matrix3d>& J, const Regions& regions, const Eigen::VectorXd& f,
+                        const Eigen::VectorXd& p, double beta, SparseMatrix& G, MatrixX3d& lap_rhs) {
+  std::vector<Triplet> t;
+  t.reserve(4 * mesh.n_edges());
+  for (auto e : mesh.edges()) {
+    const int a = e.v0().idx(), b = e.v1().idx();
+    const double fe = regions.id[a] == regions.id[b] ? std::min(f[a], f[b]) : 0.0;
+    const double be = beta * std::max(p[a], p[b]);
+    const double we = fe + be;
+    if (we <= 0) continue;
+    // Feature edges: T Δx. Background edges: the deformed edge Δc corrected by (T − J) Δx, which
+    // is T Δx plus the map's own curvature, and exactly Δc where T = J (far from features).
+    const Vec3 dx = (X.row(a) - X.row(b)).transpose();
+    const Vec3 tdx = 0.5 * (T[a] + T[b]) * dx;
+    const Vec3 bg = (C.row(a) - C.row(b)).transpose() + tdx - 0.5 * (J[a] + J[b]) * dx;
+    const Eigen::RowVector3d r = (fe * tdx + be * bg).transpose();
+    t.emplace_back(a, a, we);
+    t.emplace_back(b, b, we);
+    t.emplace_back(a, b, -we);
+    t.emplace_back(b, a, -we);
+    lap_rhs.row(a) += r;
+    lap_rhs.row(b) -= r;
+  }
+  G.setFromTriplets(t.begin(), t.end());
+}
+
+// The isotropic pull of each vertex to c'_i: ε, plus frame_weight on the frame where it is background.
+Eigen::VectorXd sliding_frame_weights(const Frame& frame, const Eigen::VectorXd& f, const Eigen::VectorXd& p,
+                                      const BackgroundSpread& spread, double eps, double frame_weight) {
+  const int n = static_cast<int>(f.size());
+  Eigen::VectorXd diag_w(n);
+  // The frame yields near features as the background does (1 − s, s the features' indicator spread
+  // over the transition band): a boundary next to a feature (a scan's hole beside a foot) would
+  // otherwise hold the feature's surroundings to the plain map and stretch the feature.
+  Eigen::MatrixXd V = Eigen::MatrixXd::Zero(n, 1);
+  for (int i = 0; i < n; ++i) V(i, 0) = f[i] > 0 ? 1.0 : 0.0;
+  const Eigen::VectorXd s = spread(V).col(0);
+  for (int i = 0; i < n; ++i)
+    diag_w[i] = eps + (frame.vertex[i] ? frame_weight * p[i] * std::clamp(1.0 - s[i], 0.0, 1.0) : 0.0);
+  return diag_w;
+}
+
+// One refinement of the sliding method's constraint planes: q_i and n_i of every background vertex
+// re-taken at the closest point of the deformed base (\p Cp, \p Fb, its normals \p Nv) to the solution
+// \p out. \return the largest change of a plane (1 − cos of its turn, or its shift in mean edges \p h_mean).
+double retake_planes(const MatrixX3d& Cp, const MatrixX3i& Fb, const MatrixX3d& Nv, const Eigen::VectorXd& p,
+                     const MatrixX3d& out, double h_mean, MatrixX3d& Q, MatrixX3d& Nrm) {
+  const int n = static_cast<int>(p.size());
+  const TriangleTree tree(Cp, Fb);
+  std::vector<int> rows;
+  for (int i = 0; i < n; ++i)
+    if (p[i] > 0) rows.push_back(i);
+  const std::vector<TriangleTree::Hit> hits = tree.closest(out, rows);
+  double change = 0;
+#pragma omp parallel for schedule(static) reduction(max : change)
+  for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
+    const int i = rows[k];
+    const TriangleTree::Hit& hit = hits[k];
+    const Eigen::Vector3i F = Fb.row(hit.face);
+    Vec3 nv = hit.bary[0] * Vec3(Nv.row(F[0])) + hit.bary[1] * Vec3(Nv.row(F[1])) + hit.bary[2] * Vec3(Nv.row(F[2]));
+    if (nv.norm() < 1e-12) continue;
+    nv.normalize();
+    const Vec3 n_old = Nrm.row(i).transpose();
+    change = std::max({change, 1.0 - nv.dot(n_old),
+                       std::abs(nv.dot(hit.point) - n_old.dot(Vec3(Q.row(i).transpose()))) / h_mean});
+    Q.row(i) = hit.point.transpose();
+    Nrm.row(i) = nv.transpose();
+  }
+  return change;
+}
+
+// The sliding system's matrix: the fixed terms \p base plus w p_i n_i n_iᵀ per vertex (\p Nrm: n_i).
+SparseMatrix sliding_matrix(const std::vector<Triplet>& base, const Eigen::VectorXd& p, double w, const MatrixX3d& Nrm) {
+  const int n = static_cast<int>(p.size());
+  std::vector<Triplet> t = base;
+  t.reserve(base.size() + 9 * n);
+  for (int i = 0; i < n; ++i) {
+    const double wi = w * p[i];
+    for (int d = 0; d < 3; ++d)
+      for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + i, wi * Nrm(i, d) * Nrm(i, e));
+  }
+  SparseMatrix A(3 * n, 3 * n);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
 // Sliding. Unknowns stacked [x; y; z]. Energy:
 //   Σ_edges f_ij |(x'_i − x'_j) − T_ij (x_i − x_j)|²   features keep their shape, turned by T (see
 //                                                       feature_transforms), T_ij = (T_i + T_j) / 2
@@ -537,123 +712,29 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   // deformed base, not along a feature's deformed (e.g. stretched) surface, and its normals are the
   // base's own: a vertex normal averaged with a feature's faces would tilt toward the feature and
   // drag the feature's foot along it. Vertices without a base face keep their vertex normal.
-  MatrixX3i Fb;
-  MatrixX3d Nv;
-  {
-    Mesh deformed = mesh;
-    set_positions(deformed, C);
-    Nv = vertex_normals(deformed);
-    const MatrixX3i F = faces(mesh);
-    const MatrixX3d Fn = face_normals(deformed);
-    const Eigen::VectorXd area = face_areas(deformed);
-    std::vector<int> base_faces;
-    MatrixX3d acc = MatrixX3d::Zero(n, 3);
-    for (Eigen::Index k = 0; k < F.rows(); ++k) {
-      if (features[F(k, 0)] >= 0.5 || features[F(k, 1)] >= 0.5 || features[F(k, 2)] >= 0.5) continue;
-      base_faces.push_back(static_cast<int>(k));
-      for (int j = 0; j < 3; ++j) acc.row(F(k, j)) += area[k] * Fn.row(k);
-    }
-    Fb.resize(static_cast<Eigen::Index>(base_faces.size()), 3);
-    for (size_t k = 0; k < base_faces.size(); ++k) Fb.row(k) = F.row(base_faces[k]);
-    for (int i = 0; i < n; ++i)
-      if (acc.row(i).norm() > 0) Nv.row(i) = acc.row(i).normalized();
-  }
+  const SlidingBase sb = sliding_base(mesh, C, features);
+  const MatrixX3i& Fb = sb.faces;
+  const MatrixX3d& Nv = sb.normals;
 
   // T: features by feature_transforms, the background spread from them to the map's J.
   report(o.progress, 0.05, "transforms");
   const std::vector<Eigen::Matrix3d> J = local_jacobians(mesh, X, C);
   std::vector<Eigen::Matrix3d> T = feature_transforms(mesh, X, C, J, regions, !o.keep_feature_size, o.bend_features);
   const BackgroundSpread spread(mesh, f, o.transition);
-  {
-    Eigen::MatrixXd V(n, 9);
-    for (int i = 0; i < n; ++i) V.row(i) = Eigen::Map<const Eigen::Matrix<double, 1, 9>>((f[i] > 0 ? T[i] : J[i]).data());
-    V = spread(V);
-    for (int i = 0; i < n; ++i) Eigen::Map<Eigen::Matrix<double, 1, 9>>(T[i].data()) = V.row(i);
-  }
+  spread_transforms(T, J, f, spread);
 
   // Features at the box's extremes: a feature region (as given, before the taper) reaching one box
   // face along axis a (within the band), or whose taper holds the extreme vertex along a. A region
   // reaching both faces spans the model and is left free (a rigid copy is what its weights ask for).
   // Extreme background vertices are pulled to c along a.
-  std::vector<Push> pushes;
   MatrixX3d pin_w = MatrixX3d::Zero(n, 3);
-  {
-    const Regions cores = feature_regions(mesh, features);
-    for (size_t k = 0; k < cores.members.size(); ++k)
-      for (int a = 0; a < 3; ++a) {
-        if (!frame.axis[a]) continue;
-        int lo = -1, hi = -1;
-        for (int v : cores.members[k]) {
-          if (X(v, a) <= frame.lo[a] + frame.band && (lo < 0 || X(v, a) < X(lo, a))) lo = v;
-          if (X(v, a) >= frame.hi[a] - frame.band && (hi < 0 || X(v, a) > X(hi, a))) hi = v;
-        }
-        if ((lo >= 0) != (hi >= 0)) {
-          const int e = lo >= 0 ? lo : hi;
-          pushes.push_back({regions.id[e], a, e, 0.0});
-        }
-      }
-    for (int a = 0; a < 3; ++a) {
-      if (!frame.axis[a]) continue;
-      int lo = -1, hi = -1;
-      for (int i = 0; i < n; ++i) {
-        if (mesh.is_isolated(mesh.vertex_handle(i))) continue;
-        if (lo < 0 || X(i, a) < X(lo, a)) lo = i;
-        if (hi < 0 || X(i, a) > X(hi, a)) hi = i;
-      }
-      for (int v : {lo, hi}) {
-        if (v < 0) continue;
-        const int r = regions.id[v];  // a feature's taper reaches the extreme: push the feature
-        if (r >= 0) {
-          const int other = v == lo ? hi : lo;
-          if (regions.id[other] == r) continue;  // spans the model
-          auto q = std::find_if(pushes.begin(), pushes.end(), [&](const Push& q) { return q.region == r && q.axis == a; });
-          if (q == pushes.end()) pushes.push_back({r, a, v, 0.0});
-          else q->extreme = v;  // the region's outermost vertex is the model's
-        } else {
-          pin_w(v, a) = o.frame_weight;
-        }
-      }
-    }
-  }
+  std::vector<Push> pushes = extreme_pushes(mesh, X, features, regions, frame, o.frame_weight, pin_w);
 
   // Edge terms, one 1-ring stencil.
   SparseMatrix G(n, n);
   MatrixX3d lap_rhs = MatrixX3d::Zero(n, 3);
-  {
-    std::vector<Triplet> t;
-    t.reserve(4 * mesh.n_edges());
-    for (auto e : mesh.edges()) {
-      const int a = e.v0().idx(), b = e.v1().idx();
-      const double fe = regions.id[a] == regions.id[b] ? std::min(f[a], f[b]) : 0.0;
-      const double be = beta * std::max(p[a], p[b]);
-      const double we = fe + be;
-      if (we <= 0) continue;
-      // Feature edges: T Δx. Background edges: the deformed edge Δc corrected by (T − J) Δx, which
-      // is T Δx plus the map's own curvature, and exactly Δc where T = J (far from features).
-      const Vec3 dx = (X.row(a) - X.row(b)).transpose();
-      const Vec3 tdx = 0.5 * (T[a] + T[b]) * dx;
-      const Vec3 bg = (C.row(a) - C.row(b)).transpose() + tdx - 0.5 * (J[a] + J[b]) * dx;
-      const Eigen::RowVector3d r = (fe * tdx + be * bg).transpose();
-      t.emplace_back(a, a, we);
-      t.emplace_back(b, b, we);
-      t.emplace_back(a, b, -we);
-      t.emplace_back(b, a, -we);
-      lap_rhs.row(a) += r;
-      lap_rhs.row(b) -= r;
-    }
-    G.setFromTriplets(t.begin(), t.end());
-  }
-  Eigen::VectorXd diag_w(n);  // isotropic pull to c'_i
-  {
-    // The frame yields near features as the background does (1 − s, s the features' indicator spread
-    // over the transition band): a boundary next to a feature (a scan's hole beside a foot) would
-    // otherwise hold the feature's surroundings to the plain map and stretch the feature.
-    Eigen::MatrixXd V = Eigen::MatrixXd::Zero(n, 1);
-    for (int i = 0; i < n; ++i) V(i, 0) = f[i] > 0 ? 1.0 : 0.0;
-    const Eigen::VectorXd s = spread(V).col(0);
-    for (int i = 0; i < n; ++i)
-      diag_w[i] = eps + (frame.vertex[i] ? o.frame_weight * p[i] * std::clamp(1.0 - s[i], 0.0, 1.0) : 0.0);
-  }
+  sliding_edge_terms(mesh, X, C, T, J, regions, f, p, beta, G, lap_rhs);
+  const Eigen::VectorXd diag_w = sliding_frame_weights(frame, f, p, spread, eps, o.frame_weight);  // pull to c'_i
   std::vector<Triplet> base;
   add_blocks(base, G, n);
   for (int i = 0; i < n; ++i)
@@ -662,18 +743,7 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   MatrixX3d Cp = C;  // c' = c + U
   MatrixX3d Nrm = Nv, Q = C;  // normals and points of the background's constraint planes
   SpdSolver solver;
-  auto assemble = [&] {  // the normal terms change with Nrm
-    std::vector<Triplet> t = base;
-    t.reserve(base.size() + 9 * n);
-    for (int i = 0; i < n; ++i) {
-      const double wi = w * p[i];
-      for (int d = 0; d < 3; ++d)
-        for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + i, wi * Nrm(i, d) * Nrm(i, e));
-    }
-    SparseMatrix A(3 * n, 3 * n);
-    A.setFromTriplets(t.begin(), t.end());
-    return A;
-  };
+  auto assemble = [&] { return sliding_matrix(base, p, w, Nrm); };  // the normal terms change with Nrm
   auto solve = [&] {
     Eigen::VectorXd b = stack(lap_rhs + diag_w.asDiagonal() * Cp + MatrixX3d(pin_w.cwiseProduct(Cp)));
     for (int i = 0; i < n; ++i) {
@@ -727,26 +797,7 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
   // Refinements: re-take q_i and n_i at the closest point of the deformed (pushed) base (curved
   // bases); stop when no constraint plane changes (flat bases: the solution would be the same).
   for (int round = 0; round < o.refinements && Fb.rows() > 0; ++round) {
-    const TriangleTree tree(Cp, Fb);
-    std::vector<int> rows;
-    for (int i = 0; i < n; ++i)
-      if (p[i] > 0) rows.push_back(i);
-    const std::vector<TriangleTree::Hit> hits = tree.closest(out, rows);
-    double change = 0;
-#pragma omp parallel for schedule(static) reduction(max : change)
-    for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
-      const int i = rows[k];
-      const TriangleTree::Hit& hit = hits[k];
-      const Eigen::Vector3i F = Fb.row(hit.face);
-      Vec3 nv = hit.bary[0] * Vec3(Nv.row(F[0])) + hit.bary[1] * Vec3(Nv.row(F[1])) + hit.bary[2] * Vec3(Nv.row(F[2]));
-      if (nv.norm() < 1e-12) continue;
-      nv.normalize();
-      const Vec3 n_old = Nrm.row(i).transpose();
-      change = std::max({change, 1.0 - nv.dot(n_old),
-                         std::abs(nv.dot(hit.point) - n_old.dot(Vec3(Q.row(i).transpose()))) / h_mean});
-      Q.row(i) = hit.point.transpose();
-      Nrm.row(i) = nv.transpose();
-    }
+    const double change = retake_planes(Cp, Fb, Nv, p, out, h_mean, Q, Nrm);
     if (change < 1e-9) break;
     report(o.progress, 0.6 + 0.3 * round / std::max(1, o.refinements), "refine");
     solver.factorize(assemble());
@@ -754,6 +805,156 @@ MatrixX3d sliding_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& 
     push();
   }
   return out;
+}
+
+// The similarity method's first T_i = s_i R_i from the map's local linear parts \p J: R_i the nearest
+// rotation, s_i between the map's smallest and largest stretch in the tangent plane of normal \p N0
+// (\p s_lo, \p s_hi): the smallest when \p keep_feature_size, their geometric mean otherwise.
+void similarity_transforms(const std::vector<Eigen::Matrix3d>& J, const MatrixX3d& N0, bool keep_feature_size,
+                           std::vector<Eigen::Matrix3d>& T, Eigen::VectorXd& scale, Eigen::VectorXd& s_lo,
+                           Eigen::VectorXd& s_hi) {
+  const int n = static_cast<int>(N0.rows());
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 nrm = N0.row(i).transpose();
+    Vec3 t1 = nrm.unitOrthogonal(), t2 = nrm.cross(t1);
+    Eigen::Matrix<double, 3, 2> B;
+    B << J[i] * t1, J[i] * t2;
+    const Eigen::Vector2d sv = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(B).singularValues();
+    const bool ok = nrm.squaredNorm() > 0.5;
+    s_lo[i] = ok ? sv[1] : std::cbrt(std::abs(J[i].determinant()));
+    s_hi[i] = ok ? sv[0] : s_lo[i];
+    scale[i] = keep_feature_size ? s_lo[i] : std::sqrt(s_lo[i] * s_hi[i]);
+    T[i] = scale[i] * nearest_similarity(J[i], false);
+  }
+}
+
+// The vertices within \p frame_band mean edge lengths of a box face, along that axis, that are local
+// extremes of the band, as (vertex, axis).
+std::vector<std::array<int, 2>> box_extremes(const Mesh& mesh, const MatrixX3d& X, double frame_band) {
+  const int n = static_cast<int>(X.rows());
+  std::vector<std::array<int, 2>> extremes;
+  const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  const double band = std::max(frame_band, 1e-3) * mean_edge_length(mesh);
+  // Only the band's local extremes (no neighbour further out): a hoof's tip, every vertex of a flat
+  // bottom, not the rows of a wall rising from it.
+  for (int a = 0; a < 3; ++a) {
+    if (!(hi[a] - lo[a] > 2 * band)) continue;  // a flat model's thickness: its vertices follow the map
+    for (int i = 0; i < n; ++i) {
+      const auto vh = mesh.vertex_handle(i);
+      if (mesh.is_isolated(vh)) continue;
+      const bool low = X(i, a) <= lo[a] + band, high = X(i, a) >= hi[a] - band;
+      if (!low && !high) continue;
+      bool extreme = true;
+      for (auto u : mesh.vv_range(vh))
+        if ((low && X(u.idx(), a) < X(i, a)) || (high && X(u.idx(), a) > X(i, a))) extreme = false;
+      if (extreme) extremes.push_back({i, a});
+    }
+  }
+  return extremes;
+}
+
+// The similarity method's local step: T_i = s_i R_i of every important vertex (f_i > 0) refitted to
+// the solution \p Y, R_i the rotation that best turns its 1-ring edges into the solution's and, when
+// \p adapt_scale, s_i the scale that fits best within [s_lo, s_hi].
+void refit_similarities(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, const Eigen::VectorXd& f,
+                        bool adapt_scale, const Eigen::VectorXd& s_lo, const Eigen::VectorXd& s_hi,
+                        Eigen::VectorXd& scale, std::vector<Eigen::Matrix3d>& T) {
+  const int n = static_cast<int>(X.rows());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int i = 0; i < n; ++i) {
+    if (f[i] <= 0) continue;
+    const auto vh = mesh.vertex_handle(i);
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    double len2 = 0;
+    for (auto u : mesh.vv_range(vh)) {
+      const int j = u.idx();
+      S += (Y.row(j) - Y.row(i)).transpose() * (X.row(j) - X.row(i));
+      len2 += (X.row(j) - X.row(i)).squaredNorm();
+    }
+    if (!(S.squaredNorm() > 0) || !(len2 > 0)) continue;
+    const Eigen::Matrix3d R = nearest_similarity(S, false);
+    // As similar as possible: the scale that fits best, within the map's own local stretches.
+    if (adapt_scale) scale[i] = std::clamp((R.transpose() * S).trace() / len2, s_lo[i], s_hi[i]);
+    T[i] = scale[i] * R;
+  }
+}
+
+// The similarity method's constraint planes: q_i and n_i of every vertex not wholly important
+// (f_i < 1) taken at the closest point to the solution \p Y of the plainly stretched surface (\p C,
+// \p F, its vertex normals \p Nc).
+void project_planes(const Mesh& mesh, const MatrixX3d& C, const MatrixX3i& F, const MatrixX3d& Nc,
+                    const Eigen::VectorXd& f, const MatrixX3d& Y, MatrixX3d& Q, MatrixX3d& Nrm) {
+  const int n = static_cast<int>(C.rows());
+  const TriangleTree tree(C, F);
+  std::vector<int> rows;
+  for (int i = 0; i < n; ++i)
+    if (f[i] < 1 && !mesh.is_isolated(mesh.vertex_handle(i))) rows.push_back(i);
+  const std::vector<TriangleTree::Hit> hits = tree.closest(Y, rows);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
+    const int i = rows[k];
+    const TriangleTree::Hit& hit = hits[k];
+    const Eigen::Vector3i tri = F.row(hit.face);
+    Vec3 nv = hit.bary[0] * Vec3(Nc.row(tri[0])) + hit.bary[1] * Vec3(Nc.row(tri[1])) + hit.bary[2] * Vec3(Nc.row(tri[2]));
+    if (nv.norm() < 1e-12) continue;
+    Q.row(i) = hit.point.transpose();
+    Nrm.row(i) = nv.normalized().transpose();
+  }
+}
+
+// The faces of \p F that \p Y turns over against the normals \p Fn.
+std::vector<int> turned_faces(const MatrixX3i& F, const MatrixX3d& Fn, const MatrixX3d& Y) {
+  std::vector<int> out;
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    const Vec3 a = Y.row(F(k, 0)).transpose(), b = Y.row(F(k, 1)).transpose(), c = Y.row(F(k, 2)).transpose();
+    if ((b - a).cross(c - a).dot(Vec3(Fn.row(k).transpose())) < 0) out.push_back(static_cast<int>(k));
+  }
+  return out;
+}
+
+// Marks in \p marked the vertices of the faces \p bad and \p rings vertex rings around them.
+void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& bad, int rings, std::vector<char>& marked) {
+  std::vector<int> front;
+  for (int k : bad)
+    for (int j = 0; j < 3; ++j)
+      if (!marked[F(k, j)]) marked[F(k, j)] = 1, front.push_back(F(k, j));
+  for (int r = 0; r < rings; ++r) {
+    std::vector<int> next;
+    for (int v : front)
+      for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+        if (!marked[u.idx()]) marked[u.idx()] = 1, next.push_back(u.idx());
+    front.swap(next);
+  }
+}
+
+// \p out scaled per axis onto the bounding box of \p C (axes where either box is flat are left as they are).
+void fit_box(MatrixX3d& out, const MatrixX3d& C) {
+  const Vec3 clo = C.colwise().minCoeff(), chi = C.colwise().maxCoeff();
+  const Vec3 olo = out.colwise().minCoeff(), ohi = out.colwise().maxCoeff();
+  for (int a = 0; a < 3; ++a)
+    if (ohi[a] > olo[a] && chi[a] > clo[a])
+      out.col(a) = ((out.col(a).array() - olo[a]) * ((chi[a] - clo[a]) / (ohi[a] - olo[a])) + clo[a]).matrix();
+}
+
+// The similarity method's edge weights as an #V by #V Laplacian: f_ij² + β, or + \p relaxed_weight
+// at a relaxed vertex, f_ij = (f_i + f_j) / 2.
+SparseMatrix similarity_edge_weights(const std::vector<std::array<int, 2>>& edges, const Eigen::VectorXd& f,
+                                     const std::vector<char>& relaxed, double beta, double relaxed_weight) {
+  const int n = static_cast<int>(f.size());
+  SparseMatrix G(n, n);
+  std::vector<Triplet> g;
+  g.reserve(4 * edges.size());
+  for (const auto& [a, b] : edges) {
+    const double fe = 0.5 * (f[a] + f[b]);
+    const double we = fe * fe + ((relaxed[a] || relaxed[b]) ? relaxed_weight : beta);
+    g.emplace_back(a, a, we);
+    g.emplace_back(b, b, we);
+    g.emplace_back(a, b, -we);
+    g.emplace_back(b, a, -we);
+  }
+  G.setFromTriplets(g.begin(), g.end());
+  return G;
 }
 
 // Similarity (see resize.h). Unknowns stacked [x; y; z]. Energy:
@@ -783,42 +984,11 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   const std::vector<Eigen::Matrix3d> J = local_jacobians(mesh, X, C);
   std::vector<Eigen::Matrix3d> T(n);
   Eigen::VectorXd scale(n), s_lo(n), s_hi(n);
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < n; ++i) {
-    const Vec3 nrm = N0.row(i).transpose();
-    Vec3 t1 = nrm.unitOrthogonal(), t2 = nrm.cross(t1);
-    Eigen::Matrix<double, 3, 2> B;
-    B << J[i] * t1, J[i] * t2;
-    const Eigen::Vector2d sv = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(B).singularValues();
-    const bool ok = nrm.squaredNorm() > 0.5;
-    s_lo[i] = ok ? sv[1] : std::cbrt(std::abs(J[i].determinant()));
-    s_hi[i] = ok ? sv[0] : s_lo[i];
-    scale[i] = o.keep_feature_size ? s_lo[i] : std::sqrt(s_lo[i] * s_hi[i]);
-    T[i] = scale[i] * nearest_similarity(J[i], false);
-  }
+  similarity_transforms(J, N0, o.keep_feature_size, T, scale, s_lo, s_hi);
 
   // The frame: the vertices within frame_band mean edge lengths of a box face, along that axis (the
   // feet of a model standing on the box's floor stay level), and the mesh boundary.
-  std::vector<std::array<int, 2>> extremes;  // (vertex, axis)
-  {
-    const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
-    const double band = std::max(o.frame_band, 1e-3) * mean_edge_length(mesh);
-    // Only the band's local extremes (no neighbour further out): a hoof's tip, every vertex of a flat
-    // bottom, not the rows of a wall rising from it.
-    for (int a = 0; a < 3; ++a) {
-      if (!(hi[a] - lo[a] > 2 * band)) continue;  // a flat model's thickness: its vertices follow the map
-      for (int i = 0; i < n; ++i) {
-        const auto vh = mesh.vertex_handle(i);
-        if (mesh.is_isolated(vh)) continue;
-        const bool low = X(i, a) <= lo[a] + band, high = X(i, a) >= hi[a] - band;
-        if (!low && !high) continue;
-        bool extreme = true;
-        for (auto u : mesh.vv_range(vh))
-          if ((low && X(u.idx(), a) < X(i, a)) || (high && X(u.idx(), a) > X(i, a))) extreme = false;
-        if (extreme) extremes.push_back({i, a});
-      }
-    }
-  }
+  const std::vector<std::array<int, 2>> extremes = box_extremes(mesh, X, o.frame_band);  // (vertex, axis)
   MatrixX3d target = C;  // where the frame's vertices are pulled, moved until they land on C
   std::vector<char> boundary(n, 0);
   for (auto v : mesh.vertices())
@@ -832,21 +1002,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   auto assemble = [&] {
     std::vector<Triplet> t;
     t.reserve(12 * edges.size() + 12 * n);
-    SparseMatrix G(n, n);
-    {
-      std::vector<Triplet> g;
-      g.reserve(4 * edges.size());
-      for (const auto& [a, b] : edges) {
-        const double fe = 0.5 * (f[a] + f[b]);
-        const double we = fe * fe + ((relaxed[a] || relaxed[b]) ? kRelaxed : beta);
-        g.emplace_back(a, a, we);
-        g.emplace_back(b, b, we);
-        g.emplace_back(a, b, -we);
-        g.emplace_back(b, a, -we);
-      }
-      G.setFromTriplets(g.begin(), g.end());
-    }
-    add_blocks(t, G, n);
+    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, kRelaxed), n);
     for (int i = 0; i < n; ++i) {
       const double wi = w * (1 - f[i]);
       const double bw = boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0;
@@ -888,50 +1044,9 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     return Y;
   };
   // Local step: the rotation that best turns each vertex's 1-ring edges into the solution's.
-  auto refit = [&](const MatrixX3d& Y) {
-#pragma omp parallel for schedule(dynamic, 256)
-    for (int i = 0; i < n; ++i) {
-      if (f[i] <= 0) continue;
-      const auto vh = mesh.vertex_handle(i);
-      Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-      double len2 = 0;
-      for (auto u : mesh.vv_range(vh)) {
-        const int j = u.idx();
-        S += (Y.row(j) - Y.row(i)).transpose() * (X.row(j) - X.row(i));
-        len2 += (X.row(j) - X.row(i)).squaredNorm();
-      }
-      if (!(S.squaredNorm() > 0) || !(len2 > 0)) continue;
-      const Eigen::Matrix3d R = nearest_similarity(S, false);
-      // As similar as possible: the scale that fits best, within the map's own local stretches.
-      if (o.adapt_scale) scale[i] = std::clamp((R.transpose() * S).trace() / len2, s_lo[i], s_hi[i]);
-      T[i] = scale[i] * R;
-    }
-  };
-  auto project = [&](const MatrixX3d& Y) {
-    const TriangleTree tree(C, F);
-    std::vector<int> rows;
-    for (int i = 0; i < n; ++i)
-      if (f[i] < 1 && !mesh.is_isolated(mesh.vertex_handle(i))) rows.push_back(i);
-    const std::vector<TriangleTree::Hit> hits = tree.closest(Y, rows);
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
-      const int i = rows[k];
-      const TriangleTree::Hit& hit = hits[k];
-      const Eigen::Vector3i tri = F.row(hit.face);
-      Vec3 nv = hit.bary[0] * Vec3(Nc.row(tri[0])) + hit.bary[1] * Vec3(Nc.row(tri[1])) + hit.bary[2] * Vec3(Nc.row(tri[2]));
-      if (nv.norm() < 1e-12) continue;
-      Q.row(i) = hit.point.transpose();
-      Nrm.row(i) = nv.normalized().transpose();
-    }
-  };
-  auto flipped = [&](const MatrixX3d& Y) {
-    std::vector<int> out;
-    for (Eigen::Index k = 0; k < F.rows(); ++k) {
-      const Vec3 a = Y.row(F(k, 0)).transpose(), b = Y.row(F(k, 1)).transpose(), c = Y.row(F(k, 2)).transpose();
-      if ((b - a).cross(c - a).dot(Vec3(Fn_plain.row(k).transpose())) < 0) out.push_back(static_cast<int>(k));
-    }
-    return out;
-  };
+  auto refit = [&](const MatrixX3d& Y) { refit_similarities(mesh, X, Y, f, o.adapt_scale, s_lo, s_hi, scale, T); };
+  auto project = [&](const MatrixX3d& Y) { project_planes(mesh, C, F, Nc, f, Y, Q, Nrm); };
+  auto flipped = [&](const MatrixX3d& Y) { return turned_faces(F, Fn_plain, Y); };
 
   report(o.progress, 0.2, "factor");
   SparseMatrix A = assemble();
@@ -953,17 +1068,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     const std::vector<int> bad = flipped(out);
     if (bad.empty()) break;
     report(o.progress, 0.7 + 0.25 * round / std::max(1, o.flip_rounds), fmt::format("relax {} turned faces", bad.size()));
-    std::vector<int> front;
-    for (int k : bad)
-      for (int j = 0; j < 3; ++j)
-        if (!relaxed[F(k, j)]) relaxed[F(k, j)] = 1, front.push_back(F(k, j));
-    for (int r = 0; r < o.flip_rings + 2 * round; ++r) {  // wider each round
-      std::vector<int> next;
-      for (int v : front)
-        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
-          if (!relaxed[u.idx()]) relaxed[u.idx()] = 1, next.push_back(u.idx());
-      front.swap(next);
-    }
+    mark_around(mesh, F, bad, o.flip_rings + 2 * round, relaxed);  // wider each round
     for (int i = 0; i < n; ++i)
       if (relaxed[i]) {
         f[i] = 0;
@@ -974,11 +1079,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     out = solve_frame();
   }
   // The box exactly as the map puts it: a per-axis scale of a few parts in 10⁴ (positive, so no face turns).
-  const Vec3 clo = C.colwise().minCoeff(), chi = C.colwise().maxCoeff();
-  const Vec3 olo = out.colwise().minCoeff(), ohi = out.colwise().maxCoeff();
-  for (int a = 0; a < 3; ++a)
-    if (ohi[a] > olo[a] && chi[a] > clo[a])
-      out.col(a) = ((out.col(a).array() - olo[a]) * ((chi[a] - clo[a]) / (ohi[a] - olo[a])) + clo[a]).matrix();
+  fit_box(out, C);
   return out;
 }
 

@@ -913,6 +913,194 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   stage_done("count");
 }
 
+// The placement of a patch that overlaps what is written: o.candidates random placements (\p t the
+// first), \p t set to one of those whose overlap matches within o.match_tolerance of the best, \p order
+// to it and then the others, best first (cut: the placements to try against folds). \p overlap: the
+// patch vertices with a weight \p b that are written (a seeded subsample of o.match_samples is kept).
+template <class Read, class OldAt, class RandomPlacement>
+void choose_placement(std::vector<size_t>& overlap, const std::vector<double>& b, const ExpMap& m,
+                      const SynthesisOptions& o, Rng& rng, const Read& read, const OldAt& old_at,
+                      const RandomPlacement& random_placement, Eigen::Vector2d& t,
+                      std::vector<Eigen::Vector2d>& order) {
+  if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
+    for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
+      std::swap(overlap[i], overlap[i + rng.below(overlap.size() - i)]);
+    overlap.resize(o.match_samples);
+  }
+  std::vector<Eigen::Vector2d> ts(o.candidates);
+  std::vector<double> cost(o.candidates, 0.0);
+  ts[0] = t;
+  for (int q = 1; q < o.candidates; ++q) ts[q] = random_placement();
+  // Normalised: Σ b |new − old|² / Σ b (|new|² + |old|²), 0 for a match, ~1 for unrelated relief of any
+  // size (the plain sum would prefer the exemplar's quietest parts wherever nothing matches: a
+  // non-stationary exemplar's synthesis came out at half its rms).
+  for (int q = 0; q < o.candidates; ++q) {
+    double energy = 0;
+    for (size_t s : overlap) {
+      const Vec3 d = read(ts[q], s, nullptr), old = old_at(m.vertices[s]);
+      cost[q] += b[s] * (d - old).squaredNorm();
+      energy += b[s] * (d.squaredNorm() + old.squaredNorm());
+    }
+    cost[q] = energy > 0 ? cost[q] / energy : 0.0;
+  }
+  const double best = *std::min_element(cost.begin(), cost.end());
+  std::vector<int> good;
+  for (int q = 0; q < o.candidates; ++q)
+    if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
+  if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
+  const int pick = good[rng.below(good.size())];
+  t = ts[pick];
+  std::vector<int> rest;  // then the others, best first
+  for (int q = 0; q < o.candidates; ++q)
+    if (q != pick) rest.push_back(q);
+  std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
+  order = {t};
+  for (int q : rest) order.push_back(ts[q]);
+}
+
+// The options patches are placed with: \p o, without avoiding or repairing crossings when the
+// displacements (up to \p largest) are as large as the target \p X (with a warning in \p warnings).
+SynthesisOptions placing_options(const SynthesisOptions& o, double largest, const MatrixX3d& X,
+                                 std::vector<std::string>& warnings) {
+  // Displacements as large as the target itself (a height scale far beyond the exemplar's): every placement
+  // crosses the whole target, and testing each would cost the whole target per try (a sphere at
+  // --height-scale 1e6: past 120 s). There crossings are counted, not avoided.
+  SynthesisOptions placing = o;
+  if (largest > kCrossingReach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm() &&
+      (o.avoid_crossings || o.repair_crossings)) {
+    placing.avoid_crossings = placing.drop_collisions = placing.repair_crossings = false;
+    warnings.push_back(fmt::format("displacements up to {:.3g} are as large as the target ({:.3g} across): "
+                                   "crossings are counted, not avoided",
+                                   largest, (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm()));
+  }
+  return placing;
+}
+
+// Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
+// and the displacements written, faded by the weights, in res.local. \p largest: how far a displaced
+// point can be from its base point; \p placing: the options placements are made with (placing_options()).
+void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F,
+                   double largest, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
+                   const std::function<void(const char*)>& stage_done) {
+  const Eigen::Index n = T.n_vertices();
+  const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
+  const double rp = res.scale * rp_ex;               // and on the target
+  res.patch_radius = rp;
+  // Placements: |t| ≤ reach keeps the patch within |z| ≤ 0.95 of the disk: off the raster's points outside
+  // it, and off the jagged rim of the geodesic disk, where the map turns the frames by a few degrees (a
+  // cut copies what it reads there; a blend averaged it away).
+  const double reach = 0.95 * ex.extent - rp_ex;
+  const double spacing = o.patch_spacing * rp;
+  Rng rng(o.seed);
+  ExpMapper expmap(T, X, N);
+  std::vector<double> dmin(n, std::numeric_limits<double>::infinity());
+  const bool cut = o.seams == SeamMethod::Cut;
+  Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);  // blend
+  MatrixX3d sumD = MatrixX3d::Zero(n, 3);                                             // blend
+  res.owner = Eigen::VectorXi::Constant(n, -1);
+  res.copied = MatrixX3d::Zero(n, 3);
+  Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
+            std::vector<int>(n, -1)};
+  Placer placer(T, X, N, F, largest, placing, res);
+  auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
+  auto old_at = [&](int v) -> Vec3 {
+    return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
+  };
+  size_t to_cover = 0, covered = 0;
+  std::vector<char> wanted(n, 0);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (res.weight[i] >= 0.5 && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) wanted[i] = 1, ++to_cover;
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> front;  // (jittered distance, vertex)
+  std::vector<double> key(n, std::numeric_limits<double>::infinity());
+  size_t scan = rng.below(static_cast<uint64_t>(std::max<Eigen::Index>(n, 1)));  // where a new component starts
+  auto next_center = [&]() -> int {
+    while (!front.empty()) {
+      const auto [k, v] = front.top();
+      front.pop();
+      if (k == key[v] && dmin[v] > spacing) return v;
+    }
+    for (size_t c = 0; c < static_cast<size_t>(n); ++c) {  // nothing in the front: a part not reached yet
+      const int v = static_cast<int>((scan + c) % n);
+      if (wanted[v] && dmin[v] > spacing) {
+        scan = v;
+        return v;
+      }
+    }
+    return -1;
+  };
+
+  std::vector<Vec3> cand;  // per patch vertex: a placement's displacement in the vertex's field frame
+  for (int c = next_center(); c >= 0; c = next_center()) {
+    const int patch = static_cast<int>(res.centers.size());
+    res.centers.push_back(c);
+    const ExpMap m = expmap.map(c, F.row(c).transpose(), rp);
+    const size_t k = m.vertices.size();
+    // Per patch vertex: blend weight b. The exemplar's frame (+u, +v, n) maps onto the field's frame at
+    // each vertex (not the patch's transported one, which turns away from the field by up to a few
+    // degrees across a patch): the lean follows the field exactly, and overlapping patches agree on it.
+    std::vector<double> b(k);
+    std::vector<size_t> overlap;
+    for (size_t s = 0; s < k; ++s) {
+      const int v = m.vertices[s];
+      const double r2 = m.uv[s].squaredNorm() / (rp * rp);
+      b[s] = r2 < 1 ? (1 - r2) * (1 - r2) : 0.0;
+      if (b[s] > 0 && written(v)) overlap.push_back(s);
+    }
+    // A placement t (exemplar units): vertex s reads the exemplar at t + uv_s / scale.
+    auto read = [&](const Eigen::Vector2d& t, size_t s, Vec3* raw) {
+      const Eigen::Vector2d p = (t + m.uv[s] / res.scale) / ex.extent;
+      const Vec3 d = res.height_factor * ex.at(p.x(), p.y());
+      if (raw) *raw = d;
+      return d;
+    };
+    auto random_placement = [&] {
+      double a = rng.uniform(0, 2 * M_PI), r = reach * std::sqrt(rng.uniform());
+      return Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
+    };
+    Eigen::Vector2d t = random_placement();
+    std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
+    if (!overlap.empty() && o.candidates > 1)
+      choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, t, order);
+    // Blend the chosen placement in.
+    for (size_t s = 0; s < k; ++s) {
+      const int v = m.vertices[s];
+      if (m.uv[s].norm() < dmin[v]) {
+        const bool was = dmin[v] <= spacing;
+        dmin[v] = m.uv[s].norm();
+        if (wanted[v] && !was && dmin[v] <= spacing) ++covered;
+        if (wanted[v] && dmin[v] > spacing) {
+          key[v] = dmin[v] * (1 + 0.3 * rng.uniform());  // seeded jitter: no fixed order of growth
+          front.emplace(key[v], v);
+        }
+      }
+      if (cut || !(b[s] > 0)) continue;
+      Vec3 raw;
+      const Vec3 d = read(t, s, &raw);
+      const double w = std::pow(b[s], o.blend_power);
+      sumW[v] += w;
+      sumD.row(v) += w * d.transpose();
+      if (b[s] > bmax[v]) {
+        bmax[v] = b[s];
+        res.owner[v] = patch;
+        res.copied.row(v) = raw.transpose();
+      }
+    }
+    if (cut) placer.place(m, b, order, read, patch, cv);
+    report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
+  }
+  if (covered < to_cover)
+    res.warnings.push_back(fmt::format("{} of {} vertices were not reached by any patch (disconnected from the "
+                                       "rest and too small for a patch?)",
+                                       to_cover - covered, to_cover));
+
+  stage_done("patches");
+  report(o.progress, 0.85, "unfold");
+  res.local = MatrixX3d::Zero(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (written(static_cast<int>(i))) res.local.row(i) = detail::fade(old_at(static_cast<int>(i)), res.weight[i]).transpose();
+}
+
 // The automatic keep-out (keep_out.h) multiplied into the growth weight, its area shares in the result.
 void apply_keep_out(const Mesh& target, const Exemplar& ex, const SynthesisOptions& o, Eigen::VectorXd& weight,
                     SynthesisResult& res) {
@@ -994,171 +1182,12 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   stage_done("field");
 
   // Patches in a growing front.
-  const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
-  const double rp = res.scale * rp_ex;               // and on the target
-  res.patch_radius = rp;
-  // Placements: |t| ≤ reach keeps the patch within |z| ≤ 0.95 of the disk: off the raster's points outside
-  // it, and off the jagged rim of the geodesic disk, where the map turns the frames by a few degrees (a
-  // cut copies what it reads there; a blend averaged it away).
-  const double reach = 0.95 * ex.extent - rp_ex;
-  const double spacing = o.patch_spacing * rp;
-  Rng rng(o.seed);
-  ExpMapper expmap(T, X, N);
-  std::vector<double> dmin(n, std::numeric_limits<double>::infinity());
-  const bool cut = o.seams == SeamMethod::Cut;
-  Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);  // blend
-  MatrixX3d sumD = MatrixX3d::Zero(n, 3);                                             // blend
-  res.owner = Eigen::VectorXi::Constant(n, -1);
-  res.copied = MatrixX3d::Zero(n, 3);
-  Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
-            std::vector<int>(n, -1)};
   double largest = 0;  // displacement: how far a displaced point can be from its base point
   for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
-  // Displacements as large as the target itself (a height scale far beyond the exemplar's): every placement
-  // crosses the whole target, and testing each would cost the whole target per try (a sphere at
-  // --height-scale 1e6: past 120 s). There crossings are counted, not avoided.
-  SynthesisOptions placing = o;
-  if (largest > kCrossingReach * (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm() &&
-      (o.avoid_crossings || o.repair_crossings)) {
-    placing.avoid_crossings = placing.drop_collisions = placing.repair_crossings = false;
-    res.warnings.push_back(fmt::format("displacements up to {:.3g} are as large as the target ({:.3g} across): "
-                                       "crossings are counted, not avoided",
-                                       largest, (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm()));
-  }
-  Placer placer(T, X, N, F, largest, placing, res);
-  auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
-  auto old_at = [&](int v) -> Vec3 {
-    return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
-  };
-  size_t to_cover = 0, covered = 0;
-  std::vector<char> wanted(n, 0);
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (res.weight[i] >= 0.5 && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) wanted[i] = 1, ++to_cover;
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> front;  // (jittered distance, vertex)
-  std::vector<double> key(n, std::numeric_limits<double>::infinity());
-  size_t scan = rng.below(static_cast<uint64_t>(std::max<Eigen::Index>(n, 1)));  // where a new component starts
-  auto next_center = [&]() -> int {
-    while (!front.empty()) {
-      const auto [k, v] = front.top();
-      front.pop();
-      if (k == key[v] && dmin[v] > spacing) return v;
-    }
-    for (size_t c = 0; c < static_cast<size_t>(n); ++c) {  // nothing in the front: a part not reached yet
-      const int v = static_cast<int>((scan + c) % n);
-      if (wanted[v] && dmin[v] > spacing) {
-        scan = v;
-        return v;
-      }
-    }
-    return -1;
-  };
-
-  std::vector<Vec3> cand;  // per patch vertex: a placement's displacement in the vertex's field frame
-  for (int c = next_center(); c >= 0; c = next_center()) {
-    const int patch = static_cast<int>(res.centers.size());
-    res.centers.push_back(c);
-    const ExpMap m = expmap.map(c, F.row(c).transpose(), rp);
-    const size_t k = m.vertices.size();
-    // Per patch vertex: blend weight b. The exemplar's frame (+u, +v, n) maps onto the field's frame at
-    // each vertex (not the patch's transported one, which turns away from the field by up to a few
-    // degrees across a patch): the lean follows the field exactly, and overlapping patches agree on it.
-    std::vector<double> b(k);
-    std::vector<size_t> overlap;
-    for (size_t s = 0; s < k; ++s) {
-      const int v = m.vertices[s];
-      const double r2 = m.uv[s].squaredNorm() / (rp * rp);
-      b[s] = r2 < 1 ? (1 - r2) * (1 - r2) : 0.0;
-      if (b[s] > 0 && written(v)) overlap.push_back(s);
-    }
-    // A placement t (exemplar units): vertex s reads the exemplar at t + uv_s / scale.
-    auto read = [&](const Eigen::Vector2d& t, size_t s, Vec3* raw) {
-      const Eigen::Vector2d p = (t + m.uv[s] / res.scale) / ex.extent;
-      const Vec3 d = res.height_factor * ex.at(p.x(), p.y());
-      if (raw) *raw = d;
-      return d;
-    };
-    auto random_placement = [&] {
-      double a = rng.uniform(0, 2 * M_PI), r = reach * std::sqrt(rng.uniform());
-      return Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
-    };
-    Eigen::Vector2d t = random_placement();
-    std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
-    if (!overlap.empty() && o.candidates > 1) {
-      if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
-        for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
-          std::swap(overlap[i], overlap[i + rng.below(overlap.size() - i)]);
-        overlap.resize(o.match_samples);
-      }
-      std::vector<Eigen::Vector2d> ts(o.candidates);
-      std::vector<double> cost(o.candidates, 0.0);
-      ts[0] = t;
-      for (int q = 1; q < o.candidates; ++q) ts[q] = random_placement();
-      // Normalised: Σ b |new − old|² / Σ b (|new|² + |old|²), 0 for a match, ~1 for unrelated relief of any
-      // size (the plain sum would prefer the exemplar's quietest parts wherever nothing matches: a
-      // non-stationary exemplar's synthesis came out at half its rms).
-      for (int q = 0; q < o.candidates; ++q) {
-        double energy = 0;
-        for (size_t s : overlap) {
-          const Vec3 d = read(ts[q], s, nullptr), old = old_at(m.vertices[s]);
-          cost[q] += b[s] * (d - old).squaredNorm();
-          energy += b[s] * (d.squaredNorm() + old.squaredNorm());
-        }
-        cost[q] = energy > 0 ? cost[q] / energy : 0.0;
-      }
-      const double best = *std::min_element(cost.begin(), cost.end());
-      std::vector<int> good;
-      for (int q = 0; q < o.candidates; ++q)
-        if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
-      if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
-      const int pick = good[rng.below(good.size())];
-      t = ts[pick];
-      std::vector<int> rest;  // then the others, best first
-      for (int q = 0; q < o.candidates; ++q)
-        if (q != pick) rest.push_back(q);
-      std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
-      order = {t};
-      for (int q : rest) order.push_back(ts[q]);
-    }
-    // Blend the chosen placement in.
-    for (size_t s = 0; s < k; ++s) {
-      const int v = m.vertices[s];
-      if (m.uv[s].norm() < dmin[v]) {
-        const bool was = dmin[v] <= spacing;
-        dmin[v] = m.uv[s].norm();
-        if (wanted[v] && !was && dmin[v] <= spacing) ++covered;
-        if (wanted[v] && dmin[v] > spacing) {
-          key[v] = dmin[v] * (1 + 0.3 * rng.uniform());  // seeded jitter: no fixed order of growth
-          front.emplace(key[v], v);
-        }
-      }
-      if (cut || !(b[s] > 0)) continue;
-      Vec3 raw;
-      const Vec3 d = read(t, s, &raw);
-      const double w = std::pow(b[s], o.blend_power);
-      sumW[v] += w;
-      sumD.row(v) += w * d.transpose();
-      if (b[s] > bmax[v]) {
-        bmax[v] = b[s];
-        res.owner[v] = patch;
-        res.copied.row(v) = raw.transpose();
-      }
-    }
-    if (cut) placer.place(m, b, order, read, patch, cv);
-    report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
-  }
-  if (covered < to_cover)
-    res.warnings.push_back(fmt::format("{} of {} vertices were not reached by any patch (disconnected from the "
-                                       "rest and too small for a patch?)",
-                                       to_cover - covered, to_cover));
-
-  stage_done("patches");
-  report(o.progress, 0.85, "unfold");
-  res.local = MatrixX3d::Zero(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (written(static_cast<int>(i))) res.local.row(i) = detail::fade(old_at(static_cast<int>(i)), res.weight[i]).transpose();
+  const SynthesisOptions placing = placing_options(o, largest, X, res.warnings);
+  place_patches(ex, T, X, N, F, largest, o, placing, res, stage_done);
   if (o.unfold) {
-    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * rp, res.local, o.progress);
+    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * res.patch_radius, res.local, o.progress);
     if (res.unfolded_vertices)
       res.warnings.push_back(fmt::format("displacements shrunk at {} vertices where they folded the surface",
                                          res.unfolded_vertices));

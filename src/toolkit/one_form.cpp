@@ -412,6 +412,45 @@ Eigen::VectorXd OneFormFitter::fit(const MatrixX3d& T, const Eigen::VectorXd& we
   return c;
 }
 
+namespace {
+
+// Removes from (a0, a1, a2) its component along vertex i's unit normal.
+void project_to_tangent(const MatrixX3d& normals, Eigen::Index i, double& a0, double& a1, double& a2) {
+  const double dn = a0 * normals(i, 0) + a1 * normals(i, 1) + a2 * normals(i, 2);
+  a0 -= dn * normals(i, 0);
+  a1 -= dn * normals(i, 1);
+  a2 -= dn * normals(i, 2);
+}
+
+// 1 / ‖column j of W^½ Π P‖ for every edge j (1 for an empty column): the iterative fit's Jacobi
+// scaling. A: P row-major (rows d·#V + i), Pcol: P column-major, sw: W^½ stacked [x; y; z].
+Eigen::VectorXd column_scales(const RowSparse& A, const SparseMatrix& Pcol, const MatrixX3d& normals,
+                              const Eigen::VectorXd& sw, bool tangential, bool par) {
+  const Eigen::Index n = sw.size() / 3, m = Pcol.cols();
+  const Eigen::Index nb = A.outerIndexPtr()[n];
+  Eigen::VectorXd col(m);
+  Eigen::VectorXd sq = Eigen::VectorXd::Zero(m);
+  if (!tangential) {
+#pragma omp parallel for schedule(static) if (par)
+    for (Eigen::Index j = 0; j < m; ++j)
+      for (SparseMatrix::InnerIterator it(Pcol, j); it; ++it) sq[j] += sw[it.index()] * sw[it.index()] * it.value() * it.value();
+  } else {  // a column's entries at vertex i form the vector (P_x, P_y, P_z); project it, then square
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    const double* val = A.valuePtr();
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (int k = outer[i]; k < outer[i + 1]; ++k) {
+        double a0 = val[k], a1 = val[nb + k], a2 = val[2 * nb + k];
+        project_to_tangent(normals, i, a0, a1, a2);
+        sq[inner[k]] += sw[i] * sw[i] * (a0 * a0 + a1 * a1 + a2 * a2);
+      }
+  }
+  for (Eigen::Index j = 0; j < m; ++j) col[j] = sq[j] > 0 ? 1.0 / std::sqrt(sq[j]) : 1.0;
+  return col;
+}
+
+}  // namespace
+
 IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen::VectorXd& weights,
                                                 const OneFormFitMonitor& converged, const IterativeFitOptions& o) {
   Impl& s = *impl_;
@@ -438,12 +477,7 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
   // Rows i, #V + i, 2#V + i of P share their columns (vertex i's spokes, reconstruction_rows()): one
   // pass over vertex i's spokes gives all three; the tangent projection is applied per vertex on the fly.
   const Eigen::Index nb = A.outerIndexPtr()[n];
-  auto project = [&](Eigen::Index i, double& a0, double& a1, double& a2) {
-    const double dn = a0 * s.normals(i, 0) + a1 * s.normals(i, 1) + a2 * s.normals(i, 2);
-    a0 -= dn * s.normals(i, 0);
-    a1 -= dn * s.normals(i, 1);
-    a2 -= dn * s.normals(i, 2);
-  };
+  auto project = [&](Eigen::Index i, double& a0, double& a1, double& a2) { project_to_tangent(s.normals, i, a0, a1, a2); };
   // y = diag(out) Π P diag(in) x (Π = I when !projected; in, out optional). Writes into y, allocated
   // once by the caller: fresh 3#V vectors every iteration cost more in page faults than the product.
   auto vertex_product = [&, par](const Eigen::VectorXd* in, const Eigen::VectorXd& x, const Eigen::VectorXd* out,
@@ -468,26 +502,7 @@ IterativeFitResult OneFormFitter::fit_iterative(const MatrixX3d& T, const Eigen:
   };
   if (s.opt.tangential)
     for (Eigen::Index i = 0; i < n; ++i) project(i, b[i], b[n + i], b[2 * n + i]);
-  Eigen::VectorXd col(m);  // 1 / ‖column j of W^½ Π P‖
-  {
-    Eigen::VectorXd sq = Eigen::VectorXd::Zero(m);
-    if (!s.opt.tangential) {
-#pragma omp parallel for schedule(static) if (par)
-      for (Eigen::Index j = 0; j < m; ++j)
-        for (SparseMatrix::InnerIterator it(Pcol, j); it; ++it) sq[j] += sw[it.index()] * sw[it.index()] * it.value() * it.value();
-    } else {  // a column's entries at vertex i form the vector (P_x, P_y, P_z); project it, then square
-      const int* outer = A.outerIndexPtr();
-      const int* inner = A.innerIndexPtr();
-      const double* val = A.valuePtr();
-      for (Eigen::Index i = 0; i < n; ++i)
-        for (int k = outer[i]; k < outer[i + 1]; ++k) {
-          double a0 = val[k], a1 = val[nb + k], a2 = val[2 * nb + k];
-          project(i, a0, a1, a2);
-          sq[inner[k]] += sw[i] * sw[i] * (a0 * a0 + a1 * a1 + a2 * a2);
-        }
-    }
-    for (Eigen::Index j = 0; j < m; ++j) col[j] = sq[j] > 0 ? 1.0 / std::sqrt(sq[j]) : 1.0;
-  }
+  const Eigen::VectorXd col = column_scales(A, Pcol, s.normals, sw, s.opt.tangential, par);  // 1 / ‖column j of W^½ Π P‖
   auto apply_A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { vertex_product(&col, x, &sw, s.opt.tangential, y); };
   Eigen::VectorXd v(3 * n);
   auto apply_At = [&, par](const Eigen::VectorXd& r, Eigen::VectorXd& y) {  // diag(col) Pᵀ Π W^½ r (Π symmetric)

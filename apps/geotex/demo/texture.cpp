@@ -23,31 +23,32 @@ int vertex_towards(const Mesh& mesh, const Vec3& dir) {
   return static_cast<int>(best);
 }
 
-DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& ctx) {
+// A summary line of the step's report.
+void summary(const DemoContext& ctx, const std::string& s) { (*ctx.report)["summary"].push_back(s); }
+
+// Writes \p base with positions \p X to the step's folder as \p name, listed in the report.
+void save(const DemoContext& ctx, const Mesh& base, const MatrixX3d& X, const std::string& name) {
+  Mesh m = base;
+  set_positions(m, X);
+  save_mesh(m, (ctx.dir / name).string());
+  (*ctx.report)["files"].push_back((ctx.dir / name).string());
+}
+
+// The spiky sphere's texture re-applied, with its tilt and as a height field alone.
+void round_trip(const DemoContext& ctx, const TexturedShape& s, TextureCodec& codec, const Texture& tex) {
   nlohmann::json& r = *ctx.report;
-  auto summary = [&](const std::string& s) { r["summary"].push_back(s); };
-  auto save = [&](const Mesh& base, const MatrixX3d& X, const std::string& name) {
-    Mesh m = base;
-    set_positions(m, X);
-    save_mesh(m, (ctx.dir / name).string());
-    r["files"].push_back((ctx.dir / name).string());
-  };
-  const auto t0 = std::chrono::steady_clock::now();
-  const TexturedShape s = make_shape("spiky-sphere", ctx.quick ? 0 : 1);
   const double h = mean_edge_length(s.base);
-  TextureCodec codec(s.base);
   const MatrixX3d X = positions(s.textured);
-  const Texture tex = codec.extract(X);
   const double err = (codec.apply(tex) - X).rowwise().norm().maxCoeff() / h;
   const double err_h = (codec.apply(height_field_only(tex)) - X).rowwise().norm().maxCoeff() / h;
   write_texture(ctx.dir / "spiky-texture.ply", s.base, tex);
-  save(s.base, X, "texture-original.ply");
-  save(s.base, codec.apply(height_field_only(tex)), "texture-height-field-only.ply");
+  save(ctx, s.base, X, "texture-original.ply");
+  save(ctx, s.base, codec.apply(height_field_only(tex)), "texture-height-field-only.ply");
   const TiltFitReport fit = codec.last_fit();
-  summary(fmt::format("texture round trip on spiky-sphere ({} vertices): max error {:.2e} mean edges with tilt, {:.2f} "
-                      "as a height field alone (tilt fit: {})",
-                      s.base.n_vertices(), err, err_h,
-                      fit.iterative ? fmt::format("iterative, {} CGLS iterations", fit.iterations) : "direct"));
+  summary(ctx, fmt::format("texture round trip on spiky-sphere ({} vertices): max error {:.2e} mean edges with tilt, "
+                           "{:.2f} as a height field alone (tilt fit: {})",
+                           s.base.n_vertices(), err, err_h,
+                           fit.iterative ? fmt::format("iterative, {} CGLS iterations", fit.iterations) : "direct"));
   r["texture"] = {{"round_trip_error_edges", err}, {"height_only_error_edges", err_h}};
   add_figure(ctx, {.mesh = "texture-original.ply",
                    .caption = fmt::format("Spiky sphere ({} vertices), leaning spikes: extracted as height and tilt "
@@ -58,11 +59,14 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
                    .caption = fmt::format("The same texture as a height field alone (tilt dropped): the spikes stand "
                                           "upright; max error {:.2f} mean edges. A height field cannot lean.", err_h),
                    .compare = "texture"});
+}
 
-  save(s.base, codec.apply(set_tilt(codec, tex, Vec3(0, 0, 1), 40)), "texture-set-tilt.ply");
-  save(s.base, codec.apply(wrap(codec, set_tilt(codec, tex, Vec3(0, 0, 1), 0), Vec3(0, 0, 1), 70)), "texture-wrap.ply");
-  save(s.base, codec.apply(wiggle(codec, tex, Vec3(1, 0, 0), 40, 0.7, 0.0)), "texture-wiggle.ply");
-  summary("texture edits written: set tilt (40 deg towards +z), wrap (70 deg), wiggle (40 deg, wavelength 0.7)");
+// The edits of Sec. 8.4.1 applied to the spiky sphere's texture.
+void edits(const DemoContext& ctx, const TexturedShape& s, TextureCodec& codec, const Texture& tex) {
+  save(ctx, s.base, codec.apply(set_tilt(codec, tex, Vec3(0, 0, 1), 40)), "texture-set-tilt.ply");
+  save(ctx, s.base, codec.apply(wrap(codec, set_tilt(codec, tex, Vec3(0, 0, 1), 0), Vec3(0, 0, 1), 70)), "texture-wrap.ply");
+  save(ctx, s.base, codec.apply(wiggle(codec, tex, Vec3(1, 0, 0), 40, 0.7, 0.0)), "texture-wiggle.ply");
+  summary(ctx, "texture edits written: set tilt (40 deg towards +z), wrap (70 deg), wiggle (40 deg, wavelength 0.7)");
   add_figure(ctx, {.mesh = "texture-set-tilt.ply", .caption = "Edit (Sec. 8.4.1): every spike tilted 40&deg; towards +z.",
                    .compare = "texture"});
   add_figure(ctx, {.mesh = "texture-wrap.ply", .caption = "Edit: spikes set upright, then wrapped 70&deg; about +z.",
@@ -70,17 +74,20 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
   add_figure(ctx, {.mesh = "texture-wiggle.ply",
                    .caption = "Edit: wiggle, the lean turned by up to 40&deg; in a wave of wavelength 0.7 along x.",
                    .compare = "texture"});
+}
 
-  // Re-apply to a stretched base: spikes keep their size (Sec. 8.4.2).
+// The texture re-applied to a stretched base (Sec. 8.4.2): the spikes keep their size; beside it the naive stretch.
+void stretched_base(const DemoContext& ctx, const TexturedShape& s, const Texture& tex) {
+  const MatrixX3d X = positions(s.textured);
   Mesh stretched = s.base;
   MatrixX3d B = positions(s.base);
   B.col(0) *= 1.6;
   set_positions(stretched, B);
-  save(stretched, apply_texture(stretched, tex), "texture-on-stretched-base.ply");
+  save(ctx, stretched, apply_texture(stretched, tex), "texture-on-stretched-base.ply");
   MatrixX3d naive = X;
   naive.col(0) *= 1.6;
-  save(stretched, naive, "texture-stretched-naively.ply");
-  summary("texture re-applied to a base stretched 1.6x along x (spikes keep their size), beside the naive stretch");
+  save(ctx, stretched, naive, "texture-stretched-naively.ply");
+  summary(ctx, "texture re-applied to a base stretched 1.6x along x (spikes keep their size), beside the naive stretch");
   add_figure(ctx, {.mesh = "texture-on-stretched-base.ply",
                    .caption = "The texture re-applied to the base stretched 1.6&times; along x (Sec. 8.4.2): the spikes "
                               "keep their size and shape.",
@@ -88,9 +95,11 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
   add_figure(ctx, {.mesh = "texture-stretched-naively.ply",
                    .caption = "The textured sphere stretched 1.6&times; naively: the spikes are stretched with it.",
                    .compare = "texture-stretch"});
+}
 
-  // Transfer a patch of the tentacle plate onto a sphere (Sec. 8.3.3). The target patch faces the
-  // picture's iso camera at 55° from its axis, so that the tentacles stand out against the background.
+// A patch of the tentacle plate transferred onto a sphere (Sec. 8.3.3). The target patch faces the
+// picture's iso camera at 55° from its axis, so that the tentacles stand out against the background.
+void transfer_to_sphere(const DemoContext& ctx) {
   const TexturedShape p = make_shape("tentacle-plane", 0);
   TextureCodec pc(p.base);
   const Texture ptex = pc.extract(positions(p.textured));
@@ -109,14 +118,14 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
   o.target_center = vertex_towards(sphere, std::cos(a) * iso + std::sin(a) * tilt);
   o.target_radius = 0.9;
   const TransferResult tr = transfer_texture(p.base, ptex, sphere, o);
-  save(tr.target, apply_texture(tr.target, tr.texture), "texture-transferred-to-sphere.ply");
-  save(p.base, positions(p.textured), "texture-tentacle-plate.ply");
+  save(ctx, tr.target, apply_texture(tr.target, tr.texture), "texture-transferred-to-sphere.ply");
+  save(ctx, p.base, positions(p.textured), "texture-tentacle-plate.ply");
   const std::string transfer_line = fmt::format(
       "texture patch of the tentacle plate (radius {}, {} vertices) transferred to a sphere patch (radius {}, {} "
       "vertices, {} added by refinement) via conformal maps",
       o.source_radius, tr.source_patch.vertices.size(), o.target_radius, tr.target_patch.vertices.size(),
       tr.added_vertices);
-  summary(transfer_line);
+  summary(ctx, transfer_line);
   add_figure(ctx, {.mesh = "texture-tentacle-plate.ply",
                    .caption = "Source of the transfers: the tentacle plate, 3&times;3 curved tentacles leaning to +x "
                               "(no height field holds them)."});
@@ -126,8 +135,10 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
                                           "received texture ({} added by refinement).",
                                           o.source_radius, o.target_radius, tr.target_patch.vertices.size(),
                                           tr.added_vertices)});
+}
 
-  // Cover the whole sphere with copies of one disk of the spiky plate (an atlas of disks pasted along minimum cuts).
+// The whole sphere covered with copies of one disk of the spiky plate (an atlas of disks pasted along minimum cuts).
+void atlas_sphere(const DemoContext& ctx) {
   const TexturedShape sp = make_shape("spiky-plane", ctx.quick ? 0 : 1);
   TextureCodec sc(sp.base);
   const Texture stex = sc.extract(positions(sp.textured));
@@ -148,16 +159,28 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
   Eigen::VectorXd owner = at.owner.cast<double>();
   ax.vertex_scalars["disk"] = std::vector<double>(owner.data(), owner.data() + owner.size());
   write_ply(covered, ctx.dir / "texture-atlas-sphere.ply", ax);
-  summary(fmt::format("atlas: the whole sphere covered by {} disks of radius {} holding copies of a spiky-plate disk "
-                      "(radius {}); {} vertices ({} added)", at.centers.size(), ao.target_radius, ao.source_radius,
-                      covered.n_vertices(), at.added_vertices));
+  summary(ctx, fmt::format("atlas: the whole sphere covered by {} disks of radius {} holding copies of a spiky-plate "
+                           "disk (radius {}); {} vertices ({} added)", at.centers.size(), ao.target_radius,
+                           ao.source_radius, covered.n_vertices(), at.added_vertices));
   add_figure(ctx, {.mesh = "texture-atlas-sphere.ply",
                    .caption = fmt::format("Atlas: the whole sphere covered by {} overlapping geodesic disks, each a copy "
                                           "of one disk of the spiky plate, pasted along minimum cuts where they overlap "
                                           "(the 3D page colours each vertex by its disk).",
                                           at.centers.size())});
-  summary(fmt::format("{:.1f} s for the whole step",
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
+}
+
+DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const TexturedShape s = make_shape("spiky-sphere", ctx.quick ? 0 : 1);
+  TextureCodec codec(s.base);
+  const Texture tex = codec.extract(positions(s.textured));
+  round_trip(ctx, s, codec, tex);
+  edits(ctx, s, codec, tex);
+  stretched_base(ctx, s, tex);
+  transfer_to_sphere(ctx);
+  atlas_sphere(ctx);
+  summary(ctx, fmt::format("{:.1f} s for the whole step",
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
 }};
 
 }  // namespace demo_texture

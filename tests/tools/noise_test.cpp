@@ -10,7 +10,7 @@
 
 using namespace geotex;
 
-TEST(Noise, SeededAndReproducible) {
+TEST(Noise, SameSeedGivesSameNoise) {
   const Mesh m = icosphere(3);
   NoiseOptions a;
   a.seed = 7;

@@ -12,7 +12,7 @@
 #include "geotex/core/random.h"
 #include "geotex/tools/noise.h"
 #include "geotex/tools/shapes.h"
-#include "../src/denoise/mrf_internal.h"
+#include "../../src/denoise/mrf_internal.h"
 
 using namespace geotex;
 using namespace geotex::detail;

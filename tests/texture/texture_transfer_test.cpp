@@ -448,7 +448,7 @@ TEST(TextureAtlas, EachComponentIsCoveredAsIfAlone) {
   EXPECT_LT((r.coverage.segment(n, n) - alone.coverage).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-TEST(TextureTransferData, TentaclesOntoSpot) {
+TEST(TextureTransferData, TentaclePatchOntoSpotKeepsItsQuality) {
   GEOTEX_REQUIRE_DATA();
   const Source& s = tentacle_source();
   const Mesh spot = read_mesh(geotex::test::data_dir() / "spot.obj");

@@ -246,7 +246,7 @@ TEST(TextureCli, OutputThatIsAnInputIsRefused) {
 }
 
 // A file that is not a texture: one line, exit 1, nothing written.
-TEST(TextureCli, NotATexture) {
+TEST(TextureCli, ApplyRefusesAMeshWithoutHeights) {
   Files f;
   const auto r = run_cli("texture apply " + f.textured + " -o " + (f.dir / "x.ply"));
   EXPECT_EQ(r.exit_code, 1);

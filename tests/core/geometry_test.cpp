@@ -67,7 +67,7 @@ TEST(Geometry, TopologyOfTheTestShapes) {
   }
 }
 
-TEST(Geometry, ComponentsAndMeanEdge) {
+TEST(Geometry, ComponentsAndMeanEdgeLengthAreCounted) {
   // Two spheres side by side.
   const Mesh a = icosphere(1);
   MatrixX3d V(2 * a.n_vertices(), 3);

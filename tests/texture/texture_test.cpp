@@ -242,7 +242,7 @@ TEST(Texture, ScaleHeightAndReapplyToScaledBaseKeepElementSize) {
   EXPECT_NEAR(half.height[s.shape.spike_centres[0]], 0.5 * tex.height[s.shape.spike_centres[0]], 1e-15);
 }
 
-TEST(Texture, FileRoundTrip) {
+TEST(Texture, FileRoundTripIsExact) {
   TempDir dir;
   const TexturedShape s = make_shape("spiky-sphere", 0);
   const Texture tex = extract_texture(s.base, positions(s.textured));

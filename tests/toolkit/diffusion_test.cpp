@@ -54,7 +54,7 @@ TEST(Diffusion, AdfPeaksAtProtrusionTips) {
   EXPECT_GE(above, static_cast<int>(0.9 * sh.spike_centres.size())) << above << " of " << sh.spike_centres.size();
 }
 
-TEST(Diffusion, RejectsBadArguments) {
+TEST(Diffusion, OutOfRangeEigenpairsAndTimesThrow) {
   const Mesh s = icosphere(1);
   EXPECT_THROW(laplace_spectrum(s, 1), InvalidInput);
   EXPECT_THROW(laplace_spectrum(s, static_cast<int>(s.n_vertices())), InvalidInput);

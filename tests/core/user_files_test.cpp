@@ -111,7 +111,7 @@ TEST(Handles, FileVersionNamesTheFile) {
   EXPECT_THROW(read_handles(tmp.path, square_points(), 1.0), IoError);  // a folder
 }
 
-TEST(FeatureFiles, TextWeights) {
+TEST(FeatureFiles, TextWeightsAreOnePerLineInZeroOne) {
   const Eigen::VectorXd w = parse_feature_weights("# weights\n0\n  1 \r\n\n0.25\n", 3);
   EXPECT_EQ(w, Eigen::Vector3d(0, 1, 0.25));
   EXPECT_THROW(parse_feature_weights("0\n1\n", 3), InvalidInput);          // too few
@@ -124,7 +124,7 @@ TEST(FeatureFiles, TextWeights) {
   EXPECT_THROW(parse_feature_weights(std::string("0\n1\n\0\n", 6), 3), IoError);
 }
 
-TEST(FeatureFiles, PlyFeatureOrHeight) {
+TEST(FeatureFiles, PlyFeatureOrThresholdedHeightIsRead) {
   TempDir tmp;
   const Mesh m = make_shape("cube", 0).textured;
   const size_t n = m.n_vertices();
@@ -168,7 +168,7 @@ TEST(FeatureFiles, PlyFeatureOrHeight) {
   EXPECT_THROW(parse_ply_bytes(twice), IoError);
 }
 
-TEST(PointFiles, TextObjAndPly) {
+TEST(PointFiles, PointsAreReadFromTextObjAndPly) {
   const MatrixX3d P = parse_point_text("# cloud\n1 2 3\n\n4 5 6 7 8\r\n", false);
   ASSERT_EQ(P.rows(), 2);
   EXPECT_EQ(P.row(1), Eigen::RowVector3d(4, 5, 6));  // extra columns ignored

@@ -16,7 +16,7 @@ namespace {
 int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 }  // namespace
 
-TEST(Cli, HelpForEveryCommand) {
+TEST(Cli, EveryCommandHasHelp) {
   const auto top = run_cli("--help");
   EXPECT_EQ(top.exit_code, 0);
   for (const char* cmd : {"info", "generate", "noise", "smooth", "compare", "demo", "denoise"}) {
@@ -100,7 +100,7 @@ TEST(Cli, InputIsNeverDamaged) {
   EXPECT_EQ(geotex::test::read_file(tmp / "s.obj"), before);
 }
 
-TEST(Cli, InfoJson) {
+TEST(Cli, InfoJsonGivesTheTopology) {
   TempDir tmp;
   ASSERT_EQ(run_cli("generate torus --level 0 -o " + (tmp / "t.ply")).exit_code, 0);
   const auto r = run_cli("info --json " + (tmp / "t.ply"));

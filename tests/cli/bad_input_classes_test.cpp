@@ -8,7 +8,7 @@
 //   5 (encodings): BadInputCatalogue.ByteOrderMarkAndLineEnds, BadInputCatalogue.PlyDuplicatePropertiesAndNonIntegerIndices,
 //     ReaderQuirks.*.
 //   6 (non-finite results): BadInputCatalogue.NonFiniteResultsAreNotWritten; here the texture file.
-//   7 (special files): BadInputCatalogue.SpecialFilesAsInputs; here the cost of a high valence.
+//   7 (special files): BadInputCatalogue.FifosAndDevicesAreRefusedAtOnce; here the cost of a high valence.
 
 #include <csignal>
 #include <filesystem>

@@ -191,7 +191,7 @@ TEST(Editing, HeavyWeightsMakeHandlesHard) {
   }
 }
 
-TEST(Editing, RejectsBadHandles) {
+TEST(Editing, MissingOutOfRangeOrRepeatedHandlesThrow) {
   const Mesh m = plane(5);
   EXPECT_THROW(LaplacianEditor(m, {}), InvalidInput);
   EXPECT_THROW(LaplacianEditor(m, {0, 1000}), InvalidInput);

@@ -518,7 +518,7 @@ TEST(Surfel, KnnMatchesBruteForceAndPcaNormalsPointOutward) {
   EXPECT_THROW(knn_neighborhoods(P.topRows(3), 5), InvalidInput);
 }
 
-TEST(Surfel, RejectsBadInput) {
+TEST(Surfel, WrongSizedOrNonFiniteInputsThrow) {
   const Mesh cube = subdivided_cube(3);
   const MatrixX3d V = positions(cube);
   const Surfels S = initial_surfels(cube);

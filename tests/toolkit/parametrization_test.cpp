@@ -225,7 +225,7 @@ TEST(Parametrization, NaturalMapRefusesABoundaryCollapsedToOnePointBeforeFactori
   EXPECT_TRUE(parametrize(p, o).allFinite());
 }
 
-TEST(Parametrization, ObjWithUvRoundTrip) {
+TEST(Parametrization, ObjWithUvHasOneUvPerVertex) {
   TempDir tmp;
   const Mesh p = plane(5);
   const MatrixX2d uv = parametrize(p);

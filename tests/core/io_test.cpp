@@ -73,7 +73,7 @@ TEST(Io, StlRoundTripIsExactForFloatCoordinates) {
   }
 }
 
-TEST(Io, PlyExtrasRoundTrip) {
+TEST(Io, PlyExtraPropertiesSurviveAWriteAndRead) {
   TempDir tmp;
   const Mesh m = icosphere(1);
   PlyExtras x;
@@ -99,7 +99,7 @@ TEST(Io, PlyExtrasRoundTrip) {
   }
 }
 
-TEST(Io, ObjFeatures) {
+TEST(Io, ObjSlashFormsNegativeIndicesAndQuadsAreRead) {
   TempDir tmp;
   // A quad (triangulated as a fan), slash forms, negative indices, normals and comments.
   write_file(tmp / "q.obj",
@@ -143,7 +143,7 @@ void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
 
 class BadInput : public ::testing::TestWithParam<BadCase> {};
 
-TEST_P(BadInput, GivesClearError) {
+TEST_P(BadInput, IsRefusedWithATypedErrorSayingWhy) {
   const BadCase& c = GetParam();
   TempDir tmp;
   write_file(tmp / c.file, c.content);

@@ -13,7 +13,7 @@
 #include "geotex/texture/synthesis.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/shapes.h"
-#include "../src/texture/keep_out.h"
+#include "../../src/texture/keep_out.h"
 #include "geotex/tools/shapes.h"
 
 using namespace geotex;
@@ -202,7 +202,7 @@ TEST(Synthesis, CutSeamsCopyTheExemplarAndStaySmooth) {
   EXPECT_GT(copy.target_rms, blend.target_rms);  // no averaging of unrelated patches
 }
 
-TEST(Synthesis, RejectsBadInput) {
+TEST(Synthesis, OutOfRangeOptionsAndWrongSizedInputsThrow) {
   const Exemplar e = plate(10, 1.0, [](double, double) { return Vec3(0, 0, 0.01); });
   const Mesh target = icosphere(1);
   SynthesisOptions o;

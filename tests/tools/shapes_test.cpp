@@ -9,7 +9,7 @@
 
 using namespace geotex;
 
-TEST(Shapes, CountsAndTopology) {
+TEST(Shapes, CountsAndTopologyMatchTheirFormulas) {
   for (int n : {1, 3, 10}) {
     const Mesh c = subdivided_cube(n);
     EXPECT_EQ(c.n_vertices(), static_cast<size_t>(6 * n * n + 2));

@@ -40,7 +40,7 @@ TEST(NormalFit, RelaxationKeepsVerticesOnTheirEdgeLineAndCornersInPlace) {
     if ((X.row(i).cwiseAbs().array() > 0.5 - 1e-12).count() == 3) EXPECT_LT((Y.row(i) - X.row(i)).norm(), 1e-12);
 }
 
-TEST(NormalFit, BadArgumentsThrow) {
+TEST(NormalFit, WrongSizedOrOutOfRangeArgumentsThrow) {
   const Mesh m = plane(3, 1.0);
   const MatrixX3i F = faces(m);
   const MatrixX3d X = positions(m), N = face_normals(m);

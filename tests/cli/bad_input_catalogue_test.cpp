@@ -95,7 +95,7 @@ const char* const kFormats[] = {"obj", "ply", "off", "stl"};
 
 // ---- empty file -------------------------------------------------------------------------------
 
-TEST(BadInputCatalogue, EmptyFile) {
+TEST(BadInputCatalogue, EmptyOrBlankFileIsAOneLineError) {
   TempDir tmp;
   for (const char* ext : kFormats) {
     const std::string f = tmp / (std::string("empty.") + ext);
@@ -111,7 +111,7 @@ TEST(BadInputCatalogue, EmptyFile) {
 
 // ---- binary garbage ---------------------------------------------------------------------------
 
-TEST(BadInputCatalogue, BinaryGarbage) {
+TEST(BadInputCatalogue, BinaryGarbageGivesOnePrintableErrorLine) {
   TempDir tmp;
   std::mt19937 rng(7);
   for (int trial = 0; trial < 6; ++trial) {
@@ -147,7 +147,7 @@ TEST(BadInputCatalogue, BinaryGarbage) {
 // truncation (or, inside a number, the malformed line). OBJ has no counts: a cut inside a line is an
 // error; a cut that leaves a well-formed last line reads what is there, with a warning that the last
 // line has no end-of-line.
-TEST(BadInputCatalogue, TruncatedFiles) {
+TEST(BadInputCatalogue, TruncatedFileIsAnErrorOrReadWithAWarning) {
   TempDir tmp;
   const Mesh m = icosphere(2);
   struct Fmt {
@@ -188,7 +188,7 @@ TEST(BadInputCatalogue, TruncatedFiles) {
 
 // ---- NaN / inf coordinates --------------------------------------------------------------------
 
-TEST(BadInputCatalogue, NanAndInfCoordinates) {
+TEST(BadInputCatalogue, NonFiniteCoordinatesAreRefused) {
   TempDir tmp;
   write_file(tmp / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
   write_file(tmp / "inf.off", "OFF\n3 1 0\n0 0 0\ninf 0 0\n1 1 0\n3 0 1 2\n");
@@ -226,7 +226,7 @@ TEST(BadInputCatalogue, NanAndInfCoordinates) {
 
 // ---- duplicate faces --------------------------------------------------------------------------
 
-TEST(BadInputCatalogue, DuplicateFaces) {
+TEST(BadInputCatalogue, DuplicateFacesAreDroppedAndReported) {
   TempDir tmp;
   const Mesh m = icosphere(1);
   // The first face again, once as is and once reversed.
@@ -287,7 +287,7 @@ TEST(BadInputCatalogue, DegenerateFacesZeroArea) {
 
 // ---- isolated vertices ------------------------------------------------------------------------
 
-TEST(BadInputCatalogue, IsolatedVertices) {
+TEST(BadInputCatalogue, IsolatedVerticesAreKeptInPlace) {
   TempDir tmp;
   const Mesh m = icosphere(2);
   write_file(tmp / "iso.obj", obj_of(m, "v 5 5 5\nv -5 0 0\n"));
@@ -317,7 +317,7 @@ TEST(BadInputCatalogue, IsolatedVertices) {
 
 // ---- non-manifold edges -----------------------------------------------------------------------
 
-TEST(BadInputCatalogue, NonManifoldEdge) {
+TEST(BadInputCatalogue, NonManifoldEdgeKeepsItsFirstTwoFaces) {
   TempDir tmp;
   // A closed tetrahedron plus a fin: a third face on edge (1, 2).
   write_file(tmp / "fin.obj",
@@ -339,7 +339,7 @@ TEST(BadInputCatalogue, NonManifoldEdge) {
 
 // Two closed fans (two double cones) sharing their apex, and two triangles touching at one corner
 // (a bow tie): the vertex is split, one copy per fan, and no face is lost.
-TEST(BadInputCatalogue, NonManifoldVertex) {
+TEST(BadInputCatalogue, NonManifoldVertexIsSplitWithoutLosingAFace) {
   TempDir tmp;
   // Two octahedra touching at vertex 1 (the origin).
   std::string s = "v 0 0 0\n";
@@ -391,7 +391,7 @@ TEST(BadInputCatalogue, NonManifoldVertex) {
 
 // ---- inconsistent orientation -----------------------------------------------------------------
 
-TEST(BadInputCatalogue, InconsistentOrientation) {
+TEST(BadInputCatalogue, InconsistentOrientationTurnsToTheMajority) {
   TempDir tmp;
   const Mesh m = icosphere(2);
   const double volume = signed_volume(m);
@@ -428,7 +428,7 @@ TEST(BadInputCatalogue, InconsistentOrientation) {
 }
 
 // A Möbius strip cannot be oriented: one face stays refused and is reported, nothing crashes.
-TEST(BadInputCatalogue, NonOrientableSurface) {
+TEST(BadInputCatalogue, NonOrientableSurfaceDropsOneFaceAndSaysSo) {
   TempDir tmp;
   std::string s;
   const int n = 12;
@@ -475,7 +475,7 @@ TEST(BadInputCatalogue, RandomSoupsAreRepairedOrReported) {
 
 // ---- several components -----------------------------------------------------------------------
 
-TEST(BadInputCatalogue, SeveralComponents) {
+TEST(BadInputCatalogue, SeveralComponentsRunExceptWhereOneDiskIsNeeded) {
   TempDir tmp;
   Mesh a = icosphere(2), b = icosphere(2, 0.5);
   const MatrixX3d Va = positions(a), Vb = positions(b).rowwise() + Eigen::RowVector3d(3, 0, 0);
@@ -510,7 +510,7 @@ TEST(BadInputCatalogue, SeveralComponents) {
 
 // No geotex command requires a closed surface: every per-mesh command runs on an open patch (a
 // plane and a hemisphere-like spiky plane), with the boundary fixed where the method needs it.
-TEST(BadInputCatalogue, OpenMeshesWork) {
+TEST(BadInputCatalogue, EveryCommandRunsOnAnOpenMesh) {
   TempDir tmp;
   ASSERT_EQ(run_cli("-q generate spiky-plane --level 0 -o " + (tmp / "sp.ply") + " --base-output " + (tmp / "base.ply")).exit_code, 0);
   ASSERT_EQ(run_cli("-q noise " + (tmp / "base.ply") + " -o " + (tmp / "n.ply") + " --sigma 0.2").exit_code, 0);
@@ -535,7 +535,7 @@ TEST(BadInputCatalogue, OpenMeshesWork) {
 
 // ---- non-disk input to parametrization --------------------------------------------------------
 
-TEST(BadInputCatalogue, ParamNonDisk) {
+TEST(BadInputCatalogue, ParamRefusesAnythingButOneDisk) {
   TempDir tmp;
   ASSERT_EQ(run_cli("-q generate sphere --level 0 -o " + (tmp / "sphere.ply")).exit_code, 0);
   ASSERT_EQ(run_cli("-q generate torus --level 0 -o " + (tmp / "torus.ply")).exit_code, 0);
@@ -566,7 +566,7 @@ TEST(BadInputCatalogue, ParamNonDisk) {
 
 // ---- zero-area triangles in the cotangent weights ---------------------------------------------
 
-TEST(BadInputCatalogue, ZeroAreaCotanWeights) {
+TEST(BadInputCatalogue, ZeroAreaFacesKeepTheLaplacianFinite) {
   TempDir tmp;
   // A sphere with (a) a collinear triangle pair and (b) two vertices moved onto one point.
   Mesh m = icosphere(2);
@@ -634,7 +634,7 @@ static void write_torus_ply(const std::string& path, int nu, int nv) {
 // `--stats` prints wall time, CPU time and peak memory on every exit path. A torus of 12.6 million
 // faces is read by `info`, which reports its peak memory (measured: 2.4 GiB). Heavier commands at this
 // size take longer than a test should (see docs/bad-input.md for measured generate and smooth runs).
-TEST(BadInputCatalogue, TenMillionFaces) {
+TEST(BadInputCatalogue, TenMillionFacesAreReadWithinSixGiB) {
   // Sanitizer builds run several times slower and larger: the same checks at 10^6 faces.
   const bool small = test::kAddressSanitizer;
   const int nu = small ? 1024 : 4096, nv = small ? 512 : 1536;
@@ -755,7 +755,7 @@ TEST(BadInputCatalogue, PlyDuplicatePropertiesAndNonIntegerIndices) {
 
 // ---- special files as inputs (issue 14, class 7) --------------------------------------------------
 
-TEST(BadInputCatalogue, SpecialFilesAsInputs) {
+TEST(BadInputCatalogue, FifosAndDevicesAreRefusedAtOnce) {
   // On main a FIFO input blocked forever and /dev/zero as a handles or feature file was read until
   // memory ran out. Now: one line at once.
   TempDir tmp;

@@ -16,7 +16,7 @@
 #include "geotex/tools/noise.h"
 #include "geotex/core/random.h"
 #include "geotex/tools/shapes.h"
-#include "../src/denoise/mrf_internal.h"
+#include "../../src/denoise/mrf_internal.h"
 #include "test_util.h"
 
 using namespace geotex;
@@ -337,7 +337,7 @@ TEST(MrfDenoise, NoisyCubeGetsSmoothFacesAndSharpEdges) {
   EXPECT_LT(compare_meshes(out2, clean).mean_normal_error_deg, 0.35 * before);
 }
 
-TEST(MrfDenoise, RejectsBadInput) {
+TEST(MrfDenoise, EmptyMeshAndOutOfRangeOptionsThrow) {
   EXPECT_THROW(mrf_denoise(Mesh()), InvalidInput);
   const Mesh cube = subdivided_cube(2);
   MrfOptions o;
@@ -357,7 +357,7 @@ TEST(MrfDenoise, RejectsBadInput) {
   EXPECT_THROW(parse_potential("cubic"), InvalidInput);
 }
 
-TEST(MrfDenoise, FandiskQuality) {
+TEST(MrfDenoise, FandiskNormalErrorAndLabelsMeetTheMeasuredBounds) {
   GEOTEX_REQUIRE_DATA();
   const auto dir = geotex::test::data_dir() / "denoise" / "Fandisk0.3";
   const Mesh noisy = read_mesh((dir / "Noisy.obj").string());
@@ -416,7 +416,7 @@ TEST(MrfCli, DenoiseWritesMeshLabelsAndReport) {
   }
 }
 
-TEST(MrfCli, HelpAndBadFlags) {
+TEST(MrfCli, HelpListsTheFlagsAndBadFlagsGiveShortErrors) {
   const auto help = run_cli("denoise --help");
   EXPECT_EQ(help.exit_code, 0);
   for (const char* flag : {"--phi0", "--te", "--tv", "--optimizer", "--potential", "--ridges", "mrf-normal"})

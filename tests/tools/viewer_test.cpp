@@ -261,7 +261,7 @@ TEST(ViewerPage, EmbeddedDataDecodesToTheMesh) {
   EXPECT_THROW(viewer_page({vm}, o, "x"), InvalidInput);
 }
 
-TEST(ViewerPage, IsCompact) {
+TEST(ViewerPage, PageIsUnderAQuarterOfTheRawArrays) {
   // 20,480 faces: far below the 12 + 12 bytes per vertex and face of raw float32 / uint32 arrays.
   const Mesh m = icosphere(5, 1.0);
   ViewerMesh vm{"m", m, {}};
@@ -325,7 +325,7 @@ TEST(ViewerPage, AutoUpOfRealModelsAsGivenAndTurnedZUp) {
   }
 }
 
-TEST(ViewerPage, BadLayersThrow) {
+TEST(ViewerPage, WrongSizedLayersOrNoMeshThrow) {
   const Mesh m = icosphere(1, 1.0);
   ViewerMesh vm{"m", m, {}};
   vm.layers.fields["short"] = Eigen::VectorXd::Zero(3);
@@ -337,7 +337,7 @@ TEST(ViewerPage, BadLayersThrow) {
   EXPECT_THROW(viewer_page({}, {}, "x"), InvalidInput);
 }
 
-TEST(ViewerLayers, ReadFromPly) {
+TEST(ViewerLayers, PlyVertexPropertiesBecomeLayers) {
   TempDir dir;
   const Mesh m = icosphere(1, 1.0);
   const MatrixX3d V = positions(m);
@@ -366,7 +366,7 @@ TEST(ViewerLayers, ReadFromPly) {
   EXPECT_THROW(read_edge_labels(dir / "m.ply", m.n_vertices(), again), IoError);  // no edge element
 }
 
-TEST(ViewerLayers, FieldFile) {
+TEST(ViewerLayers, FieldFileGivesOneNumberPerVertex) {
   TempDir dir;
   geotex::test::write_file(dir / "f.txt", "1 2.5\n-3,4e-2\n");
   const Eigen::VectorXd f = read_field_file(dir / "f.txt", 4);

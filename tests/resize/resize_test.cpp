@@ -240,7 +240,7 @@ TEST(Resize, BendsAndTwistsLeaveNoCreaseAroundFeatures) {
   }
 }
 
-TEST(Resize, RejectsBadInput) {
+TEST(Resize, WrongSizedOrOutOfRangeInputsThrow) {
   const Mesh m = plane(4);
   const MatrixX3d X = positions(m);
   EXPECT_THROW(feature_aware_resize(m, X, Eigen::VectorXd::Zero(3)), InvalidInput);

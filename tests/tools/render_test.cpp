@@ -276,7 +276,7 @@ TEST(Render, EdgeLinesAreDrawnAndHiddenBehindTheSurface) {
   EXPECT_GT(blue_pixels, 300u);
 }
 
-TEST(Render, BadInputsThrow) {
+TEST(Render, EmptyMeshAndWrongSizedLayersThrow) {
   const Mesh sphere = icosphere(1, 1.0);
   RenderOptions o;
   o.width = 0;
@@ -292,7 +292,7 @@ TEST(Render, BadInputsThrow) {
   EXPECT_THROW(render_mesh(Mesh{}), InvalidInput);
 }
 
-TEST(Png, StructureAndChecksums) {
+TEST(Png, ChunksAndChecksumsAreValid) {
   const Rendering r = render_mesh(icosphere(3, 1.0), RenderOptions{.width = 123, .height = 77});
   const std::string png = encode_png(r.image);
   const auto chunks = parse_png(png);
@@ -358,7 +358,7 @@ open(sys.argv[2], 'wb').write(out)
   EXPECT_TRUE(std::equal(rgb.begin(), rgb.end(), reinterpret_cast<const char*>(r.image.rgb.data())));
 }
 
-TEST(Render, DistanceToSurface) {
+TEST(Render, DistanceBetweenConcentricSpheresIsTheirGap) {
   const Mesh inner = icosphere(3, 1.0), outer = icosphere(5, 2.0);
   const Eigen::VectorXd d = distance_to_surface(inner, outer);
   ASSERT_EQ(d.size(), static_cast<Eigen::Index>(inner.n_vertices()));
@@ -406,7 +406,7 @@ TEST(RenderCli, BadArgumentsFailWithOneLine) {
   EXPECT_NE(h.out.find("--size"), std::string::npos);
 }
 
-TEST(RenderCli, FramingFlags) {
+TEST(RenderCli, FramingFlagsAcceptValidAndRefuseInvalidValues) {
   TempDir dir;
   write_mesh(off_centre_torus(Vec3(10, 20, 30)), dir / "t.ply");
   for (const std::string& args : std::vector<std::string>{

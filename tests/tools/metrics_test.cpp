@@ -42,7 +42,7 @@ TEST(Metrics, RotationGivesItsAngleAsNormalError) {
   EXPECT_NEAR(cmp.max_normal_error_deg, 7.0, 0.5);  // faces nearly normal to the axis turn by ~θ
 }
 
-TEST(Metrics, ScaledSphereDistances) {
+TEST(Metrics, ScaledSphereIsItsScaleAway) {
   const Mesh m = icosphere(4, 1.0);
   Mesh s = m;
   set_positions(s, 1.01 * positions(m));
@@ -172,7 +172,7 @@ TEST(Metrics, TreeClosestPointOfSliversMatchesBruteForce) {
   }
 }
 
-TEST(Metrics, EdgeLabelScores) {
+TEST(Metrics, EdgeLabelScoresMatchEdgesEitherWayRound) {
   MatrixX2i truth(4, 2), labelled(3, 2);
   truth << 0, 1, 1, 2, 2, 3, 3, 4;
   labelled << 1, 0, 2, 3, 5, 6;  // two right (one reversed), one wrong
