@@ -2,7 +2,9 @@
 """Issue 26: damage of atlases (folded and self-intersecting faces, against the bare target's own) over every
 shared model, through the CLI's --report, with defaults (overlap cut, unfold on). Source: the tentacle plate
 (level 0); target radius 0.05 x the model's bounding-box diagonal; each run capped at CAP seconds of wall time.
-Run: PYTHONPATH=build/python /usr/bin/python3 bench/texture_atlas_all.py build/geotex /work/shared/data OUTDIR [CAP]"""
+Run: PYTHONPATH=build/python /usr/bin/python3 bench/texture_atlas_all.py build/geotex /work/shared/data OUTDIR [CAP]
+Independent count: /usr/bin/python3 /work/shared/eval/geval.py self-intersections OUTDIR/NAME-atlas.ply
+--base OUTDIR/NAME-texture.ply (the texture file's vertices are the refined bare target)."""
 import json, os, resource, subprocess, sys, time
 
 import numpy as np
@@ -39,10 +41,12 @@ for name in sorted(os.listdir(data)):
     V = vertices(path)
     diag = float(np.linalg.norm(V.max(0) - V.min(0)))
     report, result = os.path.join(out, name + ".json"), os.path.join(out, name + "-atlas.ply")
+    texture = os.path.join(out, name + "-texture.ply")  # its vertices: the (refined) bare target, geval's --base
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     try:
         rc, err = run("texture", "atlas", tex, path, "-o", result, "--source-near", "0,0,0", "--source-radius", "1",
-                      "--target-radius", f"{0.05 * diag:.6g}", "--report", report, timeout=cap)
+                      "--target-radius", f"{0.05 * diag:.6g}", "--report", report, "--texture-out", texture,
+                      timeout=cap)
     except subprocess.TimeoutExpired:
         print(f"| {name} | {len(V)} | {0.05 * diag:.3g} | stopped at {cap:.0f} s | | | | |")
         continue
@@ -53,6 +57,6 @@ for name in sorted(os.listdir(data)):
         continue
     j = json.load(open(report))
     d = j.get("damage", j)
-    print(f"| {name} | {len(V)} | {0.05 * diag:.3g} | {j.get('target_vertices', '')} | {d['folded']} ({d['base_folded']}) | "
+    print(f"| {name} | {len(V)} | {0.05 * diag:.3g} | {j.get('vertices', '')} | {d['folded']} ({d['base_folded']}) | "
           f"{d['self_intersecting']} ({d['base_self_intersecting']}) | {j.get('unfolded_vertices', '')} "
           f"({j.get('unfold_rounds', '')}) | {cpu:.1f} |", flush=True)

@@ -232,8 +232,9 @@ size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& 
 // Shrink the displacements \p D (#V by 3) around the faces that X + D folds or makes cross another face
 // (detail::damaged_faces()) and the bare X does not, smoothly: each round multiplies them by
 // 1 − 0.25 exp(−d² / ρ²), d the distance on the bare target from the damaged face's centroid (within 2ρ),
-// until none is damaged (at most 40 rounds; a step cut would fold the surface at its rim, and a dip about
-// a spike's foot lowers the whole spike). \return the vertices shrunk by over 1 %; \p rounds the rounds
+// about every damaged face (the target's own too, while others are), until none is damaged beyond the
+// target's own (at most 40 rounds; a step cut would fold the surface at its rim, and a dip about a spike's
+// foot lowers the whole spike). \return the vertices shrunk by over 1 %; \p rounds the rounds
 // that found damage.
 size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const ProgressFn& progress) {
   const MatrixX3d X = positions(T);
@@ -248,9 +249,13 @@ size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const 
     const MatrixX3d P = X + alpha.asDiagonal() * D;
     const std::vector<char> now = detail::damaged_faces(T, P);
     bool any = false;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) any |= now[f] && !base[f];
+    if (!any) break;
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
-      if (!now[f] || base[f]) continue;
-      any = true;
+      // The target's own folded or crossing faces are lowered too: damage there cannot be told from its own,
+      // and displacements standing on them were never lowered, so a face they crossed stayed damaged however
+      // low it went (beetle: all 40 rounds found damage, one face was left).
+      if (!now[f]) continue;
       const Vec3 c = (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3;
       queue.assign({F(f, 0), F(f, 1), F(f, 2)});
       for (int v : queue) seen[v] = visit;
@@ -263,7 +268,6 @@ size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const 
       }
       ++visit;
     }
-    if (!any) break;
     ++rounds;
   }
   report(progress, 1.0, "unfold");

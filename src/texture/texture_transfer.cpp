@@ -178,6 +178,7 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const 
     return true;
   };
   std::vector<char> keep(nf, 0);
+  std::vector<int> kept;  // the faces kept, in the order they were found
   {
     std::vector<int> stack;
     for (auto f : mesh.vf_range(mesh.vertex_handle(center)))
@@ -188,6 +189,7 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const 
     while (!stack.empty()) {
       const auto f = mesh.face_handle(stack.back());
       stack.pop_back();
+      kept.push_back(f.idx());
       for (auto g : mesh.ff_range(f))
         if (!keep[g.idx()] && within(g, radius)) {
           keep[g.idx()] = 1;
@@ -196,45 +198,69 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const 
     }
   }
   {
+    // Each component of the faces left out, flooded until it is known to be outside: a face with a vertex
+    // at no finite distance, at the farthest vertex or deeper than the radius plus twice the mesh's longest
+    // edge (no hole's longest edge is longer), a boundary edge, or a face already known to be outside.
+    // The flood stops there, so a disk costs its neighbourhood, not the whole rest of the mesh.
     int far = -1;
     for (int i = 0; i < nv; ++i)
       if (std::isfinite(dist[i]) && (far < 0 || dist[i] > dist[far])) far = i;
-    std::vector<char> seen(nf, 0);
-    std::vector<int> comp, stack;
-    for (int f0 = 0; f0 < nf; ++f0) {
-      if (keep[f0] || seen[f0]) continue;
+    double mesh_longest = 0;
+    for (auto e : mesh.edges()) mesh_longest = std::max(mesh_longest, static_cast<double>(mesh.calc_edge_length(e)));
+    const double reach = radius + 2 * mesh_longest;
+    enum : char { kUnseen = 0, kQueued = 1, kOutside = 2 };
+    std::vector<char> state(nf, kUnseen);
+    std::vector<int> comp, stack, seeds;  // seeds: the left-out faces across an edge from a kept one
+    for (int f : kept)
+      for (auto g : mesh.ff_range(mesh.face_handle(f)))
+        if (!keep[g.idx()]) seeds.push_back(g.idx());
+    for (int f0 : seeds) {
+      if (state[f0] != kUnseen) continue;
       comp.clear();
       stack.assign(1, f0);
-      seen[f0] = 1;
+      state[f0] = kQueued;
       bool outside = false;
-      double deepest = 0, longest = 0;
-      while (!stack.empty()) {
+      double deepest = 0;
+      while (!stack.empty() && !outside) {
         const auto f = mesh.face_handle(stack.back());
         stack.pop_back();
         comp.push_back(f.idx());
         for (auto v : mesh.fv_range(f)) {
-          outside |= !std::isfinite(dist[v.idx()]) || v.idx() == far;
+          outside |= !(dist[v.idx()] <= reach) || v.idx() == far;
           deepest = std::max(deepest, dist[v.idx()]);
         }
         for (auto h : mesh.fh_range(f)) {
-          longest = std::max(longest, static_cast<double>(mesh.calc_edge_length(h)));
           const auto g = mesh.opposite_face_handle(h);
           if (!g.is_valid()) {
             outside = true;  // the mesh's boundary
             continue;
           }
-          if (!keep[g.idx()] && !seen[g.idx()]) {
-            seen[g.idx()] = 1;
+          if (keep[g.idx()]) continue;
+          if (state[g.idx()] == kOutside) outside = true;
+          else if (state[g.idx()] == kUnseen) {
+            state[g.idx()] = kQueued;
             stack.push_back(g.idx());
           }
         }
       }
-      if (!outside && deepest <= radius + 2 * longest)
-        for (int f : comp) keep[f] = 1;
+      if (outside) {
+        for (int f : comp) state[f] = kOutside;
+        for (int f : stack) state[f] = kOutside;
+        continue;
+      }
+      double longest = 0;
+      for (int f : comp)
+        for (auto h : mesh.fh_range(mesh.face_handle(f)))
+          longest = std::max(longest, static_cast<double>(mesh.calc_edge_length(h)));
+      if (deepest <= radius + 2 * longest)
+        for (int f : comp) keep[f] = 1, kept.push_back(f);
+      else
+        for (int f : comp) state[f] = kOutside;
     }
   }
-  for (auto f : mesh.faces()) {
-    if (!keep[f.idx()]) continue;
+  std::sort(kept.begin(), kept.end());  // the patch's faces in the mesh's order
+  for (int fi : kept) {
+    const auto f = mesh.face_handle(fi);
     int c[3], k = 0;
     for (auto v : mesh.fv_range(f)) c[k++] = v.idx();
     for (int& x : c) {

@@ -14,6 +14,7 @@
 #include "geotex/texture/measures.h"
 #include "geotex/texture/texture.h"
 #include "geotex/toolkit/parametrization.h"
+#include "geotex/tools/metrics.h"
 #include "geotex/tools/shapes.h"
 #include "test_util.h"
 
@@ -385,6 +386,46 @@ TEST(TextureAtlas, TentaclesOverASphereNeitherFoldNorCross) {
   // The tentacles stand: heights as large as the source's (scaled), not averaged or flattened away.
   const double hmax = tex.height.cwiseAbs().maxCoeff() * r.height_factor;
   EXPECT_GT(r.texture.height.maxCoeff(), 0.8 * hmax);
+}
+
+TEST(TextureAtlas, NoDamageBeyondATargetsOwnCrossings) {
+  // Two spheres that pass through each other: the faces along their crossing are the target's own damage.
+  // Tentacles standing on those faces were never lowered (only faces damaged beyond the target's own
+  // were), so a face they crossed stayed crossed however low it went (beetle.obj: 40 rounds, a face left).
+  // The unfolding lowers about the target's own damaged faces too: nothing is left beyond them.
+  const TexturedShape p = tentacle_plane(0);
+  const Texture tex = extract_texture(p.base, positions(p.textured));
+  const Mesh s = icosphere(3, 1.0);
+  const MatrixX3d X = positions(s);
+  const MatrixX3i F = faces(s);
+  MatrixX3d V(2 * X.rows(), 3);
+  MatrixX3i G(2 * F.rows(), 3);
+  V << X, X.rowwise() + Eigen::RowVector3d(1.3, 0.1, 0.05);
+  G << F, F.array() + static_cast<int>(X.rows());
+  AtlasOptions o;
+  o.source_center = nearest(p.base, Vec3(0, 0, 0));
+  o.source_radius = 1.0;
+  o.target_radius = 0.8;
+  const AtlasResult r = cover_with_texture(p.base, tex, make_mesh(V, G), o);
+  std::cout << fmt::format("[ atlas: tentacles over two crossing spheres ] {} vertices, {} disks; folded {} ({}), "
+                           "self-intersecting {} ({}); unfolded {} vertices in {} rounds\n",
+                           r.target.n_vertices(), r.centers.size(), r.damage.folded, r.damage.base_folded,
+                           r.damage.self_intersecting, r.damage.base_self_intersecting, r.unfolded_vertices,
+                           r.unfold_rounds);
+  EXPECT_GT(r.damage.base_self_intersecting, 0u);  // the case: the target's own crossings
+  EXPECT_EQ(r.damage.excess_folded(), 0u);
+  EXPECT_EQ(r.damage.excess_self_intersecting(), 0u);
+  // Face by face, not only in number (the counts can hide a new crossing behind an own one undone): before,
+  // every one of the 40 rounds found a face folded or crossed that the bare target did not have.
+  const MatrixX3i T = faces(r.target);
+  const std::vector<char> own = self_intersecting_faces(positions(r.target), T),
+                          now = self_intersecting_faces(apply_texture(r.target, r.texture), T);
+  size_t beyond = 0;
+  for (size_t f = 0; f < now.size(); ++f) beyond += now[f] && !own[f];
+  EXPECT_EQ(beyond, 0u);
+  EXPECT_LT(r.unfold_rounds, 40);  // ended because nothing was left, not at the cap
+  const double hmax = tex.height.cwiseAbs().maxCoeff() * r.height_factor;
+  EXPECT_GT(r.texture.height.maxCoeff(), 0.8 * hmax);  // tentacles still stand away from the crossing
 }
 
 TEST(TextureAtlas, EachComponentIsCoveredAsIfAlone) {
