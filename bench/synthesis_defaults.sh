@@ -24,7 +24,7 @@ run() {  # exemplar target
   /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print(' '.join(f'{k}={r[k]}' for k in
     ['vertices','added_vertices','estimated_vertices','exemplar_share','self_intersecting','base_self_intersecting',
      'excess_self_intersecting','shrunk_share','retried_placements','dropped_patches','dropped_vertices',
-     'refined_share','folded','seconds']))" "$W/$name.json"
+     'refined_share','kept_out_share','kept_out_creases','kept_out_thin','folded','seconds']))" "$W/$name.json"
   /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
 }
 for t in ${@:-$W/sphere.ply $D/spot.obj $D/cow.obj $D/stanford-bunny.obj $D/fandisk.obj $D/cheburashka.obj}; do

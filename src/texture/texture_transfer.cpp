@@ -156,6 +156,72 @@ std::string damage_warning(const TextureDamage& d, size_t threshold) {
 // ---------------------------------------------------------------------------------------------
 // Geodesic disks
 
+// The pin-holes of a disk's faces: each component of the faces left out (`keep` 0) next to a kept one,
+// flooded until it is known to be outside — a face with a vertex at no finite distance, at the farthest
+// vertex or deeper than the radius plus twice the mesh's longest edge (no hole's longest edge is longer), a
+// boundary edge, or a face already known to be outside. The flood stops there, so a disk costs its
+// neighbourhood, not the whole rest of the mesh. A component that is not outside and lies within the
+// radius plus twice its own longest edge is a hole: kept (appended to `kept`).
+static void fill_disk_holes(const Mesh& mesh, const Eigen::VectorXd& dist, double radius, std::vector<char>& keep,
+                     std::vector<int>& kept) {
+  const int nv = static_cast<int>(mesh.n_vertices()), nf = static_cast<int>(mesh.n_faces());
+  int far = -1;
+  for (int i = 0; i < nv; ++i)
+    if (std::isfinite(dist[i]) && (far < 0 || dist[i] > dist[far])) far = i;
+  double mesh_longest = 0;
+  for (auto e : mesh.edges()) mesh_longest = std::max(mesh_longest, static_cast<double>(mesh.calc_edge_length(e)));
+  const double reach = radius + 2 * mesh_longest;
+  enum : char { kUnseen = 0, kQueued = 1, kOutside = 2 };
+  std::vector<char> state(nf, kUnseen);
+  std::vector<int> comp, stack, seeds;  // seeds: the left-out faces across an edge from a kept one
+  for (int f : kept)
+    for (auto g : mesh.ff_range(mesh.face_handle(f)))
+      if (!keep[g.idx()]) seeds.push_back(g.idx());
+  for (int f0 : seeds) {
+    if (state[f0] != kUnseen) continue;
+    comp.clear();
+    stack.assign(1, f0);
+    state[f0] = kQueued;
+    bool outside = false;
+    double deepest = 0;
+    while (!stack.empty() && !outside) {
+      const auto f = mesh.face_handle(stack.back());
+      stack.pop_back();
+      comp.push_back(f.idx());
+      for (auto v : mesh.fv_range(f)) {
+        outside |= !(dist[v.idx()] <= reach) || v.idx() == far;
+        deepest = std::max(deepest, dist[v.idx()]);
+      }
+      for (auto h : mesh.fh_range(f)) {
+        const auto g = mesh.opposite_face_handle(h);
+        if (!g.is_valid()) {
+          outside = true;  // the mesh's boundary
+          continue;
+        }
+        if (keep[g.idx()]) continue;
+        if (state[g.idx()] == kOutside) outside = true;
+        else if (state[g.idx()] == kUnseen) {
+          state[g.idx()] = kQueued;
+          stack.push_back(g.idx());
+        }
+      }
+    }
+    if (outside) {
+      for (int f : comp) state[f] = kOutside;
+      for (int f : stack) state[f] = kOutside;
+      continue;
+    }
+    double longest = 0;
+    for (int f : comp)
+      for (auto h : mesh.fh_range(mesh.face_handle(f)))
+        longest = std::max(longest, static_cast<double>(mesh.calc_edge_length(h)));
+    if (deepest <= radius + 2 * longest)
+      for (int f : comp) keep[f] = 1, kept.push_back(f);
+    else
+      for (int f : comp) state[f] = kOutside;
+  }
+}
+
 DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const Eigen::VectorXd& dist) {
   require_valid(mesh, "disk patch: mesh");
   const int nv = static_cast<int>(mesh.n_vertices());
@@ -197,67 +263,7 @@ DiskPatch extract_disk_patch(const Mesh& mesh, int center, double radius, const 
         }
     }
   }
-  {
-    // Each component of the faces left out, flooded until it is known to be outside: a face with a vertex
-    // at no finite distance, at the farthest vertex or deeper than the radius plus twice the mesh's longest
-    // edge (no hole's longest edge is longer), a boundary edge, or a face already known to be outside.
-    // The flood stops there, so a disk costs its neighbourhood, not the whole rest of the mesh.
-    int far = -1;
-    for (int i = 0; i < nv; ++i)
-      if (std::isfinite(dist[i]) && (far < 0 || dist[i] > dist[far])) far = i;
-    double mesh_longest = 0;
-    for (auto e : mesh.edges()) mesh_longest = std::max(mesh_longest, static_cast<double>(mesh.calc_edge_length(e)));
-    const double reach = radius + 2 * mesh_longest;
-    enum : char { kUnseen = 0, kQueued = 1, kOutside = 2 };
-    std::vector<char> state(nf, kUnseen);
-    std::vector<int> comp, stack, seeds;  // seeds: the left-out faces across an edge from a kept one
-    for (int f : kept)
-      for (auto g : mesh.ff_range(mesh.face_handle(f)))
-        if (!keep[g.idx()]) seeds.push_back(g.idx());
-    for (int f0 : seeds) {
-      if (state[f0] != kUnseen) continue;
-      comp.clear();
-      stack.assign(1, f0);
-      state[f0] = kQueued;
-      bool outside = false;
-      double deepest = 0;
-      while (!stack.empty() && !outside) {
-        const auto f = mesh.face_handle(stack.back());
-        stack.pop_back();
-        comp.push_back(f.idx());
-        for (auto v : mesh.fv_range(f)) {
-          outside |= !(dist[v.idx()] <= reach) || v.idx() == far;
-          deepest = std::max(deepest, dist[v.idx()]);
-        }
-        for (auto h : mesh.fh_range(f)) {
-          const auto g = mesh.opposite_face_handle(h);
-          if (!g.is_valid()) {
-            outside = true;  // the mesh's boundary
-            continue;
-          }
-          if (keep[g.idx()]) continue;
-          if (state[g.idx()] == kOutside) outside = true;
-          else if (state[g.idx()] == kUnseen) {
-            state[g.idx()] = kQueued;
-            stack.push_back(g.idx());
-          }
-        }
-      }
-      if (outside) {
-        for (int f : comp) state[f] = kOutside;
-        for (int f : stack) state[f] = kOutside;
-        continue;
-      }
-      double longest = 0;
-      for (int f : comp)
-        for (auto h : mesh.fh_range(mesh.face_handle(f)))
-          longest = std::max(longest, static_cast<double>(mesh.calc_edge_length(h)));
-      if (deepest <= radius + 2 * longest)
-        for (int f : comp) keep[f] = 1, kept.push_back(f);
-      else
-        for (int f : comp) state[f] = kOutside;
-    }
-  }
+  fill_disk_holes(mesh, dist, radius, keep, kept);
   std::sort(kept.begin(), kept.end());  // the patch's faces in the mesh's order
   for (int fi : kept) {
     const auto f = mesh.face_handle(fi);
