@@ -89,19 +89,8 @@ Mesh same_connectivity(const Mesh& stored, py::handle V, py::handle F, const cha
   return m;
 }
 
-}  // namespace
-
-void bind_texture(py::module_& m) {
-  register_table<TextureExtractOptions>("TextureExtractOptions");
-  register_table<TextureApplyOptions>("TextureApplyOptions");
-  register_table<TextureEditOptions>("TextureEditOptions");
-  register_table<AnimationOptions>("AnimationOptions");
-  register_table<TransferOptions>("TransferOptions");
-  register_table<AtlasOptions>("AtlasOptions");
-  register_results("TextureExtraction", &texture_extraction_results);
-  register_results("TransferResult", &transfer_results);
-  register_results("AtlasResult", &atlas_results);
-
+// texture_extract: a texture from a textured surface and its base (given or made).
+void bind_texture_extraction(py::module_& m) {
   m.def("texture_extract", [](py::handle V, py::handle F, py::handle V_base, py::handle F_base, py::dict kw) {
     CallOptions call = call_options(kw);
     // As on the command line: the automatic base's options mean nothing with a given base (only the
@@ -130,7 +119,10 @@ void bind_texture(py::module_& m) {
     d["parameters"] = options_dict(o);
     return d;
   });
+}
 
+// texture_apply, texture_edit, texture_animate: a texture on its own base.
+void bind_texture_editing(py::module_& m) {
   m.def("texture_apply", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
                             py::handle V_new, py::handle F_new, py::dict kw) {
     CallOptions call = call_options(kw);
@@ -173,7 +165,10 @@ void bind_texture(py::module_& m) {
     d["parameters"] = options_dict(o);
     return d;
   });
+}
 
+// texture_transfer, texture_atlas: a texture onto another surface.
+void bind_texture_transfer(py::module_& m) {
   m.def("texture_transfer", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::handle lean,
                                py::handle V_target, py::handle F_target, py::handle source_near, py::handle target_near,
                                py::dict kw) {
@@ -218,7 +213,10 @@ void bind_texture(py::module_& m) {
     for (const auto& w : r.warnings) warn(w);  // the GIL held again
     return textured_result(Y, r, atlas_results(), time, o);
   });
+}
 
+// read_texture, write_texture: texture files.
+void bind_texture_files(py::module_& m) {
   m.def("read_texture", [](const std::string& path) {
     TextureFile f;
     {
@@ -234,6 +232,25 @@ void bind_texture(py::module_& m) {
     py::gil_scoped_release release;
     write_texture(path, t.base, t.texture, binary);
   });
+}
+
+}  // namespace
+
+void bind_texture(py::module_& m) {
+  register_table<TextureExtractOptions>("TextureExtractOptions");
+  register_table<TextureApplyOptions>("TextureApplyOptions");
+  register_table<TextureEditOptions>("TextureEditOptions");
+  register_table<AnimationOptions>("AnimationOptions");
+  register_table<TransferOptions>("TransferOptions");
+  register_table<AtlasOptions>("AtlasOptions");
+  register_results("TextureExtraction", &texture_extraction_results);
+  register_results("TransferResult", &transfer_results);
+  register_results("AtlasResult", &atlas_results);
+
+  bind_texture_extraction(m);
+  bind_texture_editing(m);
+  bind_texture_transfer(m);
+  bind_texture_files(m);
 }
 
 }  // namespace geotex::python

@@ -10,10 +10,10 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/self_intersections.h"
 #include "geotex/core/spatial.h"
 #include "geotex/texture/measures.h"
 #include "geotex/texture/transfer.h"
-#include "geotex/tools/metrics.h"
 #include "transfer_internal.h"
 #include "geotex/toolkit/parametrization.h"
 #include "geotex/toolkit/refine.h"

@@ -23,7 +23,7 @@ double smoothstep_falloff(double radius, double width);
 Vec3 fade(const Vec3& d, double w);
 //! Per face of \p mesh's connectivity at positions \p P (#V by 3): 1 where it is folded (folded_faces()'s
 //! test: its normal against the sum of its neighbours') or crossed by an edge of a non-adjacent face
-//! (self_intersecting_faces(), tools/metrics.h), else 0.
+//! (self_intersecting_faces(), core/self_intersections.h), else 0.
 std::vector<char> damaged_faces(const Mesh& mesh, const MatrixX3d& P);
 //! What source heights are multiplied by: the rule's factor times \p scale.
 double height_factor(HeightRule rule, double source_radius, double target_radius, double scale);

@@ -9,9 +9,9 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/self_intersections.h"
 #include "geotex/texture/measures.h"
 #include "geotex/texture/synthesis.h"
-#include "geotex/tools/metrics.h"
 #include "geotex/tools/shapes.h"
 #include "../../src/texture/keep_out.h"
 #include "geotex/tools/shapes.h"

@@ -109,8 +109,8 @@ DiskMap disk_map(const DiskPatch& patch, const Vec3& anchor);
 // Damage
 
 //! What a texture did to its base: faces folded over (folded_faces(), measures.h) and faces crossed by
-//! an edge of a non-adjacent face (self_intersecting_faces(), tools/metrics.h) on the textured surface,
-//! against the bare base's own (the same connectivity).
+//! an edge of a non-adjacent face (self_intersecting_faces(), core/self_intersections.h) on the textured
+//! surface, against the bare base's own (the same connectivity).
 struct TextureDamage {
   size_t folded = 0, base_folded = 0;
   size_t self_intersecting = 0, base_self_intersecting = 0;

@@ -1,5 +1,6 @@
 #pragma once
 //! \file metrics.h Error measures of the mesh-denoising literature.
+//! (Self-intersections, a spatial query the texture layer also counts: core/self_intersections.h.)
 
 #include <vector>
 
@@ -35,12 +36,5 @@ struct LabelScore {
   size_t true_positive = 0, labelled = 0, truth = 0;
 };
 LabelScore score_edge_labels(const MatrixX2i& labelled, const MatrixX2i& truth);
-
-//! Self-intersections: the faces crossed by an edge of a face they share no vertex with (the edge's
-//! segment meets the triangle's interior, Möller–Trumbore with a 1e-9 margin in barycentric and segment
-//! terms, so touching and coplanar contact do not count). The same measure as `geval.py
-//! self-intersections` (faces_hit). \param V #V by 3, \param F #F by 3.
-//! \return #F flags: 1 where the face is crossed.
-std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F);
 
 }  // namespace geotex
