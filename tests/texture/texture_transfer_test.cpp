@@ -11,6 +11,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/core/io.h"
+#include "geotex/core/self_intersections.h"
 #include "geotex/texture/measures.h"
 #include "geotex/texture/texture.h"
 #include "geotex/toolkit/parametrization.h"
