@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geotex/core/geometry.h"
+#include "geotex/toolkit/laplace.h"
 
 namespace geotex::detail {
 
@@ -99,10 +100,7 @@ KeepOut keep_out(const Mesh& target, double span, double crease_angle_deg, bool 
   const Eigen::Index n = target.n_vertices();
   KeepOut k;
   k.creases = k.thin = k.weight = Eigen::VectorXd::Ones(n);
-  k.area = Eigen::VectorXd::Zero(n);
-  const Eigen::VectorXd fa = face_areas(target);
-  for (auto f : target.faces())
-    for (auto v : target.fv_range(f)) k.area[v.idx()] += fa[f.idx()] / 3;
+  k.area = mass_diagonal(target, MassType::Barycentric);
   if (n == 0 || !(span > 0) || !std::isfinite(span)) return k;
   const MatrixX3d X = positions(target);
   if (crease_angle_deg > 0) k.creases = crease_weight(target, X, span, crease_angle_deg);

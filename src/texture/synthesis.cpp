@@ -1102,12 +1102,11 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
 }
 
 // The automatic keep-out (keep_out.h) multiplied into the growth weight, its area shares in the result.
-void apply_keep_out(const Mesh& target, const Exemplar& ex, const SynthesisOptions& o, Eigen::VectorXd& weight,
-                    SynthesisResult& res) {
+// \p largest: the features' length on the target (their largest displacement).
+void apply_keep_out(const Mesh& target, const Exemplar& ex, double largest, const SynthesisOptions& o,
+                    Eigen::VectorXd& weight, SynthesisResult& res) {
   if (!(o.keep_out_crease_angle > 0) && !o.keep_out_thin) return;
-  double length = 0;  // the features' length on the target
-  for (const Vec3& d : ex.grid) length = std::max(length, res.height_factor * d.norm());
-  const double span = std::min(length, res.scale * o.patch_radius * ex.extent);  // and their patch radius
+  const double span = std::min(largest, res.scale * o.patch_radius * ex.extent);  // or their patch radius
   const detail::KeepOut k = detail::keep_out(target, span, o.keep_out_crease_angle, o.keep_out_thin);
   weight = weight.cwiseProduct(k.weight);
   const double total = k.area.sum();
@@ -1152,7 +1151,9 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   res.scale = res.estimate.scale;
   res.height_factor = res.scale * o.height_scale;
   stage_done("exemplar");
-  apply_keep_out(target, ex, o, weight, res);
+  double largest = 0;  // displacement: how far a displaced point can be from its base point
+  for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
+  apply_keep_out(target, ex, largest, o, weight, res);
   stage_done("keep-out");
 
   // Refine where the target is coarser than the exemplar scaled to it.
@@ -1182,8 +1183,6 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   stage_done("field");
 
   // Patches in a growing front.
-  double largest = 0;  // displacement: how far a displaced point can be from its base point
-  for (const Vec3& d : ex.grid) largest = std::max(largest, res.height_factor * d.norm());
   const SynthesisOptions placing = placing_options(o, largest, X, res.warnings);
   place_patches(ex, T, X, N, F, largest, o, placing, res, stage_done);
   if (o.unfold) {

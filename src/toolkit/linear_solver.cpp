@@ -49,6 +49,13 @@ namespace {
 
 constexpr int kNestedDissectionVertices = 50000;
 
+// The ordering a graph of n vertices gets: Auto is minimum degree below kNestedDissectionVertices, nested
+// dissection from there (the solver's blocked_ordering and the factor estimates alike).
+BlockOrdering resolved_ordering(BlockOrdering ordering, Eigen::Index n) {
+  if (ordering != BlockOrdering::Auto) return ordering;
+  return n >= kNestedDissectionVertices ? BlockOrdering::NestedDissection : BlockOrdering::MinimumDegree;
+}
+
 #ifdef GEOTEX_HAVE_CHOLMOD
 // CHOLMOD reports running out of memory in its status, not by throwing: without this check the
 // failure surfaced as a bogus "non-finite result" solver error, or as a null factor dereferenced by
@@ -101,8 +108,7 @@ Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> blocked_ordering(c
   // Large graphs: METIS nested dissection, whose fill is far smaller than AMD's on big surface meshes
   // (655k vertices, 2×2 blocks: 1.6e11 against 5.2e11 flops, factorization 7.0 s against 14.2 s; igea's
   // 134k-vertex resize: 53 s of CPU against 70 s; the 36k-vertex bunny's: the same).
-  if (ordering == BlockOrdering::NestedDissection ||
-      (ordering == BlockOrdering::Auto && n >= kNestedDissectionVertices)) {
+  if (resolved_ordering(ordering, n) == BlockOrdering::NestedDissection) {
     cholmod_common cc;
     cholmod_start(&cc);
     cc.print = 0;  // a failed METIS ordering falls back to AMD below, silently
@@ -177,10 +183,8 @@ FactorEstimate estimate_block_factor(const SparseMatrix& R, int block_size, Bloc
   cholmod_start(&cc);
   cc.print = 0;
   cc.supernodal = CHOLMOD_SUPERNODAL;
-  // The ordering SpdSolver::analyze gives the blocked system (blocked_ordering): Auto is minimum degree
-  // below kNestedDissectionVertices, METIS from there.
-  const bool nd = ordering == BlockOrdering::NestedDissection ||
-                  (ordering == BlockOrdering::Auto && R.rows() >= kNestedDissectionVertices);
+  // The ordering SpdSolver::analyze gives the blocked system (blocked_ordering).
+  const bool nd = resolved_ordering(ordering, R.rows()) == BlockOrdering::NestedDissection;
   cc.nmethods = 1;
   cc.method[0].ordering = nd ? CHOLMOD_METIS : CHOLMOD_AMD;
   cholmod_sparse view = Eigen::viewAsCholmod(A);
@@ -253,9 +257,7 @@ FactorEstimate extrapolate_block_factor(const SparseMatrix& R, int block_size, i
   const double n = static_cast<double>(R.rows());
   if (sample < 16 || n <= sample) return estimate_block_factor(R, block_size, ordering);
   // Both samples are ordered as the whole graph would be (its size decides Auto's ordering).
-  const BlockOrdering o = ordering != BlockOrdering::Auto ? ordering
-                          : R.rows() >= kNestedDissectionVertices ? BlockOrdering::NestedDissection
-                                                                  : BlockOrdering::MinimumDegree;
+  const BlockOrdering o = resolved_ordering(ordering, R.rows());
   const SparseMatrix S1 = sample_graph(R, sample);
   const SparseMatrix S0 = sample_graph(S1, sample / 4);  // a prefix of the same breadth-first order
   const FactorEstimate a = estimate_block_factor(S0, block_size, o), b = estimate_block_factor(S1, block_size, o);
