@@ -75,6 +75,28 @@ def result_classes() -> str:
     return "".join(out) + "\n"
 
 
+def results_markdown() -> str:
+    """docs/results.md: every result table as the CLI's --report and Python show it (the docs' tables,
+    from the same C++ tables as the report, the result classes and the demo's captions)."""
+    from . import _RESULT_CLASSES, _geotex
+    tables = _geotex._result_tables()
+    out = ["# Results: every field a command reports\n\n",
+           "Generated from the C++ result tables (`core/results.h`) by `PYTHONPATH=build/python /usr/bin/python3 -m ",
+           "geotex._stubgen --results-md docs/results.md`; `python/tests/test_results.py` checks it is current. ",
+           "A field's name is its `--report` key, its Python attribute and its name in the demo's captions. ",
+           "Python only: per-vertex arrays the CLI writes as files, and older spellings.\n\n",
+           "Python's result classes and the tables they hold:\n\n"]
+    for name, (base, parts) in _RESULT_CLASSES.items():
+        out.append(f"- `{name}` ({base}): " + ", ".join(f"[{t}](#{t.lower()})" for t in parts) + "\n")
+    for t in sorted(tables):
+        out.append(f"\n## {t}\n\n| field | type | unit | in --report | meaning |\n|---|---|---|---|---|\n")
+        for f in tables[t]:
+            report = "yes" if f["in_report"] else "Python only"
+            help_text = f["help"].replace("|", "\\|")
+            out.append(f"| `{f['name']}` | {_field_type(f)} | {f['unit']} | {report} | {help_text} |\n")
+    return "".join(out)
+
+
 # The compiled module: its errors, and everything else reached through the package's wrappers.
 CORE = '''"""Type stubs of geotex._geotex (the compiled core; use the functions of the geotex package)."""
 
@@ -142,8 +164,11 @@ def generate() -> str:
 
 
 def main(argv: list) -> int:
+    if len(argv) == 3 and argv[1] == "--results-md":
+        Path(argv[2]).write_text(results_markdown())
+        return 0
     if len(argv) != 2:
-        print("usage: python3 -m geotex._stubgen OUT_DIR", file=sys.stderr)
+        print("usage: python3 -m geotex._stubgen OUT_DIR | --results-md FILE", file=sys.stderr)
         return 2
     out_dir = Path(argv[1])
     text = generate()

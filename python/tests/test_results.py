@@ -224,3 +224,16 @@ def test_parametrization_quality_says_what_param_json_says(tmp_path, method):
     assert squashed["mean_angle_error_deg"] > q["mean_angle_error_deg"]
     with pytest.raises(geotex.InvalidInput, match="uv"):
         geotex.parametrization_quality(V, F, uv[:-1])
+
+
+def test_the_docs_results_tables_are_the_result_tables():
+    # docs/results.md is generated from the same C++ tables as the report, the result classes and the
+    # demo's captions: a field added to a table and not to the docs fails here.
+    from geotex import _stubgen
+    doc = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "results.md")
+    if not os.path.exists(doc):
+        pytest.skip("docs/results.md is not here (an installed package without the source tree)")
+    with open(doc) as f:
+        assert f.read() == _stubgen.results_markdown(), (
+            "docs/results.md is out of date: PYTHONPATH=build/python /usr/bin/python3 -m geotex._stubgen "
+            "--results-md docs/results.md")

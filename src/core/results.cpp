@@ -2,9 +2,29 @@
 
 #include "geotex/core/results.h"
 
+#include <fmt/format.h>
+
 #include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
 
 namespace geotex {
+
+std::string figure_text(const ResultFieldInfo& field, const nlohmann::json& value) {
+  std::string label = field.name;
+  if (!field.unit.empty() && label.size() > field.unit.size() + 1 &&
+      label.compare(label.size() - field.unit.size() - 1, std::string::npos, "_" + field.unit) == 0)
+    label.resize(label.size() - field.unit.size() - 1);
+  std::replace(label.begin(), label.end(), '_', ' ');
+  std::string text;
+  if (value.is_null()) text = "none";
+  else if (value.is_boolean()) text = value.get<bool>() ? "yes" : "no";
+  else if (value.is_number_integer()) text = std::to_string(value.get<long long>());
+  else if (value.is_number()) text = fmt::format("{:.3g}", value.get<double>());
+  else if (value.is_string()) text = value.get<std::string>();
+  else throw std::logic_error("result field " + field.name + " is an array or a record: not said in a caption");
+  if (label == "seconds" && field.unit == "s") return text + " s";  // a field named after its unit: "0.38 s"
+  return label + " " + text + (field.unit.empty() ? "" : " " + field.unit);
+}
 
 nlohmann::json array_json(const Eigen::MatrixXd& a) {
   nlohmann::json j = nlohmann::json::array();
@@ -48,6 +68,28 @@ const ResultTable<MeshSummary>& mesh_summary_results() {
       .add("bbox_min", [point](const R& r) { return point(r.box.min); }, "the bounding box's lowest corner")
       .add("bbox_max", [point](const R& r) { return point(r.box.max); }, "the bounding box's highest corner")
       .add("bbox_diagonal", [](const R& r) { return r.box.diagonal(); }, "the bounding box's diagonal");
+  return t;
+}
+
+const ResultTable<ReadReport>& read_report_results() {
+  using R = ReadReport;
+  static const auto t = ResultTable<R>()
+      .add("file_vertices", [](const R& r) { return r.file_vertices; }, "vertices in the file")
+      .add("file_polygons", [](const R& r) { return r.file_polygons; }, "faces (or strips) in the file")
+      .add("triangulated_polygons", [](const R& r) { return r.triangulated_polygons; },
+           "polygons with more than 3 corners split into fans")
+      .add("strip_triangles", [](const R& r) { return r.strip_triangles; }, "triangles decoded from triangle strips")
+      .add("dropped_degenerate_faces", [](const R& r) { return r.build.degenerate_faces; },
+           "faces repeating a vertex: dropped")
+      .add("dropped_duplicate_faces", [](const R& r) { return r.build.duplicate_faces; },
+           "faces on the vertices of an earlier one: dropped")
+      .add("dropped_nonmanifold_faces", [](const R& r) { return r.build.nonmanifold_faces; },
+           "faces no manifold mesh can hold: dropped")
+      .add("flipped_faces", [](const R& r) { return r.build.flipped_faces; },
+           "faces turned round to agree with their neighbours")
+      .add("split_vertices", [](const R& r) { return r.build.split_vertices; },
+           "non-manifold vertices split into one per fan")
+      .add("added_vertices", [](const R& r) { return r.build.added_vertices; }, "copies the split made");
   return t;
 }
 

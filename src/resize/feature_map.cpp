@@ -9,6 +9,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/resize/results.h"
 #include "geotex/toolkit/diffusion.h"
 #include "geotex/toolkit/laplace.h"
 #include "geotex/toolkit/simplify.h"
@@ -367,8 +368,8 @@ FeatureSummary summarize_features(const Mesh& mesh, const Eigen::VectorXd& f) {
 }
 
 std::string FeatureSummary::describe() const {
-  return fmt::format("features: {:.1f}% of the surface ({} vertices, {} region{})", 100 * marked_fraction,
-                     marked_vertices, regions, regions == 1 ? "" : "s");
+  // Said as the report and Python name it (results.h: figures()).
+  return "features: " + feature_summary_results().figures(*this, {"marked_fraction", "marked_vertices", "regions"});
 }
 
 namespace {

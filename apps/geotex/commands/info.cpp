@@ -23,16 +23,7 @@ void run(const Args& a) {
   // About the file as read: the CLI's own.
   j["file"] = a.input;
   j["format"] = rep.format;
-  j["read"] = {{"file_vertices", rep.file_vertices},
-               {"file_polygons", rep.file_polygons},
-               {"triangulated_polygons", rep.triangulated_polygons},
-               {"strip_triangles", rep.strip_triangles},
-               {"dropped_degenerate_faces", rep.build.degenerate_faces},
-               {"dropped_duplicate_faces", rep.build.duplicate_faces},
-               {"dropped_nonmanifold_faces", rep.build.nonmanifold_faces},
-               {"flipped_faces", rep.build.flipped_faces},
-               {"split_vertices", rep.build.split_vertices},
-               {"added_vertices", rep.build.added_vertices}};
+  j["read"] = read_report_results().report(rep);
   // About the file: the mesh as read is manifold once faces are dropped or vertices split.
   const bool manifold = rep.build.nonmanifold_faces == 0 && rep.build.split_vertices == 0 &&
                         rep.build.nonmanifold_vertices == 0;

@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/results.h"
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
@@ -39,19 +40,16 @@ DemoRegistrar step{15, "bad input", [](const DemoContext& ctx) {
   save_mesh(m, (ctx.dir / "broken-repaired.ply").string());
   const MeshSummary s = summarize(m);
   r["files"].push_back(broken.string());
-  r["summary"].push_back(fmt::format("broken.obj ({} faces in the file) read as {} faces, {} components, closed: {}",
-                                     rep.file_polygons, s.faces, s.components, s.closed ? "yes" : "no"));
+  // The figures as `geotex info --json` names them (results.h: figures()).
+  const std::string read = mesh_summary_results().figures(s, {"faces", "components", "closed"});
+  const std::string repairs = read_report_results().figures(
+      rep, {"flipped_faces", "split_vertices", "dropped_duplicate_faces", "dropped_degenerate_faces"});
+  r["summary"].push_back(fmt::format("broken.obj ({} faces in the file) read as {}", rep.file_polygons, read));
   for (const auto& w : rep.warnings) r["summary"].push_back("  " + w);
   add_figure(ctx, {.mesh = "broken-repaired.ply",
                    .caption = fmt::format("broken.obj: two spheres touching at a vertex, 4 flipped faces, a duplicate, "
-                                          "a degenerate face, a stray vertex; read as {} faces in {} components "
-                                          "({} flipped faces turned, {} vertices split, {} duplicate and {} degenerate "
-                                          "faces dropped).",
-                                          s.faces, s.components, rep.build.flipped_faces, rep.build.split_vertices,
-                                          rep.build.duplicate_faces, rep.build.degenerate_faces)});
-  r["build"] = {{"flipped_faces", rep.build.flipped_faces},     {"split_vertices", rep.build.split_vertices},
-                {"duplicate_faces", rep.build.duplicate_faces}, {"degenerate_faces", rep.build.degenerate_faces},
-                {"isolated_vertices", rep.build.isolated_vertices}};
+                                          "a degenerate face, a stray vertex; read as {} ({}).", read, repairs)});
+  r["build"] = read_report_results().report(rep);
 }};
 
 }  // namespace demo_bad_input

@@ -15,6 +15,7 @@
 #include "geotex/denoise/surfel.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
+#include "geotex/tools/results.h"
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
@@ -46,12 +47,11 @@ void compare_denoisers(const DemoContext& ctx, const std::string& name, const st
   save_mesh(clean, (ctx.dir / clean_file).string());
   save_mesh(noisy, (ctx.dir / (name + "-noisy.ply")).string());
   const Comparison c0 = compare_meshes(noisy, clean);
-  r["summary"].push_back(fmt::format("{} ({} faces): noisy input, normal error {:.2f} deg, Ev {:.2e}", what,
-                                     noisy.n_faces(), c0.mean_normal_error_deg, c0.ev_relative));
+  const std::string error0 = comparison_results().figures(c0, {"mean_normal_error_deg", "ev_relative"});
+  r["summary"].push_back(fmt::format("{} ({} faces): noisy input, {}", what, noisy.n_faces(), error0));
   add_figure(ctx, {.mesh = name + "-noisy.ply",
-                   .caption = fmt::format("{}, noisy input ({} faces): normal error {:.2f}&deg;, E<sub>v</sub> {:.2e}. "
-                                          "Colour: distance to the clean mesh (saturates here).",
-                                          what, noisy.n_faces(), c0.mean_normal_error_deg, c0.ev_relative),
+                   .caption = fmt::format("{}, noisy input ({} faces): {}. Colour: distance to the clean mesh "
+                                          "(saturates here).", what, noisy.n_faces(), error0),
                    .compare = name, .field = "error", .truth = clean_file, .sets_range = false, .up = up});
 
   // A result: its mesh, optional edge labels (same connectivity), the time it took.
@@ -60,24 +60,23 @@ void compare_denoisers(const DemoContext& ctx, const std::string& name, const st
     const std::string file = fmt::format("{}-{}.ply", name, method);
     save_mesh(out, (ctx.dir / file).string());
     const Comparison c = compare_meshes(out, clean);
+    const RunTime time{sec};
+    nlohmann::json& row = r[name][method] = comparison_results().report(c);
+    row.update(run_time_results().report(time));
     std::string edges_file, labels_text;
     if (labels && out.n_vertices() == clean.n_vertices()) {
       edges_file = fmt::format("{}-{}-edges.ply", name, method);
       write_edge_values(out, *labels, "label", ctx.dir / edges_file);
       const LabelScore s = score(out, clean, *labels);
-      labels_text = fmt::format("; sharp edges (red) precision {:.2f}, recall {:.2f}", s.precision, s.recall);
-      r[name][method]["precision"] = s.precision;
-      r[name][method]["recall"] = s.recall;
+      labels_text = "; sharp edges (red) " + label_score_results().figures(s, {"precision", "recall"});
+      row.update(label_score_results().report(s));
     }
-    r[name][method]["mean_normal_error_deg"] = c.mean_normal_error_deg;
-    r[name][method]["ev_relative"] = c.ev_relative;
-    r[name][method]["seconds"] = sec;
-    r["summary"].push_back(fmt::format("{}, {}: normal error {:.2f} deg, Ev {:.2e}{}; {:.2f} s", what, label,
-                                       c.mean_normal_error_deg, c.ev_relative, labels_text, sec));
-    add_figure(ctx, {.mesh = file,
-                     .caption = fmt::format("<b>{}</b>: normal error {:.2f}&deg;, E<sub>v</sub> {:.2e}{}; {:.2f} s.",
-                                            label, c.mean_normal_error_deg, c.ev_relative, labels_text, sec),
-                     .compare = name, .field = "error", .truth = clean_file, .edges = edges_file, .up = up});
+    // The figures are said as the report and Python name them (results.h: figures()).
+    const std::string figures = comparison_results().figures(c, {"mean_normal_error_deg", "ev_relative"}) +
+                                labels_text + "; " + run_time_results().figures(time, {"seconds"});
+    r["summary"].push_back(fmt::format("{}, {}: {}", what, label, figures));
+    add_figure(ctx, {.mesh = file, .caption = fmt::format("<b>{}</b>: {}.", label, figures), .compare = name,
+                     .field = "error", .truth = clean_file, .edges = edges_file, .up = up});
   };
   using clock = std::chrono::steady_clock;
   auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };

@@ -10,6 +10,7 @@
 #include "geotex/toolkit/editing.h"
 #include "geotex/core/geometry.h"
 #include "geotex/toolkit/parametrization.h"
+#include "geotex/toolkit/results.h"
 #include "geotex/tools/shapes.h"
 
 namespace geotex::cli {
@@ -92,9 +93,10 @@ DemoRegistrar param{22, "parametrization", [](const DemoContext& ctx) {
     for (int c : {0, 1}) x.vertex_scalars[c ? "param_v" : "param_u"] = std::vector<double>(uv.col(c).data(), uv.col(c).data() + uv.rows());
     write_ply(cap, ctx.dir / fmt::format("cap-uv-{}.ply", name), x);
     const ParamQuality q = parametrization_quality(cap, uv);
-    r["summary"].push_back(fmt::format("spherical cap ({} faces), {}: {} flipped, mean angle error {:.2f} deg, "
-                                       "mean |log area ratio| {:.3f}", cap.n_faces(), name, q.flipped,
-                                       q.mean_angle_error_deg, q.mean_log_area_ratio));
+    // The figures as `geotex param --json` and Python name them (results.h: figures()).
+    const std::string figures =
+        param_quality_results().figures(q, {"mean_angle_error_deg", "mean_log_area_ratio", "flipped"});
+    r["summary"].push_back(fmt::format("spherical cap ({} faces), {}: {}", cap.n_faces(), name, figures));
     static const std::map<std::string, std::string> what = {
         {"conformal", "aims to keep angles (squares stay square)"},
         {"authalic", "aims to keep areas (squares keep their size)"},
@@ -102,8 +104,7 @@ DemoRegistrar param{22, "parametrization", [](const DemoContext& ctx) {
         {"natural", "conformal with a free boundary (the rim is not forced onto a circle)"}};
     add_figure(ctx, {.mesh = fmt::format("cap-uv-{}.ply", name),
                      .caption = fmt::format("Parametrization (Sec. 5.4), {}: a UV checkerboard on the spherical cap; "
-                                            "{}. Mean angle error {:.2f}&deg;, mean |log area ratio| {:.3f}, {} flipped.",
-                                            name, what.at(name), q.mean_angle_error_deg, q.mean_log_area_ratio, q.flipped),
+                                            "{}. {}.", name, what.at(name), figures),
                      .compare = "param", .checker = true});
   }
 }};

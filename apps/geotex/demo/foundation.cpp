@@ -4,8 +4,10 @@
 
 #include "cli.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/results.h"
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
+#include "geotex/tools/results.h"
 #include "geotex/tools/shapes.h"
 #include "geotex/toolkit/smoothing.h"
 
@@ -20,8 +22,8 @@ DemoRegistrar shapes{10, "shapes", [](const DemoContext& ctx) {
     save_mesh(s.textured, file);
     const MeshSummary m = summarize(s.textured);
     r["files"].push_back(file);
-    const std::string line = fmt::format("{}: {} vertices, {} faces, genus {}, {} boundary loop(s)", name, m.vertices,
-                                         m.faces, m.genus, m.boundary_loops);
+    const std::string line =
+        name + ": " + mesh_summary_results().figures(m, {"vertices", "faces", "genus", "boundary_loops"});
     r["summary"].push_back(line);
     add_figure(ctx, {.mesh = name + ".ply", .caption = "Generated test shape " + line});
   }
@@ -37,13 +39,15 @@ DemoRegistrar smoothing{20, "noise and smoothing", [](const DemoContext& ctx) {
   save_mesh(clean, (ctx.dir / "cube-clean.ply").string());
   save_mesh(noisy, (ctx.dir / "cube-noisy.ply").string());
   const Comparison c0 = compare_meshes(noisy, clean);
-  r["summary"].push_back(fmt::format("cube, 2400 faces, noise sigma 0.3 mean edge: normal error {:.2f} deg, Ev {:.2e}",
-                                     c0.mean_normal_error_deg, c0.ev_relative));
+  // The figures as the report and Python name them (results.h: figures()).
+  auto error = [](const Comparison& c) {
+    return comparison_results().figures(c, {"mean_normal_error_deg", "ev_relative"});
+  };
+  r["summary"].push_back("cube, 2400 faces, noise sigma 0.3 mean edge: " + error(c0));
   add_figure(ctx, {.mesh = "cube-clean.ply", .caption = "Clean cube (2400 faces): the truth of this row.", .compare = "smooth"});
   add_figure(ctx, {.mesh = "cube-noisy.ply",
-                   .caption = fmt::format("Noise, sigma 0.3 mean edge lengths: normal error {:.2f}&deg;, Ev {:.2e}. "
-                                          "Colour: distance to the clean cube (saturates).",
-                                          c0.mean_normal_error_deg, c0.ev_relative),
+                   .caption = fmt::format("Noise, sigma 0.3 mean edge lengths: {}. Colour: distance to the clean "
+                                          "cube (saturates).", error(c0)),
                    .compare = "smooth", .field = "error", .truth = "cube-clean.ply", .sets_range = false});
   for (auto lap : {LaplacianType::Umbrella, LaplacianType::Cotangent}) {
     SmoothingOptions o;
@@ -55,13 +59,11 @@ DemoRegistrar smoothing{20, "noise and smoothing", [](const DemoContext& ctx) {
     const std::string name = lap == LaplacianType::Umbrella ? "umbrella" : "cotan";
     save_mesh(out, (ctx.dir / ("cube-smoothed-" + name + ".ply")).string());
     const Comparison c = compare_meshes(out, clean);
-    r["summary"].push_back(fmt::format("implicit {} smoothing, 3 steps of lambda {}: normal error {:.2f} deg, Ev {:.2e}",
-                                       name, o.lambda, c.mean_normal_error_deg, c.ev_relative));
-    r[name] = {{"mean_normal_error_deg", c.mean_normal_error_deg}, {"ev_relative", c.ev_relative}};
+    r["summary"].push_back(fmt::format("implicit {} smoothing, 3 steps of lambda {}: {}", name, o.lambda, error(c)));
+    r[name] = comparison_results().report(c);
     add_figure(ctx, {.mesh = "cube-smoothed-" + name + ".ply",
-                     .caption = fmt::format("Implicit {} smoothing (Eq. 5.14), 3 steps of lambda {}: normal error "
-                                            "{:.2f}&deg;, Ev {:.2e}; the edges and corners round off.",
-                                            name, o.lambda, c.mean_normal_error_deg, c.ev_relative),
+                     .caption = fmt::format("Implicit {} smoothing (Eq. 5.14), 3 steps of lambda {}: {}; the edges "
+                                            "and corners round off.", name, o.lambda, error(c)),
                      .compare = "smooth", .field = "error", .truth = "cube-clean.ply"});
   }
 }};

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "cli.h"
+#include "geotex/core/results.h"
 #include "geotex/resize/measure.h"
 #include "geotex/resize/resize.h"
 #include "geotex/tools/shapes.h"
@@ -19,6 +20,36 @@ void save_with_features(const Mesh& mesh, const MatrixX3d& Y, const Eigen::Vecto
   PlyExtras fx;
   fx.vertex_scalars["feature"] = std::vector<double>(f.data(), f.data() + f.size());
   write_ply(out, path, fx);
+}
+
+// What the demo measures of a resize, declared once (core/results.h) for its report and its captions.
+struct Measures {
+  double bump_aspect = 0, bump_height = 0, bump_tilt = 0, ridge_aspect = 0, crease = 0, input_crease = 0;  // plate
+  double length = 0, angle = 0;  // tentacle stick: the worst tentacle's
+  double aspect = 0;             // spot: the worst feature region's
+};
+
+const ResultTable<Measures>& measures() {
+  using R = Measures;
+  static const auto t = ResultTable<R>()
+      .add("worst_bump_aspect_change", [](const R& r) { return 100 * r.bump_aspect; }, "of a bump's aspect", "%")
+      .add("worst_bump_height_change", [](const R& r) { return 100 * r.bump_height; }, "of a bump's height", "%")
+      .add("worst_bump_tilt_deg", [](const R& r) { return r.bump_tilt; }, "a bump's tilt", "deg")
+      .add("ridge_aspect_change", [](const R& r) { return 100 * r.ridge_aspect; }, "of the ridge's aspect", "%")
+      .add("rim_crease_deg", [](const R& r) { return r.crease; }, "largest crease at feature rims", "deg")
+      .add("input_rim_crease_deg", [](const R& r) { return r.input_crease; }, "the same in the input", "deg")
+      .add("worst_length_change", [](const R& r) { return 100 * r.length; }, "of a tentacle's length", "%")
+      .add("worst_angle_change_deg", [](const R& r) { return r.angle; }, "of a tentacle's angle to the base", "deg")
+      .add("worst_aspect_change", [](const R& r) { return 100 * r.aspect; }, "of a feature region's aspect", "%");
+  return t;
+}
+
+// The report's record of \p names of \p m (the same names as the captions').
+nlohmann::json record(const Measures& m, std::initializer_list<std::string_view> names) {
+  const nlohmann::json all = measures().report(m);
+  nlohmann::json j = nlohmann::json::object();
+  for (std::string_view n : names) j[std::string(n)] = all.at(std::string(n));
+  return j;
 }
 
 // The three results of one deformation: plain space map, thesis preset, the default (similarity).
@@ -50,30 +81,26 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
     if (ctx.quick && std::string(label) != "scale-2-1-1") continue;  // --quick: the scaling only
     for (const auto& [name, Y] : results(b.mesh, apply_space_map(map, X), fm.weights)) {
       save_with_features(b.mesh, Y, fm.weights, ctx.dir / fmt::format("ridge-plate-{}-{}.ply", label, name));
-      double aspect = 0, height = 0, tilt = 0;
+      Measures q;
       for (const Vec3& c : b.centres) {
         const BumpShape s0 = measure_bump(X, X, c, b.radius), s = measure_bump(X, Y, c, b.radius);
-        aspect = std::max(aspect, std::abs(s.aspect / s0.aspect - 1));
-        height = std::max(height, std::abs(s.height / s0.height - 1));
-        tilt = std::max(tilt, s.tilt_deg);
+        q.bump_aspect = std::max(q.bump_aspect, std::abs(s.aspect / s0.aspect - 1));
+        q.bump_height = std::max(q.bump_height, std::abs(s.height / s0.height - 1));
+        q.bump_tilt = std::max(q.bump_tilt, s.tilt_deg);
       }
       const auto e0 = region_extents(b.mesh, X, b.ridge), e1 = region_extents(b.mesh, Y, b.ridge);
-      const double ridge = e0.empty() ? 0.0 : aspect_change(e0[0].extents, e1[0].extents);
-      const double crease = rim_crease_deg(b.mesh, Y, fm.weights), crease0 = rim_crease_deg(b.mesh, X, fm.weights);
-      r[label][name] = {{"worst_bump_aspect_change", aspect}, {"worst_bump_height_change", height},
-                        {"worst_bump_tilt_deg", tilt}, {"ridge_aspect_change", ridge},
-                        {"rim_crease_deg", crease}, {"input_rim_crease_deg", crease0}};
-      r["summary"].push_back(fmt::format("ridge plate, {}, {}: bumps' aspect change {:.1f}%, height change {:.1f}%, tilt "
-                                         "{:.1f} deg; ridge's aspect change {:.1f}%; largest crease at feature rims "
-                                         "{:.1f} deg (input {:.1f})",
-                                         label, name, 100 * aspect, 100 * height, tilt, 100 * ridge, crease, crease0));
+      q.ridge_aspect = e0.empty() ? 0.0 : aspect_change(e0[0].extents, e1[0].extents);
+      q.crease = rim_crease_deg(b.mesh, Y, fm.weights);
+      q.input_crease = rim_crease_deg(b.mesh, X, fm.weights);
+      const std::initializer_list<std::string_view> names = {
+          "worst_bump_aspect_change", "worst_bump_height_change", "worst_bump_tilt_deg", "ridge_aspect_change",
+          "rim_crease_deg", "input_rim_crease_deg"};
+      r[label][name] = record(q, names);
+      const std::string figures = measures().figures(q, names);
+      r["summary"].push_back(fmt::format("ridge plate, {}, {}: {}", label, name, figures));
       if (name != "plain" || std::string(label) == "scale-2-1-1")
         add_figure(ctx, {.mesh = fmt::format("ridge-plate-{}-{}.ply", label, name),
-                         .caption = fmt::format("Ridge plate {}, <b>{}</b>: bumps' aspect change {:.1f}%, height {:.1f}%, "
-                                                "tilt {:.1f}&deg;; ridge's aspect {:.1f}%; crease at feature rims "
-                                                "{:.1f}&deg; (input {:.1f}&deg;).",
-                                                label, method_label(name), 100 * aspect, 100 * height, tilt, 100 * ridge,
-                                                crease, crease0),
+                         .caption = fmt::format("Ridge plate {}, <b>{}</b>: {}.", label, method_label(name), figures),
                          .compare = "ridge-plate", .field = "feature"});
     }
   }
@@ -101,22 +128,20 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
   so.arc_radius = 6;
   for (const auto& [name, Y] : results(m, apply_space_map(space_map(so, bounding_box(m)), S), sf.weights)) {
     save_with_features(m, Y, sf.weights, ctx.dir / fmt::format("tentacle-stick-arc-{}.ply", name));
-    double length = 0, angle = 0;
+    Measures q;
     for (const Tentacle& t : info) {
       const Eigen::VectorXd foot = tentacle_truth(stick.base, {t}, TentacleOptions{}.radius);
       const ProtrusionPose a = measure_protrusion(m, S, t.foot, foot), c = measure_protrusion(m, Y, t.foot, foot);
-      length = std::max(length, std::abs(c.length / a.length - 1));
-      angle = std::max(angle, std::abs(c.angle_deg - a.angle_deg));
+      q.length = std::max(q.length, std::abs(c.length / a.length - 1));
+      q.angle = std::max(q.angle, std::abs(c.angle_deg - a.angle_deg));
     }
-    r["tentacle-stick-arc"][name] = {{"worst_length_change", length}, {"worst_angle_change_deg", angle}};
-    r["summary"].push_back(fmt::format("tentacle stick x2 and arc, {}: worst tentacle length change {:.1f}%, worst "
-                                       "change of its angle to the local base {:.1f} deg",
-                                       name, 100 * length, angle));
+    const std::initializer_list<std::string_view> names = {"worst_length_change", "worst_angle_change_deg"};
+    r["tentacle-stick-arc"][name] = record(q, names);
+    const std::string figures = measures().figures(q, names);
+    r["summary"].push_back(fmt::format("tentacle stick x2 and arc, {}: {}", name, figures));
     add_figure(ctx, {.mesh = fmt::format("tentacle-stick-arc-{}.ply", name),
                      .caption = fmt::format("Stick &times;2 along its axis and bent into an arc (radius 6), <b>{}</b>: "
-                                            "worst tentacle length change {:.1f}%, worst change of its angle to the "
-                                            "base {:.1f}&deg;.",
-                                            method_label(name), 100 * length, angle),
+                                            "{}.", method_label(name), figures),
                      .compare = "stick", .field = "feature"});
   }
   // A real model (shared data, not with --quick): spot ×2 along x, automatic features; the aspect of
@@ -136,15 +161,15 @@ DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {
       if (name == "thesis") continue;  // the plain map and the default tell the story; bench/resize.md has all
       save_with_features(spot, Y, pf.weights, ctx.dir / fmt::format("spot-x2-{}.ply", name));
       const auto after = region_extents(spot, Y, pf.weights);
-      double worst = 0;
+      Measures q;
       for (size_t k = 0; k < before.size(); ++k)
-        if (before[k].vertices.size() >= 20) worst = std::max(worst, aspect_change(before[k].extents, after[k].extents));
-      r["spot-x2"][name] = {{"worst_aspect_change", worst}};
-      r["summary"].push_back(fmt::format("spot x2 along x, {}: worst feature aspect change {:.1f}%", name, 100 * worst));
+        if (before[k].vertices.size() >= 20) q.aspect = std::max(q.aspect, aspect_change(before[k].extents, after[k].extents));
+      r["spot-x2"][name] = record(q, {"worst_aspect_change"});
+      const std::string figures = measures().figures(q, {"worst_aspect_change"});
+      r["summary"].push_back(fmt::format("spot x2 along x, {}: {}", name, figures));
       add_figure(ctx, {.mesh = fmt::format("spot-x2-{}.ply", name),
-                       .caption = fmt::format("spot &times;2 along x, <b>{}</b>: worst change of a feature's aspect "
-                                              "(horns, ears, legs, tail) {:.1f}%.",
-                                              method_label(name), 100 * worst),
+                       .caption = fmt::format("spot &times;2 along x, <b>{}</b>: {} (horns, ears, legs, tail).",
+                                              method_label(name), figures),
                        .compare = "spot", .field = "feature", .up = "auto"});
     }
   }

@@ -40,17 +40,16 @@ DemoRegistrar step{82, "texture synthesis", [](const DemoContext& ctx) {
     r["files"].push_back((ctx.dir / file).string());
     r["synthesis"][name] = synthesis_results().report(s);  // as `texture synthesize --report` has them
     r["synthesis"][name].update(synthesis_quality_results().report(q));
+    // The figures as `texture synthesize --report` and Python name them (results.h: figures()).
     const std::string line = fmt::format(
-        "{} ({} vertices, {} patches): feature spacing {:+.0f} % of the exemplar's, height histogram TV {:.2f}, lean "
-        "{:.1f} deg off the field, seam step {:.3f} vs {:.3f} within patches (99th percentiles), {} folded faces",
-        what, out.n_vertices(), s.centers.size(), 100 * q.spacing_change, q.histogram_tv, q.lean_angle_error_deg,
-        q.seam_step99, q.within_step99, q.folded);
+        "{}: {}, {}", what, synthesis_results().figures(s, {"vertices", "patches", "excess_self_intersecting"}),
+        synthesis_quality_results().figures(q, {"spacing_change", "histogram_tv", "lean_angle_error_deg",
+                                                "seam_step99", "within_step99", "folded"}));
     summary("synthesis: " + line);
     add_figure(ctx, {.mesh = file,
                      .caption = fmt::format("Synthesis (patches pasted along minimum-cut seams, lean along a "
                                             "direction field towards +{}): the tentacle texture grown over {}.",
-                                            o.direction.z() > 0 ? "z" : "y",
-                                            std::string(line).replace(line.find(" deg off"), 4, "&deg;")),
+                                            o.direction.z() > 0 ? "z" : "y", line),
                      .up = o.direction.z() > 0 ? "z" : "auto"});
   };
 

@@ -9,6 +9,7 @@
 #include "geotex/core/geometry.h"
 #include "geotex/toolkit/phong_projection.h"
 #include "geotex/tools/shapes.h"
+#include "geotex/texture/results.h"
 #include "geotex/texture/texture.h"
 #include "geotex/texture/transfer.h"
 
@@ -37,27 +38,25 @@ void save(const DemoContext& ctx, const Mesh& base, const MatrixX3d& X, const st
 // The spiky sphere's texture re-applied, with its tilt and as a height field alone.
 void round_trip(const DemoContext& ctx, const TexturedShape& s, TextureCodec& codec, const Texture& tex) {
   nlohmann::json& r = *ctx.report;
-  const double h = mean_edge_length(s.base);
   const MatrixX3d X = positions(s.textured);
-  const double err = (codec.apply(tex) - X).rowwise().norm().maxCoeff() / h;
-  const double err_h = (codec.apply(height_field_only(tex)) - X).rowwise().norm().maxCoeff() / h;
+  // What `texture extract --base` reports of the same extraction (the figures as it names them).
+  const TextureExtraction e = texture_extraction(s.textured, &s.base);
   write_texture(ctx.dir / "spiky-texture.ply", s.base, tex);
   save(ctx, s.base, X, "texture-original.ply");
   save(ctx, s.base, codec.apply(height_field_only(tex)), "texture-height-field-only.ply");
-  const TiltFitReport fit = codec.last_fit();
-  summary(ctx, fmt::format("texture round trip on spiky-sphere ({} vertices): max error {:.2e} mean edges with tilt, "
-                           "{:.2f} as a height field alone (tilt fit: {})",
-                           s.base.n_vertices(), err, err_h,
-                           fit.iterative ? fmt::format("iterative, {} CGLS iterations", fit.iterations) : "direct"));
-  r["texture"] = {{"round_trip_error_edges", err}, {"height_only_error_edges", err_h}};
+  const auto& table = texture_extraction_results();
+  summary(ctx, fmt::format("texture round trip on spiky-sphere ({} vertices): {}", s.base.n_vertices(),
+                           table.figures(e, {"max_error", "height_only_error", "fit_iterative", "fit_iterations"})));
+  r["texture"] = table.report(e);
   add_figure(ctx, {.mesh = "texture-original.ply",
                    .caption = fmt::format("Spiky sphere ({} vertices), leaning spikes: extracted as height and tilt "
-                                          "(Eq. 8.4&ndash;8.7) over its smooth base and re-applied, max error {:.1e} "
-                                          "mean edges.", s.base.n_vertices(), err),
+                                          "(Eq. 8.4&ndash;8.7) over its smooth base and re-applied: {}.",
+                                          s.base.n_vertices(), table.figures(e, {"max_error"})),
                    .compare = "texture"});
   add_figure(ctx, {.mesh = "texture-height-field-only.ply",
                    .caption = fmt::format("The same texture as a height field alone (tilt dropped): the spikes stand "
-                                          "upright; max error {:.2f} mean edges. A height field cannot lean.", err_h),
+                                          "upright; {}. A height field cannot lean.",
+                                          table.figures(e, {"height_only_error"})),
                    .compare = "texture"});
 }
 
@@ -120,21 +119,20 @@ void transfer_to_sphere(const DemoContext& ctx) {
   const TransferResult tr = transfer_texture(p.base, ptex, sphere, o);
   save(ctx, tr.target, apply_texture(tr.target, tr.texture), "texture-transferred-to-sphere.ply");
   save(ctx, p.base, positions(p.textured), "texture-tentacle-plate.ply");
+  // The figures as `texture transfer --report` and Python name them (results.h: figures()).
+  const std::string figures = transfer_results().figures(
+      tr, {"source_vertices", "target_vertices", "added_vertices", "excess_folded", "excess_self_intersecting"});
   const std::string transfer_line = fmt::format(
-      "texture patch of the tentacle plate (radius {}, {} vertices) transferred to a sphere patch (radius {}, {} "
-      "vertices, {} added by refinement) via conformal maps",
-      o.source_radius, tr.source_patch.vertices.size(), o.target_radius, tr.target_patch.vertices.size(),
-      tr.added_vertices);
+      "texture patch of the tentacle plate (radius {}) transferred to a sphere patch (radius {}) via conformal maps: {}",
+      o.source_radius, o.target_radius, figures);
   summary(ctx, transfer_line);
   add_figure(ctx, {.mesh = "texture-tentacle-plate.ply",
                    .caption = "Source of the transfers: the tentacle plate, 3&times;3 curved tentacles leaning to +x "
                               "(no height field holds them)."});
   add_figure(ctx, {.mesh = "texture-transferred-to-sphere.ply",
                    .caption = fmt::format("Transfer (Sec. 8.3.3): a geodesic disk of radius {} of the plate onto a disk "
-                                          "of radius {} of a sphere, through conformal maps; {} target vertices "
-                                          "received texture ({} added by refinement).",
-                                          o.source_radius, o.target_radius, tr.target_patch.vertices.size(),
-                                          tr.added_vertices)});
+                                          "of radius {} of a sphere, through conformal maps; {}.",
+                                          o.source_radius, o.target_radius, figures)});
 }
 
 // The whole sphere covered with copies of one disk of the spiky plate (an atlas of disks pasted along minimum cuts).
@@ -159,14 +157,14 @@ void atlas_sphere(const DemoContext& ctx) {
   Eigen::VectorXd owner = at.owner.cast<double>();
   ax.vertex_scalars["disk"] = std::vector<double>(owner.data(), owner.data() + owner.size());
   write_ply(covered, ctx.dir / "texture-atlas-sphere.ply", ax);
-  summary(ctx, fmt::format("atlas: the whole sphere covered by {} disks of radius {} holding copies of a spiky-plate "
-                           "disk (radius {}); {} vertices ({} added)", at.centers.size(), ao.target_radius,
-                           ao.source_radius, covered.n_vertices(), at.added_vertices));
+  const std::string figures = atlas_results().figures(
+      at, {"disks", "vertices", "added_vertices", "excess_folded", "excess_self_intersecting"});
+  summary(ctx, fmt::format("atlas: the whole sphere covered by disks of radius {} holding copies of a spiky-plate "
+                           "disk (radius {}): {}", ao.target_radius, ao.source_radius, figures));
   add_figure(ctx, {.mesh = "texture-atlas-sphere.ply",
-                   .caption = fmt::format("Atlas: the whole sphere covered by {} overlapping geodesic disks, each a copy "
+                   .caption = fmt::format("Atlas: the whole sphere covered by overlapping geodesic disks, each a copy "
                                           "of one disk of the spiky plate, pasted along minimum cuts where they overlap "
-                                          "(the 3D page colours each vertex by its disk).",
-                                          at.centers.size())});
+                                          "(the 3D page colours each vertex by its disk): {}.", figures)});
 }
 
 DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& ctx) {

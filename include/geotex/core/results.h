@@ -15,9 +15,13 @@
 //!     return t;
 //!   }
 
+#include <algorithm>
 #include <functional>
+#include <initializer_list>
+#include <stdexcept>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -43,6 +47,11 @@ struct ResultFieldInfo {
 
 //! The in_report argument of a field the CLI report leaves out (ResultTable::add, ::array).
 inline constexpr bool kPythonOnly = false;
+
+//! One field as a caption or a summary line says it: its name read aloud (underscores as spaces, a trailing
+//! unit dropped: `mean_normal_error_deg` -> "mean normal error"), its value (reals to 3 significant digits)
+//! and its unit: "mean normal error 2.81 deg". Arrays and records are not said (std::logic_error).
+std::string figure_text(const ResultFieldInfo& field, const nlohmann::json& value);
 
 //! A #rows by #cols numeric array as JSON: a flat list for one column, else a list of rows.
 nlohmann::json array_json(const Eigen::MatrixXd& a);
@@ -103,6 +112,19 @@ class ResultTable {
 
   const std::vector<Field>& fields() const { return fields_; }
 
+  //! The named fields of \p r as a caption says them, "mean normal error 2.81 deg, ev relative 0.000992"
+  //! (figure_text, in the order asked): the demo's captions use the report's names (std::logic_error for a
+  //! name the table does not have).
+  std::string figures(const R& r, std::initializer_list<std::string_view> names) const {
+    std::string out;
+    for (std::string_view name : names) {
+      const auto f = std::find_if(fields_.begin(), fields_.end(), [&](const Field& x) { return x.info.name == name; });
+      if (f == fields_.end()) throw std::logic_error("no result field named " + std::string(name));
+      out += (out.empty() ? "" : ", ") + figure_text(f->info, f->json(r));
+    }
+    return out;
+  }
+
   //! The fields of the CLI's report, as a JSON object.
   nlohmann::json report(const R& r) const {
     nlohmann::json j = nlohmann::json::object();
@@ -142,5 +164,9 @@ const ResultTable<RunTime>& run_time_results();
 struct MeshSummary;  // core/geometry.h
 //! summarize()'s counts and measures: what `geotex info --json` and Python's info() say of a mesh.
 const ResultTable<MeshSummary>& mesh_summary_results();
+
+struct ReadReport;  // core/io.h
+//! What a reader counted and repaired in a file: `geotex info --json`'s "read" record and the demo's captions.
+const ResultTable<ReadReport>& read_report_results();
 
 }  // namespace geotex

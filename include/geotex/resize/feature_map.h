@@ -105,7 +105,7 @@ struct FeatureSummary {
   int regions = 0;             //!< connected regions of marked vertices
   //! Empty, or a message for the user when more than half or less than 0.5% of the surface is marked.
   std::string warning;
-  std::string describe() const;  //!< "features: 12.3% of the surface (1234 vertices, 9 regions)"
+  std::string describe() const;  //!< "features: marked fraction 0.123, marked vertices 1234, regions 9"
 };
 
 //! The summary of weights \p f on \p mesh. \throw InvalidInput on a size mismatch.
