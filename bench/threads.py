@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Largest output difference between 1 and 2 OpenMP threads, per operation, relative to the bounding-box
 diagonal, on two shared models with noise (issue 33). The operations are those of
-python/tests/test_determinism.py (the test asserts < 1e-9 on a generated cube).
+python/tests/core/test_determinism.py (the test asserts < 1e-9 on a generated cube).
 
 Usage: PYTHONPATH=build/python /usr/bin/python3 bench/threads.py [DATA_DIR]   (writes a table on stdout)"""
 

@@ -82,7 +82,7 @@ def results_markdown() -> str:
     tables = _geotex._result_tables()
     out = ["# Results: every field a command reports\n\n",
            "Generated from the C++ result tables (`core/results.h`) by `PYTHONPATH=build/python /usr/bin/python3 -m ",
-           "geotex._stubgen --results-md docs/results.md`; `python/tests/test_results.py` checks it is current. ",
+           "geotex._stubgen --results-md docs/results.md`; `python/tests/package/test_results.py` checks it is current. ",
            "A field's name is its `--report` key, its Python attribute and its name in the demo's captions. ",
            "Python only: per-vertex arrays the CLI writes as files, and older spellings.\n\n",
            "Python's result classes and the tables they hold:\n\n"]

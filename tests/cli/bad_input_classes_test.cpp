@@ -1,7 +1,7 @@
 // Issue 14 through the real command line: one test per class of bad input the issue names (the
-// Python side is python/tests/test_bad_input.py; the property test over generated meshes and every
+// Python side is python/tests/core/test_bad_input.py; the property test over generated meshes and every
 // subcommand is tests/cli_properties.py). Classes already tested elsewhere are referenced, not repeated:
-//   1 (Python crash with the GIL released): Python only, test_class1_* in python/tests/test_bad_input.py.
+//   1 (Python crash with the GIL released): Python only, test_class1_* in python/tests/core/test_bad_input.py.
 //   3 (leftovers, modes, links, special files, long names): BadInputCatalogue.OutputPathIsKeptAsTheUserMadeIt,
 //     Output.SignalsRemoveTheTemporaries, Output.SigkillLeavesNothingWithUnnamedTemporaries,
 //     Output.LongFileNamesWork; here only the signal through the CLI.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -140,6 +141,22 @@ TEST(Cli, DemoWritesItsFolder) {
   EXPECT_TRUE(std::filesystem::exists(tmp / "demo/report.json"));
   EXPECT_TRUE(std::filesystem::exists(tmp / "demo/cube-noisy.ply"));
   EXPECT_TRUE(std::filesystem::exists(tmp / "demo/spiky-sphere.ply"));
+  // A caption says the figures of the step's report record, by the report's names (results.h: figures()).
+  const auto report = nlohmann::json::parse(geotex::test::read_file(tmp / "demo/report.json"));
+  int checked = 0;
+  for (const auto& step : report["steps"]) {
+    if (step["name"] != "noise and smoothing") continue;
+    for (const char* method : {"umbrella", "cotan"}) {
+      const double error = step[method]["mean_normal_error_deg"].get<double>();
+      const std::string said = fmt::format("mean normal error {:.3g} deg", error);
+      bool found = false;
+      for (const auto& f : step["figures"])
+        found = found || f["caption"].get<std::string>().find(said) != std::string::npos;
+      EXPECT_TRUE(found) << method << ": no caption says '" << said << "'";
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 2);
 }
 
 // The "wrote NAME" line is one line whatever the name (issue 30): ESC and a newline in an output name are

@@ -230,7 +230,7 @@ def test_the_docs_results_tables_are_the_result_tables():
     # docs/results.md is generated from the same C++ tables as the report, the result classes and the
     # demo's captions: a field added to a table and not to the docs fails here.
     from geotex import _stubgen
-    doc = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "results.md")
+    doc = os.path.join(os.path.dirname(__file__), "..", "..", "..", "docs", "results.md")
     if not os.path.exists(doc):
         pytest.skip("docs/results.md is not here (an installed package without the source tree)")
     with open(doc) as f:

@@ -109,7 +109,7 @@ def test_relief_map_keeps_detail_and_smooths_a_plain_part_in_python_and_the_cli(
     # The smooth reading's relief per region (auto_denoise.h, step 5b): spot (eyes, nostrils, ears; shipped in
     # data/) keeps its relief where a plain sphere of the same edge length beside it is smoothed; the map is the
     # same through Python and in the CLI's report, and relief_floor reaches both ends.
-    root = Path(__file__).resolve().parents[2]
+    root = Path(__file__).resolve().parents[3]
     Vc, Fc = geotex.read_mesh(str(root / "data" / "spot.obj"))
     Vs, Fs = geotex.generate("sphere", level=3)
     Vs = Vs * (geotex.mean_edge_length(Vc, Fc) / geotex.mean_edge_length(Vs, Fs))
