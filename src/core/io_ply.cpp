@@ -12,6 +12,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/io.h"
+#include "geotex/core/resources.h"
 #include "io_detail.h"
 
 namespace geotex {
