@@ -1095,51 +1095,35 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   return out;
 }
 
-// The split similarity system's three scalar factors, one per axis (the box's pins differ between
-// them), in one fill-reducing order. Eigen's simplicial LDLᵀ rather than SpdSolver's supernodal
-// CHOLMOD: on the scalar system of a surface mesh the supernodal factorization spent more time in its
-// OpenMP regions and workspace than in arithmetic (stanford-bunny: about 0.13 s against 0.09 s CPU each).
-class AxisFactors {
+// A scalar factor of the split similarity system (one per axis: the box's pins differ). Eigen's simplicial LDLᵀ below
+// 50k vertices rather than SpdSolver's supernodal CHOLMOD: on the scalar system of a small surface mesh
+// the supernodal factorization spends more time in its OpenMP regions and workspace than in arithmetic
+// (stanford-bunny, 36k vertices: about 0.13 s against 0.09 s CPU); above, the supernodal one is faster.
+class ScalarFactor {
  public:
-  // Factors G + diag(d), plus \p pin_weight on the diagonal at each pin (vertex, axis) of that axis.
-  void factor(const SparseMatrix& G, const Eigen::VectorXd& d, const std::vector<std::array<int, 2>>& pins,
-              double pin_weight) {
-    const int n = static_cast<int>(d.size());
-    for (int a = 0; a < 3; ++a) {
-      Eigen::VectorXd da = d;
-      for (const auto& [v, axis] : pins)
-        if (axis == a) da[v] += pin_weight;
-      std::vector<Triplet> t;
-      t.reserve(n);
-      for (int i = 0; i < n; ++i) t.emplace_back(i, i, da[i]);
-      SparseMatrix D(n, n);
-      D.setFromTriplets(t.begin(), t.end());
-      const SparseMatrix A = G + D;
-      if (perm_.size() == 0) {  // one minimum-degree order for the three axes and every refactorization
-        Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
-        Eigen::AMDOrdering<int>()(A, order);
-        perm_ = order.inverse();
-      }
-      SparseMatrix Ap;
-      Ap = A.selfadjointView<Eigen::Lower>().twistedBy(perm_);
-      if (!analyzed_[a]) llt_[a].analyzePattern(Ap), analyzed_[a] = true;
-      llt_[a].factorize(Ap);
-      if (llt_[a].info() != Eigen::Success || !(llt_[a].vectorD().minCoeff() > 0))
-        throw SolverError(fmt::format("resize: the {}x{} split similarity system is not positive definite", n, n));
+  void factor(const SparseMatrix& A) {
+    if (A.rows() >= kSupernodalVertices) {
+      if (!supernodal_.analyzed()) supernodal_.analyze(A);
+      supernodal_.factorize(A);
+      return;
     }
+    if (!analyzed_) simplicial_.analyzePattern(A), analyzed_ = true;
+    simplicial_.factorize(A);
+    if (simplicial_.info() != Eigen::Success || !(simplicial_.vectorD().minCoeff() > 0))
+      throw SolverError(fmt::format("resize: the {0}x{0} split similarity system is not positive definite", A.rows()));
   }
-  // Solves the three axes' systems for the columns of \p R.
-  MatrixX3d solve(const MatrixX3d& R) const {
-    MatrixX3d Y(R.rows(), 3);
-    for (int a = 0; a < 3; ++a) Y.col(a) = perm_.transpose() * llt_[a].solve(perm_ * Eigen::VectorXd(R.col(a)));
+  Eigen::VectorXd solve(const Eigen::VectorXd& R) const {
+    Eigen::VectorXd Y = R.rows() >= kSupernodalVertices ? Eigen::VectorXd(supernodal_.solve(R).col(0))
+                                                        : Eigen::VectorXd(simplicial_.solve(R));
     if (!Y.allFinite()) throw SolverError("resize: the split similarity solve is not finite");
     return Y;
   }
 
  private:
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm_;
-  std::array<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<int>>, 3> llt_;
-  std::array<bool, 3> analyzed_{};
+  static constexpr Eigen::Index kSupernodalVertices = 50000;
+  SpdSolver supernodal_;
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> simplicial_;
+  bool analyzed_ = false;
 };
 
 // The similarity energy's right-hand side without the surface term: the edges' Σ k_ij T_ij (x_i − x_j) +
@@ -1166,10 +1150,12 @@ MatrixX3d similarity_rhs(const std::vector<std::array<int, 2>>& edges, const Mat
 
 // Similarity with the surface term split off (ResizeOptions::solver = Split): the energy of
 // similarity_resize below, minimized by alternation. w (n_iᵀ(x_i − q_i))² is the least w |x_i − p_i|²
-// over the points p_i of the plane (q_i, n_i), so each step solves for x' with the p_i fixed (x, y and
-// z apart: one scalar matrix G + diag each) and then moves each p_i to the foot of x'_i on its plane;
-// no step increases the energy. The matrices change only when faces are relaxed, not when the planes
-// move, and each is a ninth of the coupled 3#V system's size in factor values.
+// over the points p_i of the plane (q_i, n_i); each step solves for x' with the p_i fixed (x, y and z
+// apart: one scalar matrix G + diag each, which differ only in the box's pins along their axis) and
+// then moves each p_i to the foot of x'_i on its plane: no step increases the energy. The matrices
+// change only when faces are relaxed, not when the planes move, and each has a ninth of the coupled 3#V
+// system's factor values. (Pins split off the same way, isotropic towards the plane x_a = t_a, would
+// need one matrix for the three, but slide too slowly along the box: fandisk ×2 y ratio 0.47 -> 0.73.)
 MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& f0,
                                   const ResizeOptions& o) {
   const int n = static_cast<int>(X.rows());
@@ -1193,21 +1179,33 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
     if (mesh.is_boundary(v)) boundary[v.idx()] = 1;
   Eigen::VectorXd f = f0;
   MatrixX3d target = C, Nrm = Nc, Q = C, P = C;  // P: each vertex's point on its plane
-  AxisFactors factors;
+  std::array<ScalarFactor, 3> factors;
   Eigen::VectorXd pull(n), hold(n);  // ε + the boundary's weight; the surface term's w (1 − f_i)
   auto factor = [&] {
     for (int i = 0; i < n; ++i) {
       pull[i] = eps + (boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0);
       hold[i] = w * (1 - f[i]);
     }
-    factors.factor(similarity_edge_weights(edges, f, relaxed, beta, kRelaxed), pull + hold, pins, o.frame_weight);
+    const SparseMatrix G = similarity_edge_weights(edges, f, relaxed, beta, kRelaxed);
+    for (int a = 0; a < 3; ++a) {
+      Eigen::VectorXd d = pull + hold;
+      for (const auto& [v, axis] : pins)
+        if (axis == a) d[v] += o.frame_weight;
+      std::vector<Triplet> t;
+      t.reserve(n);
+      for (int i = 0; i < n; ++i) t.emplace_back(i, i, d[i]);
+      SparseMatrix D(n, n);
+      D.setFromTriplets(t.begin(), t.end());
+      factors[a].factor(G + D);
+    }
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
   auto step = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, kRelaxed, o.frame_weight);
     R += hold.asDiagonal() * P;
-    const MatrixX3d Y = factors.solve(R);
+    MatrixX3d Y(n, 3);
+    for (int a = 0; a < 3; ++a) Y.col(a) = factors[a].solve(R.col(a));
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
     for (const auto& [v, a] : pins) target(v, a) += C(v, a) - Y(v, a);
     return Y;
