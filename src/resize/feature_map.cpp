@@ -104,27 +104,36 @@ Eigen::VectorXd robust_z(const Eigen::VectorXd& g, const Eigen::VectorXd& area) 
 
 }  // namespace
 
-Eigen::VectorXd height_over_base(const Mesh& mesh, double scale) {
+namespace {
+
+// The height's smoothing: its cotangent time (scale R)² in units of h², at most 1e9 (smoothing's bound:
+// by then the base is already each component's mean), and R = √(area / 4π).
+std::pair<double, double> height_smoothing(const Mesh& mesh, double scale) {
   require_valid(mesh, "feature map input");
   if (!(scale > 0)) throw InvalidInput("smoothing scale must be positive");
   const double area = surface_area(mesh), h = mean_edge_length(mesh);
   if (!(area > 0) || !(h > 0)) throw InvalidInput("feature map: the mesh has no area");
   const double R = std::sqrt(area / (4 * M_PI));
-  SmoothingOptions s;
-  s.laplacian = LaplacianType::Cotangent;
-  // smooth() takes cotangent time in units of h², at most 1e9 (its table's bound: by then the base is
-  // already each component's mean).
-  s.lambda = std::min(1e9, (scale * R) * (scale * R) / (h * h));
-  s.steps = 1;
-  s.update_weights = false;
+  return {std::min(1e9, (scale * R) * (scale * R) / (h * h)), R};
+}
+
+// The height of \p mesh over its smoothed copy \p smoothed along the copy's normals, in units of \p R.
+Eigen::VectorXd height_over(const Mesh& mesh, const MatrixX3d& smoothed, double R) {
   Mesh base = mesh;
-  set_positions(base, smooth(mesh, s));
+  set_positions(base, smoothed);
   // Smoothing shrinks a closed surface: restore its volume, so that the height is measured from a base
   // through the middle of the features rather than from one inside the whole shape.
   if (boundary_loops(mesh).empty()) rescale_like(mesh, base);
   const MatrixX3d N = vertex_normals(base);
   const MatrixX3d d = positions(mesh) - positions(base);
   return d.cwiseProduct(N).rowwise().sum() / R;
+}
+
+}  // namespace
+
+Eigen::VectorXd height_over_base(const Mesh& mesh, double scale) {
+  const auto [lambda, R] = height_smoothing(mesh, scale);
+  return height_over(mesh, implicit_cotan_steps(mesh, {lambda}).front(), R);
 }
 
 Eigen::VectorXd significant_basins(const Mesh& mesh, const Eigen::VectorXd& g, double significance,
@@ -388,20 +397,25 @@ double weighted_quantile(const Eigen::VectorXd& v, const Eigen::VectorXd& w, dou
   return order.empty() ? 0.0 : v[order.back()];
 }
 
-// Lazy umbrella diffusion, steps × (½ f + ½ mean of the neighbours).
-Eigen::MatrixXd diffuse(const Mesh& mesh, Eigen::MatrixXd f, int steps) {
+// Lazy umbrella diffusion, steps × (½ f + ½ mean of the neighbours). The neighbours are listed once
+// (compressed rows, in the circulator's order: the same sums as circulating each step, without its
+// cost or a heap vector per vertex and step).
+Eigen::VectorXd diffuse(const Mesh& mesh, Eigen::VectorXd f, int steps) {
   const int n = static_cast<int>(mesh.n_vertices());
+  std::vector<int> start(n + 1, 0), nbr;
+  nbr.reserve(2 * mesh.n_edges());
+  for (int i = 0; i < n; ++i) {
+    for (auto w : mesh.vv_range(mesh.vertex_handle(i))) nbr.push_back(w.idx());
+    start[i + 1] = static_cast<int>(nbr.size());
+  }
+  Eigen::VectorXd g(n);
   for (int s = 0; s < steps; ++s) {
-    Eigen::MatrixXd g = f;
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n; ++i) {
-      Eigen::RowVectorXd acc = Eigen::RowVectorXd::Zero(f.cols());
-      int k = 0;
-      for (auto w : mesh.vv_range(mesh.vertex_handle(i))) {
-        acc += f.row(w.idx());
-        ++k;
-      }
-      if (k > 0) g.row(i) = 0.5 * f.row(i) + 0.5 * acc / k;
+      const int k = start[i + 1] - start[i];
+      double acc = 0;
+      for (int e = start[i]; e < start[i + 1]; ++e) acc += f[nbr[e]];
+      g[i] = k > 0 ? 0.5 * f[i] + 0.5 * acc / k : f[i];
     }
     f.swap(g);
   }
@@ -420,24 +434,25 @@ Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eig
   if (!(h > 0)) throw InvalidInput("feature map: the mesh has no edges of positive length");
   const Eigen::VectorXd area = feature_vertex_areas(mesh);
   const MatrixX3d X = positions(mesh);
-  // Relief over smoothed copies at three scales, each in units of its 90th percentile.
-  Eigen::MatrixXd Z(n, 3);
+  // Relief over smoothed copies at three scales, each in units of its 90th percentile (times (c h)², in
+  // units of h²), and the protrusions' base: one cotangent matrix and analysis for the four.
+  report(o.progress, 0.1, "importance: relief");
   const double scales[3] = {0.5 * o.detail_scale, o.detail_scale, 2.0 * o.detail_scale};
+  const bool height = o.protrusions && !o.importance_adf;
+  const auto [height_lambda, R] = height ? height_smoothing(mesh, o.smoothing_scale) : std::pair<double, double>{0, 1};
+  std::vector<double> lambdas = {scales[0] * scales[0], scales[1] * scales[1], scales[2] * scales[2]};
+  if (height) lambdas.push_back(height_lambda);
+  const std::vector<MatrixX3d> smoothed = implicit_cotan_steps(mesh, lambdas);
+  Eigen::MatrixXd Z(n, 3);
   for (int k = 0; k < 3; ++k) {
-    report(o.progress, 0.1 + 0.2 * k, "importance: relief");
-    SmoothingOptions s;
-    s.laplacian = LaplacianType::Cotangent;
-    s.lambda = scales[k] * scales[k];  // time (c h)², in units of h²
-    s.steps = 1;
-    s.update_weights = false;
-    const Eigen::VectorXd r = (X - smooth(mesh, s)).rowwise().norm();
+    const Eigen::VectorXd r = (X - smoothed[k]).rowwise().norm();
     const double q = weighted_quantile(r, area, 0.9);
     Z.col(k) = q > 0 ? Eigen::VectorXd(r / q) : Eigen::VectorXd::Zero(n);
   }
   const Eigen::VectorXd detail = Z.rowwise().mean();
   // Its variation: the relief minus its own smoothed copy (constant relief, on a sphere, a cylinder or a
   // plane, gives none).
-  const Eigen::VectorXd base = diffuse(mesh, detail, static_cast<int>(std::ceil(4 * o.detail_scale * o.detail_scale))).col(0);
+  const Eigen::VectorXd base = diffuse(mesh, detail, static_cast<int>(std::ceil(4 * o.detail_scale * o.detail_scale)));
   Eigen::VectorXd variation = (detail - base).cwiseAbs();
   {
     // In units of its own 90th percentile, but not of less than a twentieth of the relief's: a shape
@@ -457,12 +472,12 @@ Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eig
     if (o.importance_adf) {
       p = adf_features(mesh, o);
     } else {
-      p = significant_basins(mesh, height_over_base(mesh, o.smoothing_scale), o.significance, o.merge_pass);
+      p = significant_basins(mesh, height_over(mesh, smoothed[3], R), o.significance, o.merge_pass);
       p = drop_large_regions(mesh, p, o.max_extent);
     }
     f = f.cwiseMax(p);
   }
-  f = diffuse(mesh, f, o.importance_smoothing).col(0).cwiseMax(0.0).cwiseMin(1.0);
+  f = diffuse(mesh, f, o.importance_smoothing).cwiseMax(0.0).cwiseMin(1.0);
   for (int i = 0; i < n; ++i)
     if (mesh.is_isolated(mesh.vertex_handle(i))) f[i] = 0;
   if (raw_out) *raw_out = std::move(raw);

@@ -94,6 +94,26 @@ class ConstrainedSystem {
   SpdSolver solver_;
 };
 
+// The mean edge length of each vertex's connected component (\p fallback for isolated vertices).
+Eigen::VectorXd component_edge_lengths(const Mesh& mesh, double fallback) {
+  int nc = 0;
+  const Eigen::VectorXi comp = connected_components(mesh, &nc);
+  std::vector<double> length(std::max(nc, 1), 0.0);
+  std::vector<int> count(std::max(nc, 1), 0);
+  for (auto e : mesh.edges()) {
+    const int c = comp[e.v0().idx()];
+    if (c < 0) continue;
+    length[c] += mesh.calc_edge_length(e);
+    ++count[c];
+  }
+  Eigen::VectorXd hc(mesh.n_vertices());
+  for (Eigen::Index v = 0; v < hc.size(); ++v) {
+    const int c = comp[v];
+    hc[v] = c >= 0 && count[c] > 0 ? length[c] / count[c] : fallback;
+  }
+  return hc;
+}
+
 }  // namespace
 
 void rescale_like(const Mesh& reference, Mesh& mesh) {
@@ -118,21 +138,8 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
   // diag(λ) C stays symmetric.
   Eigen::VectorXd lambda_v = Eigen::VectorXd::Constant(mesh.n_vertices(), opt.lambda);
   if (opt.laplacian == LaplacianType::Cotangent) {
-    int nc = 0;
-    const Eigen::VectorXi comp = connected_components(mesh, &nc);
-    std::vector<double> length(std::max(nc, 1), 0.0);
-    std::vector<int> count(std::max(nc, 1), 0);
-    for (auto e : mesh.edges()) {
-      const int c = comp[e.v0().idx()];
-      if (c < 0) continue;
-      length[c] += mesh.calc_edge_length(e);
-      ++count[c];
-    }
-    for (Eigen::Index v = 0; v < lambda_v.size(); ++v) {
-      const int c = comp[v];
-      const double hc = c >= 0 && count[c] > 0 ? length[c] / count[c] : h;
-      lambda_v[v] = opt.lambda * hc * hc;
-    }
+    const Eigen::VectorXd hc = component_edge_lengths(mesh, h);
+    for (Eigen::Index v = 0; v < lambda_v.size(); ++v) lambda_v[v] = opt.lambda * hc[v] * hc[v];
   }
   const double lambda = opt.lambda;  // the umbrella step (dimensionless)
 
@@ -196,6 +203,33 @@ MatrixX3d smooth(const Mesh& input, const SmoothingOptions& opt) {
     if (opt.stop_tolerance > 0 && (X - X_before).rowwise().norm().maxCoeff() < opt.stop_tolerance * h) break;
   }
   return X;
+}
+
+std::vector<MatrixX3d> implicit_cotan_steps(const Mesh& mesh, const std::vector<double>& lambdas, MassType mass,
+                                            bool fix_boundary) {
+  require_valid(mesh, "smooth: input mesh");
+  for (double l : lambdas)
+    if (!(l >= 0 && l <= 1e9)) throw InvalidInput(fmt::format("smoothing step {} outside [0, 1e9]", l));
+  const MatrixX3d X = positions(mesh);
+  std::vector<char> fixed(mesh.n_vertices(), 0);
+  for (auto v : mesh.vertices())
+    if ((fix_boundary && mesh.is_boundary(v)) || mesh.is_isolated(v)) fixed[v.idx()] = 1;
+  ConstrainedSystem system(fixed);
+  if (system.n_free() == 0) return std::vector<MatrixX3d>(lambdas.size(), X);
+  const Eigen::VectorXd hc = component_edge_lengths(mesh, mean_edge_length(mesh));
+  const SparseMatrix C = cotan_matrix(mesh);
+  const Eigen::VectorXd m = mass_diagonal(mesh, mass);
+  const MatrixX3d MX = m.asDiagonal() * X;
+  std::vector<MatrixX3d> out;
+  for (double lambda : lambdas) {
+    Eigen::VectorXd lambda_v(hc.size());
+    for (Eigen::Index v = 0; v < hc.size(); ++v) lambda_v[v] = lambda * hc[v] * hc[v];
+    // (M − λC) X' = M X (Eq. 5.14 times M); the analysis of the first λ serves every other.
+    system.factorize(SparseMatrix(m.asDiagonal()) - SparseMatrix(lambda_v.asDiagonal() * C));
+    out.push_back(system.solve(MX, X));
+    if (!out.back().allFinite()) throw SolverError("implicit smoothing step is not finite");
+  }
+  return out;
 }
 
 }  // namespace geotex

@@ -2,6 +2,8 @@
 //! \file smoothing.h Laplacian smoothing (thesis Sec. 5.1.3): explicit (forward Euler, Eq. 5.12–5.13)
 //! and implicit (backward Euler, Eq. 5.14) steps with umbrella or cotangent weights.
 
+#include <vector>
+
 #include "geotex/toolkit/laplace.h"
 #include "geotex/core/progress.h"
 
@@ -34,6 +36,14 @@ struct SmoothingOptions {
 //! Smooth a mesh. \return #V by 3 new positions (vertex order and connectivity unchanged).
 //! \throw InvalidInput for an empty mesh, non-finite coordinates, bad options; SolverError on failure.
 MatrixX3d smooth(const Mesh& mesh, const SmoothingOptions& options = {});
+
+//! One implicit cotangent step (Eq. 5.14, weights of the input) from the input for each step size in
+//! \p lambdas (in squared mean edge lengths of each connected part): the same as smooth() with steps = 1,
+//! cotangent weights and no rescale for each λ, with the cotangent matrix, the mass and the symbolic
+//! analysis computed once for all. \return one #V by 3 position matrix per λ.
+//! \throw InvalidInput for an invalid mesh or a λ outside [0, 1e9]; SolverError on failure.
+std::vector<MatrixX3d> implicit_cotan_steps(const Mesh& mesh, const std::vector<double>& lambdas,
+                                            MassType mass = MassType::Voronoi, bool fix_boundary = true);
 
 //! Restore volume (closed) or area (open) and centroid of \p X to those of \p reference, in place.
 void rescale_like(const Mesh& reference, Mesh& mesh);
