@@ -722,7 +722,9 @@ class Placer {
 // Shrink the displacements \p local (#V by 3 in the frames (F, n × F, n)) around the faces that X + D
 // folds (folded_faces()'s test) and the base X does not, smoothly: each round multiplies them by
 // 1 − 0.25 exp(−d² / ρ²), d the distance from the folded face's centroid (within 2ρ), until none folds (at
-// most 40 rounds; a step cut would fold the surface at its rim). \return the vertices shrunk by over 1 %.
+// most 40 rounds; a step cut would fold the surface at its rim). ρ is at least the face's mean edge: a
+// dip narrower than the mesh moves one vertex, and the encoded texture folded there (spike plate onto the
+// unrefined cheburashka, ρ a third of an edge). \return the vertices shrunk by over 1 %.
 size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double rho, MatrixX3d& local,
               const ProgressFn& progress) {
   const MatrixX3i Fi = faces(T);
@@ -764,14 +766,16 @@ size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const Matri
       if (!now[f] || base[f]) continue;
       any = true;
       const Vec3 c = (X.row(Fi(f, 0)) + X.row(Fi(f, 1)) + X.row(Fi(f, 2))).transpose() / 3;
+      const double r = std::max(rho, ((X.row(Fi(f, 0)) - X.row(Fi(f, 1))).norm() + (X.row(Fi(f, 1)) - X.row(Fi(f, 2))).norm() +
+                                      (X.row(Fi(f, 2)) - X.row(Fi(f, 0))).norm()) / 3);
       queue.assign({Fi(f, 0), Fi(f, 1), Fi(f, 2)});
       for (int v : queue) seen[v] = visit;
       for (size_t i = 0; i < queue.size(); ++i) {
         const int v = queue[i];
         const double d2 = (X.row(v).transpose() - c).squaredNorm();
-        alpha[v] *= 1 - 0.25 * std::exp(-d2 / (rho * rho));
+        alpha[v] *= 1 - 0.25 * std::exp(-d2 / (r * r));
         for (auto w : T.vv_range(T.vertex_handle(v)))
-          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * rho)
+          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * r)
             seen[w.idx()] = visit, queue.push_back(w.idx());
       }
       ++visit;

@@ -120,9 +120,9 @@ struct SynthesisOptions {
   //! less away from it (a Gaussian dip), until none does.
   bool unfold = true;
   //! The unfolding dip's radius ρ (the dip reaches 2ρ) as a share of the patch radius: about the width of
-  //! one fold (1.2 exemplar edges with the tentacle plate), so that the features around it keep their relief
+  //! one fold (about one exemplar edge with the tentacle plate), so that the features around it keep their relief
   //! (bench/synthesis.md: a quarter shrank 15 % of the vertices by over 1 % with the tentacle plate on a
-  //! sphere, a tenth 4 %).
+  //! sphere, a tenth 4 %); at least the folded face's mean edge.
   double unfold_radius = 0.1;
 
   // Keep-out: where a person would not cover the target by default (each multiplies the growth weight, by
