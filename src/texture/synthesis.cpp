@@ -766,8 +766,9 @@ size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const Matri
       if (!now[f] || base[f]) continue;
       any = true;
       const Vec3 c = (X.row(Fi(f, 0)) + X.row(Fi(f, 1)) + X.row(Fi(f, 2))).transpose() / 3;
-      const double r = std::max(rho, ((X.row(Fi(f, 0)) - X.row(Fi(f, 1))).norm() + (X.row(Fi(f, 1)) - X.row(Fi(f, 2))).norm() +
-                                      (X.row(Fi(f, 2)) - X.row(Fi(f, 0))).norm()) / 3);
+      double edges = 0;  // the face's mean edge: the narrowest dip
+      for (int k = 0; k < 3; ++k) edges += (X.row(Fi(f, k)) - X.row(Fi(f, (k + 1) % 3))).norm() / 3;
+      const double r = std::max(rho, edges);
       queue.assign({Fi(f, 0), Fi(f, 1), Fi(f, 2)});
       for (int v : queue) seen[v] = visit;
       for (size_t i = 0; i < queue.size(); ++i) {
