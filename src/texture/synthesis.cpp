@@ -81,7 +81,9 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "(at most twice)")
       .add("drop_folds", &O::drop_folds,
            "seams=cut: zero the features of a kept placement that still folds faces too (not left to unfold)")
-      .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.7 a round) until none folds")
+      .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.75 a round) until none folds")
+      .add("unfold_radius", &O::unfold_radius,
+           "the unfolding dip's radius (it reaches twice that) as a share of the patch radius", {0, 1, true, false})
       .add("keep_out_crease_angle", &O::keep_out_crease_angle,
            "keep texture off edges sharper than this dihedral angle, faded in to the texture's span away (0: off)",
            angle_deg())
@@ -635,16 +637,19 @@ class Placer {
  public:
   Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach,
          const SynthesisOptions& o, SynthesisResult& res)
-      : T_(T), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach) {
+      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach) {
     if (o.seams != SeamMethod::Cut) return;
     if (o.fold_tries > 1) folds_ = std::make_unique<FoldCheck>(T, X, N, F);
     if (o.avoid_crossings) crossings_ = std::make_unique<CrossingCheck>(T, X, N, F, reach);
   }
 
+  //! \p rp: the patch's radius (for the part of a dropped feature outside the patch).
   template <class Read>
   void place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order, Read read,
-             int patch, Canvas& cv) {
+             int patch, double rp, Canvas& cv) {
     for (size_t s = 0; s < m.vertices.size(); ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
+    centre_ = m.vertices[0];
+    drop_reach_ = rp + reach_;
     if (crossings_) crossings_->near(m, cv);
     before_.reset();
     Paste best;
@@ -688,15 +693,25 @@ class Placer {
     std::set_difference(after.begin(), after.end(), before_->begin(), before_->end(), std::back_inserter(out));
     return out;
   }
+  // The whole feature is zeroed, also its part outside the patch (written, within the patch radius plus the
+  // largest displacement of the centre): cut at the patch's rim, what is left of it stands as a wall that
+  // folds (tentacle plate onto a coarse sphere: 66 of 95 folded faces were next to a dropped vertex, 9 of 28
+  // when whole features are dropped; bench/synthesis.md).
   size_t drop(const std::vector<int>& faces, double tau, Canvas& cv) {
     if (mark_.empty()) mark_.assign(cv.has.size(), 0);
-    return zero_features(T_, Fi_, faces, tau, o_.feather, [&](int v) { return cv.slot[v] >= 0; }, cv.cur, mark_);
+    const Vec3 c = X_.row(centre_).transpose();
+    auto in = [&](int v) {
+      return cv.slot[v] >= 0 || (cv.has[v] && (X_.row(v).transpose() - c).squaredNorm() < drop_reach_ * drop_reach_);
+    };
+    return zero_features(T_, Fi_, faces, tau, o_.feather, in, cv.cur, mark_);
   }
   const Mesh& T_;
+  const MatrixX3d& X_;
   MatrixX3i Fi_;
   const SynthesisOptions& o_;
   SynthesisResult& res_;
-  double tau_;
+  double tau_, reach_, drop_reach_ = 0;
+  int centre_ = 0;
   std::unique_ptr<FoldCheck> folds_;
   std::unique_ptr<CrossingCheck> crossings_;
   std::optional<std::vector<int>> before_;
@@ -707,7 +722,9 @@ class Placer {
 // Shrink the displacements \p local (#V by 3 in the frames (F, n × F, n)) around the faces that X + D
 // folds (folded_faces()'s test) and the base X does not, smoothly: each round multiplies them by
 // 1 − 0.25 exp(−d² / ρ²), d the distance from the folded face's centroid (within 2ρ), until none folds (at
-// most 40 rounds; a step cut would fold the surface at its rim). \return the vertices shrunk by over 1 %.
+// most 40 rounds; a step cut would fold the surface at its rim). ρ is at least the face's mean edge: a
+// dip narrower than the mesh moves one vertex, and the encoded texture folded there (spike plate onto the
+// unrefined cheburashka, ρ a third of an edge). \return the vertices shrunk by over 1 %.
 size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double rho, MatrixX3d& local,
               const ProgressFn& progress) {
   const MatrixX3i Fi = faces(T);
@@ -749,14 +766,17 @@ size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const Matri
       if (!now[f] || base[f]) continue;
       any = true;
       const Vec3 c = (X.row(Fi(f, 0)) + X.row(Fi(f, 1)) + X.row(Fi(f, 2))).transpose() / 3;
+      double edges = 0;  // the face's mean edge: the narrowest dip
+      for (int k = 0; k < 3; ++k) edges += (X.row(Fi(f, k)) - X.row(Fi(f, (k + 1) % 3))).norm() / 3;
+      const double r = std::max(rho, edges);
       queue.assign({Fi(f, 0), Fi(f, 1), Fi(f, 2)});
       for (int v : queue) seen[v] = visit;
       for (size_t i = 0; i < queue.size(); ++i) {
         const int v = queue[i];
         const double d2 = (X.row(v).transpose() - c).squaredNorm();
-        alpha[v] *= 1 - 0.25 * std::exp(-d2 / (rho * rho));
+        alpha[v] *= 1 - 0.25 * std::exp(-d2 / (r * r));
         for (auto w : T.vv_range(T.vertex_handle(v)))
-          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * rho)
+          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * r)
             seen[w.idx()] = visit, queue.push_back(w.idx());
       }
       ++visit;
@@ -905,7 +925,7 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
     if (extra.empty() || !o.repair_crossings || round == 2) break;
     res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
                                            [](int) { return true; }, res.local, mark);
-    if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, 0.25 * res.patch_radius, res.local, {});
+    if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, {});
   }
   if (res.repaired_vertices)
     res.warnings.push_back(fmt::format("displacements zeroed at {} vertices where the textured surface still "
@@ -1086,7 +1106,7 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
         res.copied.row(v) = raw.transpose();
       }
     }
-    if (cut) placer.place(m, b, order, read, patch, cv);
+    if (cut) placer.place(m, b, order, read, patch, rp, cv);
     report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
   }
   if (covered < to_cover)
@@ -1186,7 +1206,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   const SynthesisOptions placing = placing_options(o, largest, X, res.warnings);
   place_patches(ex, T, X, N, F, largest, o, placing, res, stage_done);
   if (o.unfold) {
-    res.unfolded_vertices = unfold(T, X, N, F, 0.25 * res.patch_radius, res.local, o.progress);
+    res.unfolded_vertices = unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, o.progress);
     if (res.unfolded_vertices)
       res.warnings.push_back(fmt::format("displacements shrunk at {} vertices where they folded the surface",
                                          res.unfolded_vertices));

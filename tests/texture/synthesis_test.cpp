@@ -320,8 +320,8 @@ TEST(Synthesis, NoSelfIntersectionOnAThinCylinder) {
   EXPECT_EQ(std::count(hit.begin(), hit.end(), 1), 0);
   EXPECT_EQ(r.excess_self_intersecting, 0u);
   const double n = static_cast<double>(r.target.n_vertices());
-  // Dropping and shrinking are the exception: measured 25 % dropped and 15 % shrunk here (bench/synthesis.md;
-  // the issue's target, 5 % shrunk, is not met on so thin a target).
+  // Dropping and shrinking are the exception: measured 25 % dropped and 15 % shrunk here before features
+  // were dropped whole and the unfolding's dips narrowed (bench/synthesis.md, sixth session; not re-measured).
   EXPECT_LT(static_cast<double>(r.dropped_vertices + r.repaired_vertices), 0.4 * n);
   EXPECT_LT(r.shrunk_share, 0.25);
   // The same run with placement unchecked crosses itself: the test can fail.
@@ -330,6 +330,33 @@ TEST(Synthesis, NoSelfIntersectionOnAThinCylinder) {
   unchecked.drop_collisions = false;
   unchecked.repair_crossings = false;
   EXPECT_GT(synthesize_texture(e.p.base, e.t, target, unchecked).excess_self_intersecting, 0u);
+}
+
+// Issue 27: tall, leaning tentacles on a sphere are seldom shrunk (the issue's goal: at most 5 % of the
+// vertices shrunk by over 1 %), not by dropping them instead: colliding features are dropped whole, not cut
+// at the patch's rim into walls that fold, and the unfolding's dips are about one fold wide. Before both, the
+// same run shrank 14.3 % and dropped 13.1 % (bench/synthesis.md); measured after: 3.2 % and 9.9 %.
+TEST(Synthesis, TentaclesOnASphereAreSeldomShrunk) {
+  const Tentacles e;
+  const Mesh target = icosphere(3);
+  SynthesisOptions o;
+  o.direction = Vec3(0, 0, 1);
+  o.vertex_budget = 20'000;
+  const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, o);
+  const double n = static_cast<double>(r.target.n_vertices());
+  EXPECT_LT(r.shrunk_share, 0.06);
+  EXPECT_LT(static_cast<double>(r.dropped_vertices + r.repaired_vertices), 0.15 * n);
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
+  Mesh textured = r.target;
+  set_positions(textured, r.textured);
+  EXPECT_LE(folded_faces(textured), folded_faces(r.target));
+  double largest = 0;
+  for (Eigen::Index i = 0; i < r.local.rows(); ++i) largest = std::max(largest, r.local.row(i).norm());
+  size_t kept = 0;
+  for (Eigen::Index i = 0; i < r.local.rows(); ++i) kept += r.local.row(i).norm() > 0.05 * largest;
+  std::cout << fmt::format("[ tentacles on icosphere(3) ] shrunk {:.1f} %, dropped {:.1f} %, displaced {:.1f} %\n",
+                           100 * r.shrunk_share, 100 * (r.dropped_vertices + r.repaired_vertices) / n,
+                           100 * kept / n);
 }
 
 // Issue 27: a run whose estimate is beyond the cap is refused before any work, naming the estimate.

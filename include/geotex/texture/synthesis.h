@@ -35,8 +35,8 @@
 //!     (`fold_tries`) and crosses no more (`avoid_crossings`: self_intersecting_faces() over the written
 //!     faces near the patch, against what is placed and the target); the features of a placement that
 //!     still collides are dropped (`drop_collisions`: zeroed, feathered); what still folds at the end is
-//!     shrunk smoothly (`unfold`, the last resort: Gaussian dips of radius ¼ patch radius around each
-//!     folded face, until none folds).
+//!     shrunk smoothly (`unfold`, the last resort: Gaussian dips of radius `unfold_radius` × the patch
+//!     radius around each folded face, until none folds).
 //!     seams = blend: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a
 //!     patch's centre, 0 at its rim, p = blend_power) — uncorrelated relief averages out, and features
 //!     from two patches cross where they overlap.
@@ -106,8 +106,9 @@ struct SynthesisOptions {
   //! faces than there were; the features of one that still crosses are dropped (drop_collisions).
   bool avoid_crossings = true;
   //! seams = cut: where the placement kept still crosses faces, zero the displacement of the colliding
-  //! features (connected vertices of the patch displaced by over 5 % of the largest displacement,
-  //! feathered).
+  //! features (connected vertices displaced by over 5 % of the largest displacement, feathered: the whole
+  //! feature, also its part outside the patch, within the patch radius plus the largest displacement of
+  //! the patch's centre; a feature cut at the patch's rim leaves a wall that folds).
   bool drop_collisions = true;
   //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
   //! there as drop_collisions does, unfold, and encode again (at most twice).
@@ -115,8 +116,14 @@ struct SynthesisOptions {
   //! seams = cut: drop the features of a kept placement that still folds faces too (rather than leaving
   //! the folds to unfold).
   bool drop_folds = false;
-  //! Shrink the displacements around faces they fold (and not the base), by 0.7 a round, until none does.
+  //! Shrink the displacements around faces they fold (and not the base), by 0.75 a round at the face and
+  //! less away from it (a Gaussian dip), until none does.
   bool unfold = true;
+  //! The unfolding dip's radius ρ (the dip reaches 2ρ) as a share of the patch radius: about the width of
+  //! one fold (about one exemplar edge with the tentacle plate), so that the features around it keep their relief
+  //! (bench/synthesis.md: a quarter shrank 15 % of the vertices by over 1 % with the tentacle plate on a
+  //! sphere, a tenth 4 %); at least the folded face's mean edge.
+  double unfold_radius = 0.1;
 
   // Keep-out: where a person would not cover the target by default (each multiplies the growth weight, by
   // degree; bench/synthesis.md). The texture's feature length (its largest displacement on the target) sets
