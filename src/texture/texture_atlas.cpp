@@ -229,13 +229,15 @@ size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& 
   return skipped;
 }
 
+constexpr double kSnap = 0.01;
+
 // Shrink the displacements \p D (#V by 3) around the faces that X + D folds or makes cross another face
 // (detail::damaged_faces()) and the bare X does not, smoothly: each round multiplies them by
 // 1 − 0.25 exp(−d² / ρ²), d the distance on the bare target from the damaged face's centroid (within 2ρ),
 // about every damaged face (the target's own too, while others are), until none is damaged beyond the
 // target's own (at most 40 rounds; a step cut would fold the surface at its rim, and a dip about a spike's
 // foot lowers the whole spike). \return the vertices shrunk by over 1 %; \p rounds the rounds
-// that found damage.
+// that found damage. A displacement lowered below kSnap of itself is removed (set to 0).
 size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const ProgressFn& progress) {
   const MatrixX3d X = positions(T);
   const MatrixX3i F = faces(T);
@@ -268,6 +270,13 @@ size_t unfold_atlas(const Mesh& T, double rho, MatrixX3d& D, int& rounds, const 
       }
       ++visit;
     }
+    // A displacement lowered below kSnap of itself is removed: where the target's own sheets touch (the
+    // teapot's patches meet along seams of duplicated vertices, which its refinement moves apart by a hair
+    // on each side), two sheets displaced by different amounts cross however small the amounts are (the
+    // crossing depends on their directions only), so geometric dips never end there (teapot: 96 of the 99
+    // faces left beyond its own touched a seam, under displacements of 1e-7 and less; 40 rounds).
+    for (Eigen::Index i = 0; i < alpha.size(); ++i)
+      if (alpha[i] < kSnap) alpha[i] = 0;
     ++rounds;
   }
   report(progress, 1.0, "unfold");
