@@ -6,7 +6,6 @@
 #include <cmath>
 #include <array>
 #include <limits>
-#include <queue>
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
@@ -149,88 +148,6 @@ Eigen::VectorXd HeatGeodesics::distance(const std::vector<int>& sources) const {
     phi[i] = std::isfinite(sh) ? std::max(0.0, phi[i] - sh) : std::numeric_limits<double>::infinity();
   }
   return phi;
-}
-
-LocalHeatGeodesics::LocalHeatGeodesics(const Mesh& mesh, const HeatGeodesicOptions& options, double mean_edge)
-    : mesh_(mesh), options_(options), mean_edge_(mean_edge > 0 ? mean_edge : mean_edge_length(mesh)),
-      path_(mesh.n_vertices(), std::numeric_limits<double>::infinity()), local_(mesh.n_vertices(), -1),
-      face_seen_(mesh.n_faces(), -1) {
-  require_valid(mesh, "geodesic distance: mesh");
-  HeatGeodesicOptions::table().check(options);
-}
-
-std::vector<std::pair<int, double>> LocalHeatGeodesics::reach(int source, double bound) {
-  const int n = static_cast<int>(mesh_.n_vertices());
-  if (source < 0 || source >= n)
-    throw InvalidInput("geodesic distance: source vertex " + std::to_string(source) + " out of range [0, " +
-                       std::to_string(n) + ")");
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
-  std::vector<std::pair<int, double>> out;
-  std::vector<int> touched{source};
-  path_[source] = 0;
-  queue.push({0.0, source});
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > path_[v]) continue;  // a stale entry
-    out.emplace_back(v, d);
-    const auto vh = mesh_.vertex_handle(v);
-    for (auto w : mesh_.vv_range(vh)) {
-      const double nd = d + (mesh_.point(w) - mesh_.point(vh)).norm();
-      if (nd <= bound && nd < path_[w.idx()]) {
-        if (std::isinf(path_[w.idx()])) touched.push_back(w.idx());
-        path_[w.idx()] = nd;
-        queue.push({nd, w.idx()});
-      }
-    }
-  }
-  for (int v : touched) path_[v] = std::numeric_limits<double>::infinity();
-  return out;
-}
-
-int LocalHeatGeodesics::farthest(int source) {
-  const auto r = reach(source, std::numeric_limits<double>::infinity());
-  return r.back().first;  // nearest first: the last is the farthest
-}
-
-LocalHeatGeodesics::Ball LocalHeatGeodesics::distance(int source, double bound) {
-  if (!(bound > 0)) throw InvalidInput("geodesic distance: the neighbourhood's bound must be positive");
-  const auto r = reach(source, bound);
-  Ball b;
-  b.vertices.reserve(r.size());
-  b.path.resize(static_cast<Eigen::Index>(r.size()));
-  MatrixX3d V(r.size(), 3);
-  for (size_t i = 0; i < r.size(); ++i) {
-    local_[r[i].first] = static_cast<int>(i);
-    b.vertices.push_back(r[i].first);
-    b.path[static_cast<Eigen::Index>(i)] = r[i].second;
-    V.row(static_cast<Eigen::Index>(i)) = to_eigen(mesh_.point(mesh_.vertex_handle(r[i].first))).transpose();
-  }
-  ++calls_;
-  std::vector<Eigen::Vector3i> tris;
-  for (int v : b.vertices)
-    for (auto f : mesh_.vf_range(mesh_.vertex_handle(v))) {
-      if (face_seen_[f.idx()] == calls_) continue;
-      face_seen_[f.idx()] = calls_;
-      Eigen::Vector3i t;
-      int k = 0;
-      for (auto w : mesh_.fv_range(f)) t[k++] = local_[w.idx()];
-      if (t.minCoeff() >= 0) tris.push_back(t);
-    }
-  for (int v : b.vertices) local_[v] = -1;
-  MatrixX3i F(tris.size(), 3);
-  for (size_t f = 0; f < tris.size(); ++f) F.row(static_cast<Eigen::Index>(f)) = tris[f].transpose();
-  b.mesh = make_mesh(V, F);  // a pinch where two fans meet at the bound may drop a face there: far from the source
-  b.distance = Eigen::VectorXd::Constant(V.rows(), std::numeric_limits<double>::infinity());
-  if (b.mesh.n_faces() == 0) {
-    b.distance[0] = 0;
-    return b;
-  }
-  HeatGeodesicOptions o = options_;  // the whole mesh's heat time: t = time_factor × mean_edge_²
-  o.time_factor *= std::pow(mean_edge_ / mean_edge_length(b.mesh), 2);
-  b.distance = HeatGeodesics(b.mesh, o).distance(0);
-  return b;
 }
 
 Eigen::VectorXd heat_geodesic_distance(const Mesh& mesh, const std::vector<int>& sources,
