@@ -22,7 +22,10 @@ std::string figure_text(const ResultFieldInfo& field, const nlohmann::json& valu
   else if (value.is_number()) text = fmt::format("{:.3g}", value.get<double>());
   else if (value.is_string()) text = value.get<std::string>();
   else throw std::logic_error("result field " + field.name + " is an array or a record: not said in a caption");
-  if (label == "seconds" && field.unit == "s") return text + " s";  // a field named after its unit: "0.38 s"
+  // A field named after its unit is said as the value and the unit: "seconds 0.38 s" is "0.38 s".
+  static const std::pair<const char*, const char*> kUnitNames[] = {{"s", "seconds"}, {"deg", "degrees"}};
+  for (const auto& [unit, name] : kUnitNames)
+    if (field.unit == unit && label == name) return text + " " + field.unit;
   return label + " " + text + (field.unit.empty() ? "" : " " + field.unit);
 }
 

@@ -212,7 +212,6 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
     }
     std::sort(searches.begin(), searches.end(), [](const Search& x, const Search& y) { return x.key < y.key; });
   }
-  constexpr double kEps = 1e-9;
   // A face found crossed is not tested again (a textured soup of 10^5 needles crosses 98% of its faces,
   // most of them from hundreds of edges; issue 30): the flags are shared, set and read relaxed (a
   // face tested twice by two threads at once is flagged twice, the same). One search in 8 (spread
@@ -235,13 +234,7 @@ std::vector<char> self_intersecting_faces(const MatrixX3d& V, const MatrixX3i& F
         if (a == i || a == j || a == k || b == i || b == j || b == k) return;
         const Vec3 A = V.row(i).transpose(), e1 = (V.row(j) - V.row(i)).transpose(),
                    e2 = (V.row(k) - V.row(i)).transpose();
-        const Vec3 pv = d.cross(e2);
-        const double det = e1.dot(pv);
-        if (!(std::abs(det) > 1e-30)) return;
-        const Vec3 t = p0 - A, qv = t.cross(e1);
-        const double u = t.dot(pv) / det, v = d.dot(qv) / det, w = e2.dot(qv) / det;
-        if (u > kEps && v > kEps && u + v < 1 - kEps && w > kEps && w < 1 - kEps)
-          std::atomic_ref<char>(hit[f]).store(1, std::memory_order_relaxed);
+        if (segment_crosses_triangle(p0, d, A, e1, e2)) std::atomic_ref<char>(hit[f]).store(1, std::memory_order_relaxed);
       };
       for (const FaceGroup& g : groups)
         if (g.hub != a && g.hub != b && g.tree && g.box.intersects(q))

@@ -968,6 +968,38 @@ SparseMatrix similarity_edge_weights(const std::vector<std::array<int, 2>>& edge
   return G;
 }
 
+// The similarity energy's right-hand side without the surface term: the edges' Σ k_ij T_ij (x_i − x_j) +
+// β_ij (c_i − c_j), the boundary's and ε's pull to c_i, and the box's pins to \p target.
+MatrixX3d similarity_rhs(const std::vector<std::array<int, 2>>& edges, const MatrixX3d& X, const MatrixX3d& C,
+                         const std::vector<Eigen::Matrix3d>& T, const Eigen::VectorXd& f,
+                         const std::vector<char>& relaxed, const Eigen::VectorXd& pull,
+                         const std::vector<std::array<int, 2>>& pins, const MatrixX3d& target, double beta,
+                         double relaxed_weight, double pin_weight) {
+  const Eigen::Index n = X.rows();
+  MatrixX3d R = MatrixX3d::Zero(n, 3);
+  for (const auto& [a, b] : edges) {
+    const double fe = 0.5 * (f[a] + f[b]), ke = fe * fe, be = (relaxed[a] || relaxed[b]) ? relaxed_weight : beta;
+    const Vec3 dx = (X.row(a) - X.row(b)).transpose();
+    const Eigen::RowVector3d r =
+        (ke * (0.5 * (T[a] + T[b]) * dx) + be * Vec3((C.row(a) - C.row(b)).transpose())).transpose();
+    R.row(a) += r;
+    R.row(b) -= r;
+  }
+  R += pull.asDiagonal() * C;
+  for (const auto& [v, a] : pins) R(v, a) += pin_weight * target(v, a);
+  return R;
+}
+
+// The isotropic pull of each vertex to c_i: ε, plus the frame weight on the mesh boundary where it is
+// background ((1 − f_i)²).
+Eigen::VectorXd similarity_pull(const std::vector<char>& boundary, const Eigen::VectorXd& f, double eps,
+                                double frame_weight) {
+  Eigen::VectorXd pull(f.size());
+  for (Eigen::Index i = 0; i < f.size(); ++i)
+    pull[i] = eps + (boundary[i] ? frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0);
+  return pull;
+}
+
 // Similarity (see resize.h). Unknowns stacked [x; y; z]. Energy:
 //   Σ_edges k_ij |(x'_i − x'_j) − T_ij (x_i − x_j)|²   k_ij = f_ij², T_i = s_i R_i, T_ij = (T_i + T_j)/2
 // + β Σ_edges |(x'_i − x'_j) − (c_i − c_j)|²            the rest follows the map, weakly
@@ -1014,11 +1046,11 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     std::vector<Triplet> t;
     t.reserve(12 * edges.size() + 12 * n);
     add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, kRelaxed), n);
+    const Eigen::VectorXd pull = similarity_pull(boundary, f, eps, o.frame_weight);
     for (int i = 0; i < n; ++i) {
       const double wi = w * (1 - f[i]);
-      const double bw = boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0;
       for (int d = 0; d < 3; ++d) {
-        t.emplace_back(d * n + i, d * n + i, eps + bw);
+        t.emplace_back(d * n + i, d * n + i, pull[i]);
         for (int e = 0; e < 3; ++e) t.emplace_back(d * n + i, e * n + i, wi * Nrm(i, d) * Nrm(i, e));
       }
     }
@@ -1028,20 +1060,9 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     return A;
   };
   auto solve = [&] {
-    MatrixX3d R = MatrixX3d::Zero(n, 3);
-    for (const auto& [a, b] : edges) {
-      const double fe = 0.5 * (f[a] + f[b]), ke = fe * fe, be = (relaxed[a] || relaxed[b]) ? kRelaxed : beta;
-      const Vec3 dx = (X.row(a) - X.row(b)).transpose();
-      const Eigen::RowVector3d r =
-          (ke * (0.5 * (T[a] + T[b]) * dx) + be * Vec3((C.row(a) - C.row(b)).transpose())).transpose();
-      R.row(a) += r;
-      R.row(b) -= r;
-    }
-    for (int i = 0; i < n; ++i) {
-      const double bw = boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0;
-      R.row(i) += (eps + bw) * C.row(i) + w * (1 - f[i]) * Nrm.row(i).dot(Q.row(i)) * Nrm.row(i);
-    }
-    for (const auto& [v, a] : extremes) R(v, a) += o.frame_weight * target(v, a);
+    MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, similarity_pull(boundary, f, eps, o.frame_weight),
+                                 extremes, target, beta, kRelaxed, o.frame_weight);
+    for (int i = 0; i < n; ++i) R.row(i) += w * (1 - f[i]) * Nrm.row(i).dot(Q.row(i)) * Nrm.row(i);
     return unstack(solver.solve(stack(R)).col(0));
   };
   // The frame's vertices land where the map puts them: their targets are moved by what they miss
@@ -1126,28 +1147,6 @@ class ScalarFactor {
   bool analyzed_ = false;
 };
 
-// The similarity energy's right-hand side without the surface term: the edges' Σ k_ij T_ij (x_i − x_j) +
-// β_ij (c_i − c_j), the boundary's and ε's pull to c_i, and the box's pins to \p target.
-MatrixX3d similarity_rhs(const std::vector<std::array<int, 2>>& edges, const MatrixX3d& X, const MatrixX3d& C,
-                         const std::vector<Eigen::Matrix3d>& T, const Eigen::VectorXd& f,
-                         const std::vector<char>& relaxed, const Eigen::VectorXd& pull,
-                         const std::vector<std::array<int, 2>>& pins, const MatrixX3d& target, double beta,
-                         double relaxed_weight, double pin_weight) {
-  const Eigen::Index n = X.rows();
-  MatrixX3d R = MatrixX3d::Zero(n, 3);
-  for (const auto& [a, b] : edges) {
-    const double fe = 0.5 * (f[a] + f[b]), ke = fe * fe, be = (relaxed[a] || relaxed[b]) ? relaxed_weight : beta;
-    const Vec3 dx = (X.row(a) - X.row(b)).transpose();
-    const Eigen::RowVector3d r =
-        (ke * (0.5 * (T[a] + T[b]) * dx) + be * Vec3((C.row(a) - C.row(b)).transpose())).transpose();
-    R.row(a) += r;
-    R.row(b) -= r;
-  }
-  R += pull.asDiagonal() * C;
-  for (const auto& [v, a] : pins) R(v, a) += pin_weight * target(v, a);
-  return R;
-}
-
 // Similarity with the surface term split off (ResizeOptions::solver = Split): the energy of
 // similarity_resize below, minimized by alternation. w (n_iᵀ(x_i − q_i))² is the least w |x_i − p_i|²
 // over the points p_i of the plane (q_i, n_i); each step solves for x' with the p_i fixed (x, y and z
@@ -1180,12 +1179,10 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   Eigen::VectorXd f = f0;
   MatrixX3d target = C, Nrm = Nc, Q = C, P = C;  // P: each vertex's point on its plane
   std::array<ScalarFactor, 3> factors;
-  Eigen::VectorXd pull(n), hold(n);  // ε + the boundary's weight; the surface term's w (1 − f_i)
+  Eigen::VectorXd pull, hold;  // ε + the boundary's weight; the surface term's w (1 − f_i)
   auto factor = [&] {
-    for (int i = 0; i < n; ++i) {
-      pull[i] = eps + (boundary[i] ? o.frame_weight * (1 - f[i]) * (1 - f[i]) : 0.0);
-      hold[i] = w * (1 - f[i]);
-    }
+    pull = similarity_pull(boundary, f, eps, o.frame_weight);
+    hold = w * (1 - f.array()).matrix();
     const SparseMatrix G = similarity_edge_weights(edges, f, relaxed, beta, kRelaxed);
     for (int a = 0; a < 3; ++a) {
       Eigen::VectorXd d = pull + hold;

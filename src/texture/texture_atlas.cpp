@@ -9,6 +9,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/self_intersections.h"
 #include "geotex/texture/transfer.h"
 #include "seam_cut.h"
 #include "transfer_internal.h"
@@ -232,9 +233,8 @@ size_t place_disks(const Part& part, const HeatGeodesics& geo, const MatrixX3d& 
 constexpr double kSnap = 0.01;
 
 // The faces with an edge that crosses one of the faces \p still at positions \p P (sharing no vertex with
-// it; Möller–Trumbore with self_intersecting_faces()' margins of 1e-9, core/self_intersections.h).
+// it; self_intersecting_faces()' test, segment_crosses_triangle()).
 std::vector<int> crossing_faces(const MatrixX3d& P, const MatrixX3i& F, const std::vector<int>& still) {
-  constexpr double eps = 1e-9;
   std::vector<int> out;
   for (int s : still) {
     const Vec3 A = P.row(F(s, 0)).transpose(), B = P.row(F(s, 1)).transpose(), C = P.row(F(s, 2)).transpose();
@@ -244,11 +244,7 @@ std::vector<int> crossing_faces(const MatrixX3d& P, const MatrixX3i& F, const st
       for (int k = 0; k < 3; ++k) {
         const Vec3 a = P.row(F(g, k)).transpose(), b = P.row(F(g, (k + 1) % 3)).transpose();
         if ((a.cwiseMax(b).array() < lo.array()).any() || (a.cwiseMin(b).array() > hi.array()).any()) continue;
-        const Vec3 d = b - a, p = d.cross(e2), t = a - A, q = t.cross(e1);
-        const double det = e1.dot(p);
-        if (!(std::abs(det) > 1e-30)) continue;
-        const double u = t.dot(p) / det, v = d.dot(q) / det, w = e2.dot(q) / det;
-        if (u > eps && v > eps && u + v < 1 - eps && w > eps && w < 1 - eps) {
+        if (segment_crosses_triangle(a, b - a, A, e1, e2)) {
           out.push_back(static_cast<int>(g));
           break;
         }

@@ -36,11 +36,11 @@ void save(const DemoContext& ctx, const Mesh& base, const MatrixX3d& X, const st
 }
 
 // The spiky sphere's texture re-applied, with its tilt and as a height field alone.
-void round_trip(const DemoContext& ctx, const TexturedShape& s, TextureCodec& codec, const Texture& tex) {
+// \p e: the extraction over the given base, as `texture extract --base` reports it (the figures as it names them).
+void round_trip(const DemoContext& ctx, const TexturedShape& s, TextureCodec& codec, const TextureExtraction& e) {
   nlohmann::json& r = *ctx.report;
   const MatrixX3d X = positions(s.textured);
-  // What `texture extract --base` reports of the same extraction (the figures as it names them).
-  const TextureExtraction e = texture_extraction(s.textured, &s.base);
+  const Texture& tex = e.texture;
   write_texture(ctx.dir / "spiky-texture.ply", s.base, tex);
   save(ctx, s.base, X, "texture-original.ply");
   save(ctx, s.base, codec.apply(height_field_only(tex)), "texture-height-field-only.ply");
@@ -171,8 +171,9 @@ DemoRegistrar texture_step{80, "height-and-tilt texture", [](const DemoContext& 
   const auto t0 = std::chrono::steady_clock::now();
   const TexturedShape s = make_shape("spiky-sphere", ctx.quick ? 0 : 1);
   TextureCodec codec(s.base);
-  const Texture tex = codec.extract(positions(s.textured));
-  round_trip(ctx, s, codec, tex);
+  const TextureExtraction e = texture_extraction(s.textured, &s.base);
+  const Texture& tex = e.texture;
+  round_trip(ctx, s, codec, e);
   edits(ctx, s, codec, tex);
   stretched_base(ctx, s, tex);
   transfer_to_sphere(ctx);
