@@ -31,6 +31,11 @@ const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
            "the share of the light fit's relief kept, area-weighted over the faces read smooth")
       .array("relief", [](const R& r) { return r.relief; },
              "#F: the light fit's relief kept, 0 plain (the mild fit) to 1 (relief above the noise: the light fit)")
+      .add("change_kept_share", [](const R& r) { return r.change_kept_share; },
+           "the share of the change kept by step 6a (coherent change given back), area-weighted")
+      .array("change_kept", [](const R& r) { return r.change_kept; },
+             "#F: the change kept, 1 where it is white like noise, towards 0 where it is coherent beyond it "
+             "(a coarse mesh's own facets)")
       .add("seconds_per_stage", [](const R& r) {
              nlohmann::json j = nlohmann::json::object();
              for (const auto& [stage, sec] : r.seconds) j[stage] = sec;

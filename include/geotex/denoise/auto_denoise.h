@@ -19,6 +19,9 @@
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
 //!     detail keep their shape where a plain sphere is still smoothed fully;
+//!  6a. the smooth reading's change given back where it is spatially coherent beyond the noise
+//!     (coherent_change.h): removed noise is white from vertex to vertex, a coarse mesh's own facets smoothed
+//!     away are not (AutoDenoiseOptions::coherence_weight, AutoDenoiseResult::change_kept);
 //!  6. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
 //!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
 //!  7. faces turned over against their target normals are untangled (their vertices moved to the mean of
@@ -99,6 +102,11 @@ struct AutoDenoiseOptions {
   //! Normal noise (mean edge lengths) at which half of the change is kept: inputs much less noisy are
   //! returned (nearly) as they are.
   double keep_below = 0.02;
+  //! Step 6a, the change given back where it is coherent (coherent_change.h): the part of the change along
+  //! the normals that is spatially coherent beyond the noise (a coarse mesh's own facets, relief) is given
+  //! back in Wiener proportion with this weight κ in the smooth reading; 0 keeps every change (the previous
+  //! release).
+  double coherence_weight = 0.3;
   //! Label edges whose dihedral angle after denoising exceeds this (degrees, Eq. 6.9's φ0 of a final edge
   //! process); auto: 60° on creased surfaces, 75° on smooth ones.
   std::optional<double> label_angle_deg;
@@ -122,6 +130,10 @@ struct AutoDenoiseResult {
   //! to 1 (relief well above the noise: the light fit); see AutoDenoiseOptions::relief_floor.
   Eigen::VectorXd relief;
   double relief_share = 0;             //!< the area-weighted mean of relief over the faces read smooth
+  //! #F: the share of the change kept by step 6a (AutoDenoiseOptions::coherence_weight), 1 where the change
+  //! is white like noise, towards 0 where it is coherent (a coarse mesh's facets smoothed away).
+  Eigen::VectorXd change_kept;
+  double change_kept_share = 1;        //!< the area-weighted mean of change_kept
   std::vector<std::pair<std::string, double>> seconds;  //!< wall time of each stage
 
 };
