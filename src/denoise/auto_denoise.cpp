@@ -444,7 +444,7 @@ void give_back_coherent(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F
   r.change_kept = Eigen::VectorXd::Ones(F.rows());
   CoherentChangeOptions c;
   c.weight = r.resolved.coherence_weight;
-  if (c.weight <= 0) return;
+  if (c.weight <= 0 || cv.minCoeff() >= 1) return;  // off, or every region read creased
   const MatrixX3d change = r.positions - X;
   Eigen::VectorXd g = coherent_change_gain(N, vertex_normals(mesh), change, noise_abs * noise_abs, c);
   for (Eigen::Index v = 0; v < g.size(); ++v) g[v] = 1 - (1 - g[v]) * (1 - std::clamp(cv[v], 0.0, 1.0));
@@ -582,7 +582,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   describe_reading(mesh, F, look, r);
   describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, r);
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
-  give_back_coherent(mesh, X, F, N, cv, *o.sigma / std::sqrt(3.0) * base.unit_length, r);
+  give_back_coherent(mesh, X, F, N, cv, normal_noise * base.unit_length, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
   if (keep < 0.999) {
     r.positions = X + keep * (r.positions - X);
