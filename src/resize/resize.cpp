@@ -1149,8 +1149,8 @@ class ScalarFactor {
 // The split similarity system's three scalar matrices A_a = A_0 + w_F Σ_{pins along a} e_v e_vᵀ (x, y and z
 // differ only in the box's pins). With few pinned vertices, one factor of A_0 serves the three: the
 // pins are added back by the Sherman–Morrison–Woodbury identity, A_a⁻¹ = A_0⁻¹ − Z_a (I + U_aᵀ Z_a)⁻¹ Z_aᵀ,
-// U_a = √w_F E_a, Z_a = A_0⁻¹ U_a (one solve with a column per pinned vertex, a k_a × k_a capacitance
-// matrix per axis): a factorization and a 3-column solve instead of three of each (igea, 25 pins: each
+// U_a = √w_F E_a, Z_a = A_0⁻¹ U_a (one solve with a column per pinned vertex for the three, a k_a × k_a
+// capacitance matrix per axis): a factorization and a 3-column solve instead of three of each (igea, 25 pins: each
 // relaxation round's factorizations from three to one). Many pins (a flat bottom) keep three factors.
 class SplitSystem {
  public:
@@ -1173,16 +1173,23 @@ class SplitSystem {
       factors_[a].factor(G + SparseMatrix(da.asDiagonal()));
     }
     if (!shared_) return;
+    // Z = A_0⁻¹ U for every pinned vertex at once (one multi-column solve), each axis its columns.
     const double u = std::sqrt(pin_weight);
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(vertices.size()));
+    for (size_t k = 0; k < vertices.size(); ++k) U(vertices[k], static_cast<Eigen::Index>(k)) = u;
+    Z_ = vertices.empty() ? Eigen::MatrixXd(n, 0) : factors_[0].solve(U);
     for (int a = 0; a < 3; ++a) {
       rows_[a].clear();
+      columns_[a].clear();
       for (const auto& [v, axis] : pins)
-        if (axis == a) rows_[a].push_back(v);
-      Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(rows_[a].size()));
-      for (size_t k = 0; k < rows_[a].size(); ++k) U(rows_[a][k], static_cast<Eigen::Index>(k)) = u;
-      Z_[a] = rows_[a].empty() ? Eigen::MatrixXd(n, 0) : factors_[0].solve(U);
-      Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(U.cols(), U.cols());
-      for (size_t k = 0; k < rows_[a].size(); ++k) cap.row(static_cast<Eigen::Index>(k)) += u * Z_[a].row(rows_[a][k]);
+        if (axis == a) {
+          rows_[a].push_back(v);
+          columns_[a].push_back(static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin()));
+        }
+      const auto k = static_cast<Eigen::Index>(rows_[a].size());
+      Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(k, k);
+      for (Eigen::Index i = 0; i < k; ++i)
+        for (Eigen::Index j = 0; j < k; ++j) cap(i, j) += u * Z_(rows_[a][i], columns_[a][j]);
       capacitance_[a].compute(0.5 * (cap + cap.transpose()));
     }
   }
@@ -1199,7 +1206,7 @@ class SplitSystem {
       if (rows_[a].empty()) continue;
       Eigen::VectorXd t(static_cast<Eigen::Index>(rows_[a].size()));
       for (size_t k = 0; k < rows_[a].size(); ++k) t[static_cast<Eigen::Index>(k)] = u * Y(rows_[a][k], a);
-      Y.col(a) -= Z_[a] * capacitance_[a].solve(t);
+      Y.col(a) -= Z_(Eigen::all, columns_[a]) * capacitance_[a].solve(t);
     }
     return Y;
   }
@@ -1209,7 +1216,8 @@ class SplitSystem {
   bool shared_ = false;
   double pin_weight_ = 0;
   std::array<std::vector<int>, 3> rows_;         // the vertices pinned along each axis
-  std::array<Eigen::MatrixXd, 3> Z_;             // A_0⁻¹ U_a
+  std::array<std::vector<int>, 3> columns_;      // and their columns of Z_
+  Eigen::MatrixXd Z_;                            // A_0⁻¹ U, a column per pinned vertex: A_0⁻¹ U_a its axis' columns
   std::array<Eigen::LLT<Eigen::MatrixXd>, 3> capacitance_;  // I + U_aᵀ A_0⁻¹ U_a
 };
 
