@@ -1116,7 +1116,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   return out;
 }
 
-// A scalar factor of the split similarity system (one per axis: the box's pins differ). Eigen's simplicial LDLᵀ below
+// A scalar factor of the split similarity system (one for the three axes, or one per axis: see SplitSystem). Eigen's simplicial LDLᵀ below
 // 50k vertices rather than SpdSolver's supernodal CHOLMOD: on the scalar system of a small surface mesh
 // the supernodal factorization spends more time in its OpenMP regions and workspace than in arithmetic
 // (stanford-bunny, 36k vertices: about 0.13 s against 0.09 s CPU); above, the supernodal one is faster.
@@ -1133,9 +1133,8 @@ class ScalarFactor {
     if (simplicial_.info() != Eigen::Success || !(simplicial_.vectorD().minCoeff() > 0))
       throw SolverError(fmt::format("resize: the {0}x{0} split similarity system is not positive definite", A.rows()));
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& R) const {
-    Eigen::VectorXd Y = R.rows() >= kSupernodalVertices ? Eigen::VectorXd(supernodal_.solve(R).col(0))
-                                                        : Eigen::VectorXd(simplicial_.solve(R));
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& R) const {
+    Eigen::MatrixXd Y = R.rows() >= kSupernodalVertices ? supernodal_.solve(R) : Eigen::MatrixXd(simplicial_.solve(R));
     if (!Y.allFinite()) throw SolverError("resize: the split similarity solve is not finite");
     return Y;
   }
@@ -1145,6 +1144,81 @@ class ScalarFactor {
   SpdSolver supernodal_;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> simplicial_;
   bool analyzed_ = false;
+};
+
+// The split similarity system's three scalar matrices A_a = A_0 + w_F Σ_{pins along a} e_v e_vᵀ (x, y and z
+// differ only in the box's pins). With few pinned vertices, one factor of A_0 serves the three: the
+// pins are added back by the Sherman–Morrison–Woodbury identity, A_a⁻¹ = A_0⁻¹ − Z_a (I + U_aᵀ Z_a)⁻¹ Z_aᵀ,
+// U_a = √w_F E_a, Z_a = A_0⁻¹ U_a (one solve with a column per pinned vertex for the three, a k_a × k_a
+// capacitance matrix per axis): a factorization and a 3-column solve instead of three of each (igea, 25 pins: each
+// relaxation round's factorizations from three to one). Many pins (a flat bottom) keep three factors.
+class SplitSystem {
+ public:
+  static constexpr size_t kWoodburyPins = 64;  // pinned vertices up to which one factor serves the three axes
+
+  void factor(const SparseMatrix& G, const Eigen::VectorXd& d, const std::vector<std::array<int, 2>>& pins,
+              double pin_weight) {
+    const int n = static_cast<int>(d.size());
+    std::vector<int> vertices;
+    for (const auto& [v, a] : pins) vertices.push_back(v);
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    shared_ = vertices.size() <= kWoodburyPins;
+    pin_weight_ = pin_weight;
+    for (int a = 0; a < (shared_ ? 1 : 3); ++a) {
+      Eigen::VectorXd da = d;
+      if (!shared_)
+        for (const auto& [v, axis] : pins)
+          if (axis == a) da[v] += pin_weight;
+      factors_[a].factor(G + SparseMatrix(da.asDiagonal()));
+    }
+    if (!shared_) return;
+    // Z = A_0⁻¹ U for every pinned vertex at once (one multi-column solve), each axis its columns.
+    const double u = std::sqrt(pin_weight);
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(vertices.size()));
+    for (size_t k = 0; k < vertices.size(); ++k) U(vertices[k], static_cast<Eigen::Index>(k)) = u;
+    Z_ = vertices.empty() ? Eigen::MatrixXd(n, 0) : factors_[0].solve(U);
+    for (int a = 0; a < 3; ++a) {
+      rows_[a].clear();
+      columns_[a].clear();
+      for (const auto& [v, axis] : pins)
+        if (axis == a) {
+          rows_[a].push_back(v);
+          columns_[a].push_back(static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin()));
+        }
+      const auto k = static_cast<Eigen::Index>(rows_[a].size());
+      Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(k, k);
+      for (Eigen::Index i = 0; i < k; ++i)
+        for (Eigen::Index j = 0; j < k; ++j) cap(i, j) += u * Z_(rows_[a][i], columns_[a][j]);
+      capacitance_[a].compute(0.5 * (cap + cap.transpose()));
+    }
+  }
+  //! \return the columns of A_a⁻¹ R_a, a = x, y, z.
+  MatrixX3d solve(const MatrixX3d& R) const {
+    if (!shared_) {
+      MatrixX3d Y(R.rows(), 3);
+      for (int a = 0; a < 3; ++a) Y.col(a) = factors_[a].solve(R.col(a));
+      return Y;
+    }
+    MatrixX3d Y = factors_[0].solve(R);
+    const double u = std::sqrt(pin_weight_);
+    for (int a = 0; a < 3; ++a) {
+      if (rows_[a].empty()) continue;
+      Eigen::VectorXd t(static_cast<Eigen::Index>(rows_[a].size()));
+      for (size_t k = 0; k < rows_[a].size(); ++k) t[static_cast<Eigen::Index>(k)] = u * Y(rows_[a][k], a);
+      Y.col(a) -= Z_(Eigen::all, columns_[a]) * capacitance_[a].solve(t);
+    }
+    return Y;
+  }
+
+ private:
+  std::array<ScalarFactor, 3> factors_;
+  bool shared_ = false;
+  double pin_weight_ = 0;
+  std::array<std::vector<int>, 3> rows_;         // the vertices pinned along each axis
+  std::array<std::vector<int>, 3> columns_;      // and their columns of Z_
+  Eigen::MatrixXd Z_;                            // A_0⁻¹ U, a column per pinned vertex: A_0⁻¹ U_a its axis' columns
+  std::array<Eigen::LLT<Eigen::MatrixXd>, 3> capacitance_;  // I + U_aᵀ A_0⁻¹ U_a
 };
 
 // Similarity with the surface term split off (ResizeOptions::solver = Split): the energy of
@@ -1178,31 +1252,19 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
     if (mesh.is_boundary(v)) boundary[v.idx()] = 1;
   Eigen::VectorXd f = f0;
   MatrixX3d target = C, Nrm = Nc, Q = C, P = C;  // P: each vertex's point on its plane
-  std::array<ScalarFactor, 3> factors;
+  SplitSystem system;
   Eigen::VectorXd pull, hold;  // ε + the boundary's weight; the surface term's w (1 − f_i)
   auto factor = [&] {
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
-    const SparseMatrix G = similarity_edge_weights(edges, f, relaxed, beta, kRelaxed);
-    for (int a = 0; a < 3; ++a) {
-      Eigen::VectorXd d = pull + hold;
-      for (const auto& [v, axis] : pins)
-        if (axis == a) d[v] += o.frame_weight;
-      std::vector<Triplet> t;
-      t.reserve(n);
-      for (int i = 0; i < n; ++i) t.emplace_back(i, i, d[i]);
-      SparseMatrix D(n, n);
-      D.setFromTriplets(t.begin(), t.end());
-      factors[a].factor(G + D);
-    }
+    system.factor(similarity_edge_weights(edges, f, relaxed, beta, kRelaxed), pull + hold, pins, o.frame_weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
   auto step = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, kRelaxed, o.frame_weight);
     R += hold.asDiagonal() * P;
-    MatrixX3d Y(n, 3);
-    for (int a = 0; a < 3; ++a) Y.col(a) = factors[a].solve(R.col(a));
+    const MatrixX3d Y = system.solve(R);
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
     for (const auto& [v, a] : pins) target(v, a) += C(v, a) - Y(v, a);
     return Y;
