@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -76,6 +77,10 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "what is placed and the target)")
       .add("drop_collisions", &O::drop_collisions,
            "seams=cut: zero (feathered) the features of a kept placement that still crosses faces")
+      .add("feature_spacing", &O::feature_spacing,
+           "seams=cut: placements whose new features root nearer than this share of the exemplar's closest "
+           "feature spacing to placed ones are tried last (0: off)",
+           between(0, 2))
       .add("repair_crossings", &O::repair_crossings,
            "where the textured surface still crosses itself, zero the features there, unfold and encode again "
            "(at most twice)")
@@ -594,20 +599,24 @@ void commit(const ExpMap& m, const std::vector<double>& b, const Paste& p, int p
 
 // Zero the features holding a vertex of \p faces: the vertices where \p in holds, displaced (\p D, #V by
 // 3) by over \p tau, connected to those; then feathered outwards: ring r (1 … feather) keeps
-// r / (feather + 1) of its displacement. \p mark: #V zeros, left so. \return the vertices zeroed.
+// r / (feather + 1) of its displacement. \p mark: #V zeros, left so. \p size (> 0): a feature reaches no
+// farther than this from the face vertex it was found from (base positions \p X), so that features whose
+// footprints touch are not zeroed as one (0: no limit). \return the vertices zeroed.
 template <class In>
 size_t zero_features(const Mesh& T, const MatrixX3i& Fi, const std::vector<int>& faces, double tau, int feather,
-                     In in, MatrixX3d& D, std::vector<char>& mark) {
-  std::vector<int> queue;
-  auto take = [&](int v) {
+                     In in, MatrixX3d& D, std::vector<char>& mark, const MatrixX3d& X, double size) {
+  std::vector<int> queue, from;  // from: the face vertex each was found from
+  auto take = [&](int v, int origin) {
     if (!in(v) || mark[v] || !(D.row(v).norm() > tau)) return;
+    if (size > 0 && (X.row(v) - X.row(origin)).squaredNorm() > size * size) return;
     mark[v] = 1;
     queue.push_back(v);
+    from.push_back(origin);
   };
   for (int f : faces)
-    for (int k = 0; k < 3; ++k) take(Fi(f, k));
+    for (int k = 0; k < 3; ++k) take(Fi(f, k), Fi(f, k));
   for (size_t i = 0; i < queue.size(); ++i)
-    for (auto w : T.vv_range(T.vertex_handle(queue[i]))) take(w.idx());
+    for (auto w : T.vv_range(T.vertex_handle(queue[i]))) take(w.idx(), from[i]);
   const size_t zeroed = queue.size();
   for (int v : queue) D.row(v).setZero();
   std::vector<int> ring = queue, next;
@@ -635,34 +644,40 @@ constexpr double kCrossingReach = 0.5;
 // that remain are dropped again with a lower tau (a quarter, twice: at last the patch's whole relief there).
 class Placer {
  public:
-  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach,
+  //! \p feature_size: how far a feature reaches from any of its points (zero_features(); 0: no limit).
+  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach, double feature_size,
          const SynthesisOptions& o, SynthesisResult& res)
-      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach) {
+      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach), feature_size_(feature_size) {
     if (o.seams != SeamMethod::Cut) return;
     if (o.fold_tries > 1) folds_ = std::make_unique<FoldCheck>(T, X, N, F);
     if (o.avoid_crossings) crossings_ = std::make_unique<CrossingCheck>(T, X, N, F, reach);
   }
 
   //! \p rp: the patch's radius (for the part of a dropped feature outside the patch).
+  //! \return the placement kept (one of \p order).
   template <class Read>
-  void place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order, Read read,
-             int patch, double rp, Canvas& cv) {
+  Eigen::Vector2d place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order,
+                        Read read, int patch, double rp, Canvas& cv) {
     for (size_t s = 0; s < m.vertices.size(); ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
+    slot_ = &cv.slot;
     centre_ = m.vertices[0];
     drop_reach_ = rp + reach_;
     if (crossings_) crossings_->near(m, cv);
     before_.reset();
     Paste best;
+    size_t kept = 0;
     std::pair<size_t, long> fewest{std::numeric_limits<size_t>::max(), 0};
     std::vector<int> best_folds, best_crossed;
     const size_t tries = folds_ || crossings_ ? std::min(order.size(), static_cast<size_t>(o_.fold_tries)) : 1;
     for (size_t i = 0; i < tries && fewest != std::pair<size_t, long>{0, 0}; ++i) {
       Paste p = cut_paste(T_, m, b, [&](size_t s, Vec3* raw) { return read(order[i], s, raw); }, cv, o_.feather);
+      if (feature_size_ > 0 && !std::getenv("S4_NOTRIM")) trim_rim_features(m, b, p);  // EXPERIMENT toggle
       std::vector<int> folded;
       const long added = folds_ ? std::max(0L, folds_->added(m, b, p, cv, &folded)) : 0;
       std::vector<int> crossed = crossings_ ? new_crossings(m, b, &p, cv) : std::vector<int>();
       const std::pair<size_t, long> key{crossed.size(), added};
-      if (key < fewest) fewest = key, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
+      if (key < fewest)
+        fewest = key, kept = i, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
       if (i == 0 && key != std::pair<size_t, long>{0, 0} && tries > 1) retrying_ = true;
     }
     const bool dropping = o_.drop_collisions && (fewest.first > 0 || (o_.drop_folds && fewest.second > 0));
@@ -681,9 +696,33 @@ class Placer {
       }
     }
     for (int v : m.vertices) cv.slot[v] = -1;
+    return order[kept];
   }
 
  private:
+  // Features the patch would write only in part, cut off at its rim (connected patch vertices taking the
+  // patch's displacement, over tau, one of them within the rim's outer tenth): not written, left to later
+  // patches. A feature torn at the rim leaves its other part to a later patch's cut, which then runs through
+  // its foot, where the two crossed (bench/synthesis.md: all the crossings on a plane were within one foot).
+  void trim_rim_features(const ExpMap& m, const std::vector<double>& b, Paste& p) {
+    const size_t k = m.vertices.size();
+    auto raised = [&](size_t s) { return b[s] > 0 && p.share[s] >= 0.5 && p.value[s].norm() > tau_; };
+    std::vector<char> seen(k, 0);
+    std::vector<size_t> queue;
+    const double rim = 0.9 * res_.patch_radius;
+    for (size_t s0 = 0; s0 < k; ++s0) {
+      if (seen[s0] || !raised(s0) || m.uv[s0].norm() < rim) continue;
+      queue.assign({s0});
+      seen[s0] = 1;
+      for (size_t i = 0; i < queue.size(); ++i)
+        for (auto w : T_.vv_range(T_.vertex_handle(m.vertices[queue[i]]))) {
+          const int t = slot_of(w.idx());
+          if (t >= 0 && !seen[t] && raised(t)) seen[t] = 1, queue.push_back(t);
+        }
+      for (size_t s : queue) p.share[s] = 0;
+    }
+  }
+  int slot_of(int v) const { return slot_ ? (*slot_)[v] : -1; }
   // The faces crossed with \p p (nullptr: now) and not before the patch (its first call computes "before").
   std::vector<int> new_crossings(const ExpMap& m, const std::vector<double>& b, const Paste* p, const Canvas& cv) {
     std::vector<int> after = crossings_->crossed(m, b, p, cv);
@@ -703,18 +742,19 @@ class Placer {
     auto in = [&](int v) {
       return cv.slot[v] >= 0 || (cv.has[v] && (X_.row(v).transpose() - c).squaredNorm() < drop_reach_ * drop_reach_);
     };
-    return zero_features(T_, Fi_, faces, tau, o_.feather, in, cv.cur, mark_);
+    return zero_features(T_, Fi_, faces, tau, o_.feather, in, cv.cur, mark_, X_, feature_size_);
   }
   const Mesh& T_;
   const MatrixX3d& X_;
   MatrixX3i Fi_;
   const SynthesisOptions& o_;
   SynthesisResult& res_;
-  double tau_, reach_, drop_reach_ = 0;
+  double tau_, reach_, feature_size_, drop_reach_ = 0;
   int centre_ = 0;
   std::unique_ptr<FoldCheck> folds_;
   std::unique_ptr<CrossingCheck> crossings_;
   std::optional<std::vector<int>> before_;
+  const std::vector<int>* slot_ = nullptr;
   std::vector<char> mark_;
   bool retrying_ = false;
 };
@@ -900,7 +940,7 @@ void check_inputs(const Mesh& target, const SynthesisOptions& o, const Synthesis
 // repair_crossings is on, the features there are zeroed (zero_features(), above \p tau, then a quarter
 // of it), what that folds unfolded, and the texture encoded again: at most twice.
 void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double tau,
-                      const SynthesisOptions& o, SynthesisResult& res,
+                      double feature_size, const SynthesisOptions& o, SynthesisResult& res,
                       const std::function<void(const char*)>& stage_done) {
   report(o.progress, 0.9, "encode");
   TextureCodec codec(T, o.texture);
@@ -924,7 +964,7 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
       if (hit[f] && !base[f]) extra.push_back(static_cast<int>(f));
     if (extra.empty() || !o.repair_crossings || round == 2) break;
     res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
-                                           [](int) { return true; }, res.local, mark);
+                                           [](int) { return true; }, res.local, mark, X, feature_size);
     if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, {});
   }
   if (res.repaired_vertices)
@@ -933,14 +973,142 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   stage_done("count");
 }
 
+// The exemplar's separate features (placement by feature spacing, issue 27): the connected regions of the
+// raster (4-neighbours, within the unit disk) displaced by over 5 % of its largest displacement, each by the
+// centroid of its footprint (a tentacle's foot; unit-disk coordinates), and the distance between the
+// closest two whose footprints stay off the disk's rim, and the largest radius of those footprints. Relief that is not a set of separate features (a
+// region over a fifth of the disk, or fewer than two inside it) has none.
+struct ExemplarFeatures {
+  std::vector<Eigen::Vector2d> roots;
+  double closest = 0;    // unit-disk length
+  double footprint = 0;  // unit-disk length
+};
+
+ExemplarFeatures exemplar_features(const Exemplar& ex) {
+  const int s = ex.size;
+  double largest = 0;
+  for (const Vec3& d : ex.grid) largest = std::max(largest, d.norm());
+  auto in = [&](int c) { return std::hypot(ex.coord(c % s), ex.coord(c / s)) <= 1; };
+  auto raised = [&](int c) { return in(c) && ex.grid[c].norm() > 0.05 * largest; };
+  size_t disk = 0;
+  for (int c = 0; c < s * s; ++c) disk += in(c);
+  ExemplarFeatures out;
+  std::vector<Eigen::Vector2d> inside;  // roots of footprints off the rim
+  std::vector<char> seen(static_cast<size_t>(s) * s, 0);
+  std::vector<int> queue;
+  for (int c0 = 0; c0 < s * s; ++c0) {
+    if (seen[c0] || !raised(c0)) continue;
+    queue.assign({c0});
+    seen[c0] = 1;
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    bool rim = false;
+    auto at = [&](int c) { return Eigen::Vector2d(ex.coord(c % s), ex.coord(c / s)); };
+    for (size_t i = 0; i < queue.size(); ++i) {
+      const int c = queue[i], x = c % s, y = c / s;
+      sum += at(c);
+      rim |= at(c).norm() > 0.95;
+      for (const int w : {x > 0 ? c - 1 : -1, x + 1 < s ? c + 1 : -1, y > 0 ? c - s : -1, y + 1 < s ? c + s : -1})
+        if (w >= 0 && !seen[w] && raised(w)) seen[w] = 1, queue.push_back(w);
+    }
+    if (queue.size() > disk / 5) return {};
+    if (queue.size() < 4) continue;  // a speck
+    out.roots.push_back(sum / static_cast<double>(queue.size()));
+    if (rim) continue;
+    inside.push_back(out.roots.back());
+    for (int c : queue) out.footprint = std::max(out.footprint, (at(c) - out.roots.back()).norm());
+  }
+  if (inside.size() < 2) return {};
+  out.closest = std::numeric_limits<double>::infinity();
+  for (size_t a = 0; a < inside.size(); ++a)
+    for (size_t b = a + 1; b < inside.size(); ++b) out.closest = std::min(out.closest, (inside[a] - inside[b]).norm());
+  return out;
+}
+
+// Placement by feature spacing (a Poisson-disk rule on features, issue 27): the features placed so far are
+// kept by their root vertices (alive while displaced by over tau); a placement's conflicts are its
+// exemplar features rooted in the patch whose root vertex comes nearer than `spacing` to a live placed root
+// (and not onto it: within a quarter of that it is the same feature, copied again). Tall leaning features
+// rooted as close as the exemplar's closest two or closer are what collide: they are tried last.
+class FeatureSpacing {
+ public:
+  FeatureSpacing(const Exemplar& ex, const MatrixX3d& X, double scale, double share, double tau)
+      : X_(X), features_(exemplar_features(ex)), extent_(ex.extent), scale_(scale), tau_(tau),
+        spacing_(share * features_.closest * ex.extent * scale) {}
+  bool on() const { return spacing_ > 0; }
+
+  //! A new patch \p m of radius \p rp: its vertices in a grid over their uv, the live roots near it.
+  void begin(const ExpMap& m, double rp, const Canvas& cv) {
+    m_ = &m;
+    rp_ = rp;
+    cell_.assign(kCells * kCells + 1, 0);
+    std::vector<int> key(m.vertices.size());
+    for (size_t s = 0; s < m.vertices.size(); ++s) key[s] = cell(m.uv[s]), ++cell_[key[s] + 1];
+    for (size_t c = 1; c < cell_.size(); ++c) cell_[c] += cell_[c - 1];
+    slots_.resize(m.vertices.size());
+    std::vector<int> fill(cell_.begin(), cell_.end() - 1);
+    for (size_t s = 0; s < m.vertices.size(); ++s) slots_[fill[key[s]]++] = static_cast<int>(s);
+    near_.clear();
+    const Vec3 c = X_.row(m.vertices[0]).transpose();
+    const double r = rp + spacing_;
+    for (int v : roots_)
+      if (alive(v, cv) && (X_.row(v).transpose() - c).squaredNorm() < r * r) near_.push_back(v);
+  }
+  //! Conflicts of placement \p t (exemplar units).
+  int conflicts(const Eigen::Vector2d& t) const {
+    int count = 0;
+    for (const Eigen::Vector2d& z : features_.roots) {
+      const int v = root_at(z, t);
+      if (v < 0) continue;
+      for (int q : near_) {
+        const double d = (X_.row(q) - X_.row(v)).norm();
+        count += d < spacing_ && d >= 0.25 * spacing_;
+      }
+    }
+    return count;
+  }
+  //! Register the features placement \p t left at vertices that \p patch owns, displaced.
+  void commit(const Eigen::Vector2d& t, int patch, const Canvas& cv) {
+    for (const Eigen::Vector2d& z : features_.roots)
+      if (const int v = root_at(z, t); v >= 0 && (*cv.owner)[v] == patch && alive(v, cv)) roots_.push_back(v);
+  }
+
+ private:
+  static constexpr int kCells = 16;
+  int cell(const Eigen::Vector2d& uv) const {
+    auto i = [&](double x) { return std::clamp(static_cast<int>((x / rp_ + 1) * 0.5 * kCells), 0, kCells - 1); };
+    return i(uv.y()) * kCells + i(uv.x());
+  }
+  bool alive(int v, const Canvas& cv) const { return cv.has[v] && cv.cur.row(v).norm() > tau_; }
+  // The patch vertex nearest to where exemplar point \p z lands with placement \p t (−1: outside the patch).
+  int root_at(const Eigen::Vector2d& z, const Eigen::Vector2d& t) const {
+    const Eigen::Vector2d uv = (z * extent_ - t) * scale_;
+    if (uv.norm() >= rp_) return -1;
+    const int c = cell(uv), cx = c % kCells, cy = c / kCells;
+    int best = -1;
+    double d2 = std::numeric_limits<double>::infinity();
+    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, kCells - 1); ++y)
+      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, kCells - 1); ++x)
+        for (int k = cell_[y * kCells + x]; k < cell_[y * kCells + x + 1]; ++k)
+          if (const double e = (m_->uv[slots_[k]] - uv).squaredNorm(); e < d2) d2 = e, best = slots_[k];
+    return best < 0 ? -1 : m_->vertices[best];
+  }
+  const MatrixX3d& X_;
+  ExemplarFeatures features_;
+  double extent_, scale_, tau_, spacing_, rp_ = 0;
+  const ExpMap* m_ = nullptr;
+  std::vector<int> cell_, slots_, near_, roots_;
+};
+
 // The placement of a patch that overlaps what is written: o.candidates random placements (\p t the
 // first), \p t set to one of those whose overlap matches within o.match_tolerance of the best, \p order
 // to it and then the others, best first (cut: the placements to try against folds). \p overlap: the
 // patch vertices with a weight \p b that are written (a seeded subsample of o.match_samples is kept).
+// \p conflicts (optional: FeatureSpacing): placements with fewer come first, the cost decides among equals.
 template <class Read, class OldAt, class RandomPlacement>
 void choose_placement(std::vector<size_t>& overlap, const std::vector<double>& b, const ExpMap& m,
                       const SynthesisOptions& o, Rng& rng, const Read& read, const OldAt& old_at,
-                      const RandomPlacement& random_placement, Eigen::Vector2d& t,
+                      const RandomPlacement& random_placement,
+                      const std::function<int(const Eigen::Vector2d&)>& conflicts, Eigen::Vector2d& t,
                       std::vector<Eigen::Vector2d>& order) {
   if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
     for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
@@ -963,17 +1131,24 @@ void choose_placement(std::vector<size_t>& overlap, const std::vector<double>& b
     }
     cost[q] = energy > 0 ? cost[q] / energy : 0.0;
   }
-  const double best = *std::min_element(cost.begin(), cost.end());
+  std::vector<int> clash(o.candidates, 0);
+  if (conflicts)
+    for (int q = 0; q < o.candidates; ++q) clash[q] = conflicts(ts[q]);
+  const int fewest = *std::min_element(clash.begin(), clash.end());
+  double best = std::numeric_limits<double>::infinity();
+  for (int q = 0; q < o.candidates; ++q)
+    if (clash[q] == fewest) best = std::min(best, cost[q]);
   std::vector<int> good;
   for (int q = 0; q < o.candidates; ++q)
-    if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
+    if (clash[q] == fewest && cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
   if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
   const int pick = good[rng.below(good.size())];
   t = ts[pick];
-  std::vector<int> rest;  // then the others, best first
+  std::vector<int> rest;  // then the others, fewest conflicts and best first
   for (int q = 0; q < o.candidates; ++q)
     if (q != pick) rest.push_back(q);
-  std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
+  std::stable_sort(rest.begin(), rest.end(),
+                   [&](int a, int b) { return std::pair(clash[a], cost[a]) < std::pair(clash[b], cost[b]); });
   order = {t};
   for (int q : rest) order.push_back(ts[q]);
 }
@@ -996,11 +1171,63 @@ SynthesisOptions placing_options(const SynthesisOptions& o, double largest, cons
   return placing;
 }
 
+// Patch centres in a growing front: the uncovered vertex nearest to the patches so far (its distance to the
+// nearest centre, with seeded jitter: no fixed order of growth), else one of a part not reached yet; a
+// vertex (of weight ≥ 0.5) is covered once a centre is within `spacing` of it.
+class GrowthFront {
+ public:
+  GrowthFront(const Mesh& T, const Eigen::VectorXd& weight, double spacing, Rng& rng)
+      : n_(T.n_vertices()), spacing_(spacing), rng_(rng), wanted_(n_, 0),
+        dmin_(n_, std::numeric_limits<double>::infinity()), key_(n_, std::numeric_limits<double>::infinity()) {
+    for (size_t i = 0; i < n_; ++i)
+      if (weight[i] >= 0.5 && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) wanted_[i] = 1, ++to_cover;
+    scan_ = rng.below(static_cast<uint64_t>(std::max<size_t>(n_, 1)));  // where a new component starts
+  }
+  //! The next centre (−1: all covered).
+  int next() {
+    while (!front_.empty()) {
+      const auto [k, v] = front_.top();
+      front_.pop();
+      if (k == key_[v] && dmin_[v] > spacing_) return v;
+    }
+    for (size_t c = 0; c < n_; ++c) {  // nothing in the front: a part not reached yet
+      const int v = static_cast<int>((scan_ + c) % n_);
+      if (wanted_[v] && dmin_[v] > spacing_) {
+        scan_ = v;
+        return v;
+      }
+    }
+    return -1;
+  }
+  //! A new patch reaches vertex \p v at distance \p d from its centre.
+  void reach(int v, double d) {
+    if (!(d < dmin_[v])) return;
+    const bool was = dmin_[v] <= spacing_;
+    dmin_[v] = d;
+    if (wanted_[v] && !was && d <= spacing_) ++covered;
+    if (wanted_[v] && d > spacing_) {
+      key_[v] = d * (1 + 0.3 * rng_.uniform());
+      front_.emplace(key_[v], v);
+    }
+  }
+  size_t to_cover = 0, covered = 0;
+
+ private:
+  using Item = std::pair<double, int>;
+  size_t n_;
+  double spacing_;
+  Rng& rng_;
+  std::vector<char> wanted_;
+  std::vector<double> dmin_, key_;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> front_;  // (jittered distance, vertex)
+  size_t scan_ = 0;
+};
+
 // Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
 // and the displacements written, faded by the weights, in res.local. \p largest: how far a displaced
 // point can be from its base point; \p placing: the options placements are made with (placing_options()).
 void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F,
-                   double largest, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
+                   double largest, double feature_size, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
                    const std::function<void(const char*)>& stage_done) {
   const Eigen::Index n = T.n_vertices();
   const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
@@ -1010,10 +1237,9 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   // it, and off the jagged rim of the geodesic disk, where the map turns the frames by a few degrees (a
   // cut copies what it reads there; a blend averaged it away).
   const double reach = 0.95 * ex.extent - rp_ex;
-  const double spacing = o.patch_spacing * rp;
   Rng rng(o.seed);
   ExpMapper expmap(T, X, N);
-  std::vector<double> dmin(n, std::numeric_limits<double>::infinity());
+  GrowthFront front(T, res.weight, o.patch_spacing * rp, rng);
   const bool cut = o.seams == SeamMethod::Cut;
   Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);  // blend
   MatrixX3d sumD = MatrixX3d::Zero(n, 3);                                             // blend
@@ -1021,37 +1247,15 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   res.copied = MatrixX3d::Zero(n, 3);
   Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
             std::vector<int>(n, -1)};
-  Placer placer(T, X, N, F, largest, placing, res);
+  Placer placer(T, X, N, F, largest, feature_size, placing, res);
+  FeatureSpacing spacing(ex, X, res.scale, cut ? o.feature_spacing : 0.0, 0.05 * largest);
+  std::function<int(const Eigen::Vector2d&)> conflicts;
+  if (spacing.on()) conflicts = [&](const Eigen::Vector2d& t) { return spacing.conflicts(t); };
   auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
   };
-  size_t to_cover = 0, covered = 0;
-  std::vector<char> wanted(n, 0);
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (res.weight[i] >= 0.5 && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) wanted[i] = 1, ++to_cover;
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> front;  // (jittered distance, vertex)
-  std::vector<double> key(n, std::numeric_limits<double>::infinity());
-  size_t scan = rng.below(static_cast<uint64_t>(std::max<Eigen::Index>(n, 1)));  // where a new component starts
-  auto next_center = [&]() -> int {
-    while (!front.empty()) {
-      const auto [k, v] = front.top();
-      front.pop();
-      if (k == key[v] && dmin[v] > spacing) return v;
-    }
-    for (size_t c = 0; c < static_cast<size_t>(n); ++c) {  // nothing in the front: a part not reached yet
-      const int v = static_cast<int>((scan + c) % n);
-      if (wanted[v] && dmin[v] > spacing) {
-        scan = v;
-        return v;
-      }
-    }
-    return -1;
-  };
-
-  std::vector<Vec3> cand;  // per patch vertex: a placement's displacement in the vertex's field frame
-  for (int c = next_center(); c >= 0; c = next_center()) {
+  for (int c = front.next(); c >= 0; c = front.next()) {
     const int patch = static_cast<int>(res.centers.size());
     res.centers.push_back(c);
     const ExpMap m = expmap.map(c, F.row(c).transpose(), rp);
@@ -1080,20 +1284,13 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
     };
     Eigen::Vector2d t = random_placement();
     std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
+    if (spacing.on()) spacing.begin(m, rp, cv);
     if (!overlap.empty() && o.candidates > 1)
-      choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, t, order);
+      choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, conflicts, t, order);
     // Blend the chosen placement in.
     for (size_t s = 0; s < k; ++s) {
       const int v = m.vertices[s];
-      if (m.uv[s].norm() < dmin[v]) {
-        const bool was = dmin[v] <= spacing;
-        dmin[v] = m.uv[s].norm();
-        if (wanted[v] && !was && dmin[v] <= spacing) ++covered;
-        if (wanted[v] && dmin[v] > spacing) {
-          key[v] = dmin[v] * (1 + 0.3 * rng.uniform());  // seeded jitter: no fixed order of growth
-          front.emplace(key[v], v);
-        }
-      }
+      front.reach(v, m.uv[s].norm());
       if (cut || !(b[s] > 0)) continue;
       Vec3 raw;
       const Vec3 d = read(t, s, &raw);
@@ -1106,13 +1303,16 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
         res.copied.row(v) = raw.transpose();
       }
     }
-    if (cut) placer.place(m, b, order, read, patch, rp, cv);
-    report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
+    if (cut) {
+      const Eigen::Vector2d kept = placer.place(m, b, order, read, patch, rp, cv);
+      if (spacing.on()) spacing.commit(kept, patch, cv);
+    }
+    report(o.progress, 0.25 + 0.6 * (front.to_cover ? double(front.covered) / front.to_cover : 1.0), "patches");
   }
-  if (covered < to_cover)
+  if (front.covered < front.to_cover)
     res.warnings.push_back(fmt::format("{} of {} vertices were not reached by any patch (disconnected from the "
                                        "rest and too small for a patch?)",
-                                       to_cover - covered, to_cover));
+                                       front.to_cover - front.covered, front.to_cover));
 
   stage_done("patches");
   report(o.progress, 0.85, "unfold");
@@ -1204,7 +1404,10 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
 
   // Patches in a growing front.
   const SynthesisOptions placing = placing_options(o, largest, X, res.warnings);
-  place_patches(ex, T, X, N, F, largest, o, placing, res, stage_done);
+  // How far a feature reaches from any of its points: its footprint's diameter, with a margin (0: not separate
+  // features, no limit).
+  const double feature_size = (std::getenv("S4_SIZE") ? std::atof(std::getenv("S4_SIZE")) : 2.2) * exemplar_features(ex).footprint * ex.extent * res.scale;  // EXPERIMENT
+  place_patches(ex, T, X, N, F, largest, feature_size, o, placing, res, stage_done);
   if (o.unfold) {
     res.unfolded_vertices = unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, o.progress);
     if (res.unfolded_vertices)
@@ -1212,7 +1415,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
                                          res.unfolded_vertices));
   }
   stage_done("unfold");
-  encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);
+  encode_and_count(T, X, N, F, 0.05 * largest, feature_size, placing, res, stage_done);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   report(o.progress, 1, "done");
