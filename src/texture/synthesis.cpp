@@ -77,10 +77,12 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "what is placed and the target)")
       .add("drop_collisions", &O::drop_collisions,
            "seams=cut: zero (feathered) the features of a kept placement that still crosses faces")
-      .add("feature_spacing", &O::feature_spacing,
-           "seams=cut: placements whose new features root nearer than this share of the exemplar's closest "
-           "feature spacing to placed ones are tried last (0: off)",
-           between(0, 2))
+      .add("whole_features", &O::whole_features,
+           "seams=cut: a separate feature a patch would write only in part (cut off at its rim) is left to later "
+           "patches")
+      .add("fill_holes", &O::fill_holes,
+           "seams=cut: after the front, a patch centred wherever a whole feature has room, one of the exemplar's "
+           "features at its centre")
       .add("repair_crossings", &O::repair_crossings,
            "where the textured surface still crosses itself, zero the features there, unfold and encode again "
            "(at most twice)")
@@ -599,24 +601,20 @@ void commit(const ExpMap& m, const std::vector<double>& b, const Paste& p, int p
 
 // Zero the features holding a vertex of \p faces: the vertices where \p in holds, displaced (\p D, #V by
 // 3) by over \p tau, connected to those; then feathered outwards: ring r (1 … feather) keeps
-// r / (feather + 1) of its displacement. \p mark: #V zeros, left so. \p size (> 0): a feature reaches no
-// farther than this from the face vertex it was found from (base positions \p X), so that features whose
-// footprints touch are not zeroed as one (0: no limit). \return the vertices zeroed.
+// r / (feather + 1) of its displacement. \p mark: #V zeros, left so. \return the vertices zeroed.
 template <class In>
 size_t zero_features(const Mesh& T, const MatrixX3i& Fi, const std::vector<int>& faces, double tau, int feather,
-                     In in, MatrixX3d& D, std::vector<char>& mark, const MatrixX3d& X, double size) {
-  std::vector<int> queue, from;  // from: the face vertex each was found from
-  auto take = [&](int v, int origin) {
+                     In in, MatrixX3d& D, std::vector<char>& mark) {
+  std::vector<int> queue;
+  auto take = [&](int v) {
     if (!in(v) || mark[v] || !(D.row(v).norm() > tau)) return;
-    if (size > 0 && (X.row(v) - X.row(origin)).squaredNorm() > size * size) return;
     mark[v] = 1;
     queue.push_back(v);
-    from.push_back(origin);
   };
   for (int f : faces)
-    for (int k = 0; k < 3; ++k) take(Fi(f, k), Fi(f, k));
+    for (int k = 0; k < 3; ++k) take(Fi(f, k));
   for (size_t i = 0; i < queue.size(); ++i)
-    for (auto w : T.vv_range(T.vertex_handle(queue[i]))) take(w.idx(), from[i]);
+    for (auto w : T.vv_range(T.vertex_handle(queue[i]))) take(w.idx());
   const size_t zeroed = queue.size();
   for (int v : queue) D.row(v).setZero();
   std::vector<int> ring = queue, next;
@@ -644,10 +642,10 @@ constexpr double kCrossingReach = 0.5;
 // that remain are dropped again with a lower tau (a quarter, twice: at last the patch's whole relief there).
 class Placer {
  public:
-  //! \p feature_size: how far a feature reaches from any of its points (zero_features(); 0: no limit).
-  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach, double feature_size,
+  //! \p whole: features torn at the patch's rim are not written (trim_rim_features()).
+  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach, bool whole,
          const SynthesisOptions& o, SynthesisResult& res)
-      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach), feature_size_(feature_size) {
+      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach), whole_(whole) {
     if (o.seams != SeamMethod::Cut) return;
     if (o.fold_tries > 1) folds_ = std::make_unique<FoldCheck>(T, X, N, F);
     if (o.avoid_crossings) crossings_ = std::make_unique<CrossingCheck>(T, X, N, F, reach);
@@ -671,7 +669,7 @@ class Placer {
     const size_t tries = folds_ || crossings_ ? std::min(order.size(), static_cast<size_t>(o_.fold_tries)) : 1;
     for (size_t i = 0; i < tries && fewest != std::pair<size_t, long>{0, 0}; ++i) {
       Paste p = cut_paste(T_, m, b, [&](size_t s, Vec3* raw) { return read(order[i], s, raw); }, cv, o_.feather);
-      if (feature_size_ > 0 && !std::getenv("S4_NOTRIM")) trim_rim_features(m, b, p);  // EXPERIMENT toggle
+      if (whole_) trim_rim_features(m, b, p);
       std::vector<int> folded;
       const long added = folds_ ? std::max(0L, folds_->added(m, b, p, cv, &folded)) : 0;
       std::vector<int> crossed = crossings_ ? new_crossings(m, b, &p, cv) : std::vector<int>();
@@ -742,14 +740,15 @@ class Placer {
     auto in = [&](int v) {
       return cv.slot[v] >= 0 || (cv.has[v] && (X_.row(v).transpose() - c).squaredNorm() < drop_reach_ * drop_reach_);
     };
-    return zero_features(T_, Fi_, faces, tau, o_.feather, in, cv.cur, mark_, X_, feature_size_);
+    return zero_features(T_, Fi_, faces, tau, o_.feather, in, cv.cur, mark_);
   }
   const Mesh& T_;
   const MatrixX3d& X_;
   MatrixX3i Fi_;
   const SynthesisOptions& o_;
   SynthesisResult& res_;
-  double tau_, reach_, feature_size_, drop_reach_ = 0;
+  double tau_, reach_, drop_reach_ = 0;
+  bool whole_;
   int centre_ = 0;
   std::unique_ptr<FoldCheck> folds_;
   std::unique_ptr<CrossingCheck> crossings_;
@@ -940,7 +939,7 @@ void check_inputs(const Mesh& target, const SynthesisOptions& o, const Synthesis
 // repair_crossings is on, the features there are zeroed (zero_features(), above \p tau, then a quarter
 // of it), what that folds unfolded, and the texture encoded again: at most twice.
 void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double tau,
-                      double feature_size, const SynthesisOptions& o, SynthesisResult& res,
+                      const SynthesisOptions& o, SynthesisResult& res,
                       const std::function<void(const char*)>& stage_done) {
   report(o.progress, 0.9, "encode");
   TextureCodec codec(T, o.texture);
@@ -964,7 +963,7 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
       if (hit[f] && !base[f]) extra.push_back(static_cast<int>(f));
     if (extra.empty() || !o.repair_crossings || round == 2) break;
     res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
-                                           [](int) { return true; }, res.local, mark, X, feature_size);
+                                           [](int) { return true; }, res.local, mark);
     if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, {});
   }
   if (res.repaired_vertices)
@@ -1024,91 +1023,14 @@ ExemplarFeatures exemplar_features(const Exemplar& ex) {
   return out;
 }
 
-// Placement by feature spacing (a Poisson-disk rule on features, issue 27): the features placed so far are
-// kept by their root vertices (alive while displaced by over tau); a placement's conflicts are its
-// exemplar features rooted in the patch whose root vertex comes nearer than `spacing` to a live placed root
-// (and not onto it: within a quarter of that it is the same feature, copied again). Tall leaning features
-// rooted as close as the exemplar's closest two or closer are what collide: they are tried last.
-class FeatureSpacing {
- public:
-  FeatureSpacing(const Exemplar& ex, const MatrixX3d& X, double scale, double share, double tau)
-      : X_(X), features_(exemplar_features(ex)), extent_(ex.extent), scale_(scale), tau_(tau),
-        spacing_(share * features_.closest * ex.extent * scale) {}
-  bool on() const { return spacing_ > 0; }
-
-  //! A new patch \p m of radius \p rp: its vertices in a grid over their uv, the live roots near it.
-  void begin(const ExpMap& m, double rp, const Canvas& cv) {
-    m_ = &m;
-    rp_ = rp;
-    cell_.assign(kCells * kCells + 1, 0);
-    std::vector<int> key(m.vertices.size());
-    for (size_t s = 0; s < m.vertices.size(); ++s) key[s] = cell(m.uv[s]), ++cell_[key[s] + 1];
-    for (size_t c = 1; c < cell_.size(); ++c) cell_[c] += cell_[c - 1];
-    slots_.resize(m.vertices.size());
-    std::vector<int> fill(cell_.begin(), cell_.end() - 1);
-    for (size_t s = 0; s < m.vertices.size(); ++s) slots_[fill[key[s]]++] = static_cast<int>(s);
-    near_.clear();
-    const Vec3 c = X_.row(m.vertices[0]).transpose();
-    const double r = rp + spacing_;
-    for (int v : roots_)
-      if (alive(v, cv) && (X_.row(v).transpose() - c).squaredNorm() < r * r) near_.push_back(v);
-  }
-  //! Conflicts of placement \p t (exemplar units).
-  int conflicts(const Eigen::Vector2d& t) const {
-    int count = 0;
-    for (const Eigen::Vector2d& z : features_.roots) {
-      const int v = root_at(z, t);
-      if (v < 0) continue;
-      for (int q : near_) {
-        const double d = (X_.row(q) - X_.row(v)).norm();
-        count += d < spacing_ && d >= 0.25 * spacing_;
-      }
-    }
-    return count;
-  }
-  //! Register the features placement \p t left at vertices that \p patch owns, displaced.
-  void commit(const Eigen::Vector2d& t, int patch, const Canvas& cv) {
-    for (const Eigen::Vector2d& z : features_.roots)
-      if (const int v = root_at(z, t); v >= 0 && (*cv.owner)[v] == patch && alive(v, cv)) roots_.push_back(v);
-  }
-
- private:
-  static constexpr int kCells = 16;
-  int cell(const Eigen::Vector2d& uv) const {
-    auto i = [&](double x) { return std::clamp(static_cast<int>((x / rp_ + 1) * 0.5 * kCells), 0, kCells - 1); };
-    return i(uv.y()) * kCells + i(uv.x());
-  }
-  bool alive(int v, const Canvas& cv) const { return cv.has[v] && cv.cur.row(v).norm() > tau_; }
-  // The patch vertex nearest to where exemplar point \p z lands with placement \p t (−1: outside the patch).
-  int root_at(const Eigen::Vector2d& z, const Eigen::Vector2d& t) const {
-    const Eigen::Vector2d uv = (z * extent_ - t) * scale_;
-    if (uv.norm() >= rp_) return -1;
-    const int c = cell(uv), cx = c % kCells, cy = c / kCells;
-    int best = -1;
-    double d2 = std::numeric_limits<double>::infinity();
-    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, kCells - 1); ++y)
-      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, kCells - 1); ++x)
-        for (int k = cell_[y * kCells + x]; k < cell_[y * kCells + x + 1]; ++k)
-          if (const double e = (m_->uv[slots_[k]] - uv).squaredNorm(); e < d2) d2 = e, best = slots_[k];
-    return best < 0 ? -1 : m_->vertices[best];
-  }
-  const MatrixX3d& X_;
-  ExemplarFeatures features_;
-  double extent_, scale_, tau_, spacing_, rp_ = 0;
-  const ExpMap* m_ = nullptr;
-  std::vector<int> cell_, slots_, near_, roots_;
-};
-
 // The placement of a patch that overlaps what is written: o.candidates random placements (\p t the
 // first), \p t set to one of those whose overlap matches within o.match_tolerance of the best, \p order
 // to it and then the others, best first (cut: the placements to try against folds). \p overlap: the
 // patch vertices with a weight \p b that are written (a seeded subsample of o.match_samples is kept).
-// \p conflicts (optional: FeatureSpacing): placements with fewer come first, the cost decides among equals.
 template <class Read, class OldAt, class RandomPlacement>
 void choose_placement(std::vector<size_t>& overlap, const std::vector<double>& b, const ExpMap& m,
                       const SynthesisOptions& o, Rng& rng, const Read& read, const OldAt& old_at,
-                      const RandomPlacement& random_placement,
-                      const std::function<int(const Eigen::Vector2d&)>& conflicts, Eigen::Vector2d& t,
+                      const RandomPlacement& random_placement, Eigen::Vector2d& t,
                       std::vector<Eigen::Vector2d>& order) {
   if (overlap.size() > static_cast<size_t>(o.match_samples)) {  // a seeded subsample
     for (size_t i = 0; i < static_cast<size_t>(o.match_samples); ++i)
@@ -1131,24 +1053,17 @@ void choose_placement(std::vector<size_t>& overlap, const std::vector<double>& b
     }
     cost[q] = energy > 0 ? cost[q] / energy : 0.0;
   }
-  std::vector<int> clash(o.candidates, 0);
-  if (conflicts)
-    for (int q = 0; q < o.candidates; ++q) clash[q] = conflicts(ts[q]);
-  const int fewest = *std::min_element(clash.begin(), clash.end());
-  double best = std::numeric_limits<double>::infinity();
-  for (int q = 0; q < o.candidates; ++q)
-    if (clash[q] == fewest) best = std::min(best, cost[q]);
+  const double best = *std::min_element(cost.begin(), cost.end());
   std::vector<int> good;
   for (int q = 0; q < o.candidates; ++q)
-    if (clash[q] == fewest && cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
+    if (cost[q] <= (1 + o.match_tolerance) * best + 1e-300) good.push_back(q);
   if (good.empty()) good.push_back(0);  // no comparable cost (it overflowed): the first placement
   const int pick = good[rng.below(good.size())];
   t = ts[pick];
-  std::vector<int> rest;  // then the others, fewest conflicts and best first
+  std::vector<int> rest;  // then the others, best first
   for (int q = 0; q < o.candidates; ++q)
     if (q != pick) rest.push_back(q);
-  std::stable_sort(rest.begin(), rest.end(),
-                   [&](int a, int b) { return std::pair(clash[a], cost[a]) < std::pair(clash[b], cost[b]); });
+  std::stable_sort(rest.begin(), rest.end(), [&](int a, int b) { return cost[a] < cost[b]; });
   order = {t};
   for (int q : rest) order.push_back(ts[q]);
 }
@@ -1223,11 +1138,43 @@ class GrowthFront {
   size_t scan_ = 0;
 };
 
+// Where a whole feature has room and none stands (the fill after the front): vertices of weight ≥ 0.5 whose
+// distance along edges to the nearest vertex displaced by over \p tau is at least \p room, the farthest
+// first, none within \p apart of one taken before (a Poisson-disk rule).
+std::vector<int> feature_holes(const Mesh& T, const MatrixX3d& X, const Canvas& cv, const Eigen::VectorXd& weight,
+                               double tau, double room, double apart) {
+  const int n = static_cast<int>(X.rows());
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(n, room);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+  for (int v = 0; v < n; ++v)
+    if (cv.has[v] && cv.cur.row(v).norm() > tau) d[v] = 0, q.emplace(0.0, v);
+  while (!q.empty()) {
+    const auto [dv, v] = q.top();
+    q.pop();
+    if (dv > d[v]) continue;
+    for (auto w : T.vv_range(T.vertex_handle(v)))
+      if (const double dw = dv + (X.row(v) - X.row(w.idx())).norm(); dw < d[w.idx()]) d[w.idx()] = dw, q.emplace(dw, w.idx());
+  }
+  std::vector<int> order;
+  for (int v = 0; v < n; ++v)
+    if (weight[v] >= 0.5 && d[v] >= room && !T.is_isolated(T.vertex_handle(v))) order.push_back(v);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d[a] > d[b]; });
+  std::vector<int> out;
+  for (int v : order) {
+    bool free = true;
+    for (int c : out) free &= (X.row(c) - X.row(v)).squaredNorm() >= apart * apart;
+    if (free) out.push_back(v);
+  }
+  return out;
+}
+
 // Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
 // and the displacements written, faded by the weights, in res.local. \p largest: how far a displaced
 // point can be from its base point; \p placing: the options placements are made with (placing_options()).
+// Then (fill_holes) patches where a whole feature has room, each trying the exemplar's features at its centre.
 void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F,
-                   double largest, double feature_size, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
+                   double largest, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
                    const std::function<void(const char*)>& stage_done) {
   const Eigen::Index n = T.n_vertices();
   const double rp_ex = o.patch_radius * ex.extent;  // patch radius, exemplar units
@@ -1241,21 +1188,20 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   ExpMapper expmap(T, X, N);
   GrowthFront front(T, res.weight, o.patch_spacing * rp, rng);
   const bool cut = o.seams == SeamMethod::Cut;
+  const ExemplarFeatures features = cut ? exemplar_features(ex) : ExemplarFeatures();
   Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);  // blend
   MatrixX3d sumD = MatrixX3d::Zero(n, 3);                                             // blend
   res.owner = Eigen::VectorXi::Constant(n, -1);
   res.copied = MatrixX3d::Zero(n, 3);
   Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
             std::vector<int>(n, -1)};
-  Placer placer(T, X, N, F, largest, feature_size, placing, res);
-  FeatureSpacing spacing(ex, X, res.scale, cut ? o.feature_spacing : 0.0, 0.05 * largest);
-  std::function<int(const Eigen::Vector2d&)> conflicts;
-  if (spacing.on()) conflicts = [&](const Eigen::Vector2d& t) { return spacing.conflicts(t); };
+  Placer placer(T, X, N, F, largest, o.whole_features && features.closest > 0, placing, res);
   auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
   };
-  for (int c = front.next(); c >= 0; c = front.next()) {
+  // One patch at c: its placement chosen against the overlap, or the first of \p given (tried in turn).
+  auto place_at = [&](int c, const std::vector<Eigen::Vector2d>* given) {
     const int patch = static_cast<int>(res.centers.size());
     res.centers.push_back(c);
     const ExpMap m = expmap.map(c, F.row(c).transpose(), rp);
@@ -1266,10 +1212,9 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
     std::vector<double> b(k);
     std::vector<size_t> overlap;
     for (size_t s = 0; s < k; ++s) {
-      const int v = m.vertices[s];
       const double r2 = m.uv[s].squaredNorm() / (rp * rp);
       b[s] = r2 < 1 ? (1 - r2) * (1 - r2) : 0.0;
-      if (b[s] > 0 && written(v)) overlap.push_back(s);
+      if (b[s] > 0 && written(m.vertices[s])) overlap.push_back(s);
     }
     // A placement t (exemplar units): vertex s reads the exemplar at t + uv_s / scale.
     auto read = [&](const Eigen::Vector2d& t, size_t s, Vec3* raw) {
@@ -1282,13 +1227,12 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
       double a = rng.uniform(0, 2 * M_PI), r = reach * std::sqrt(rng.uniform());
       return Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
     };
-    Eigen::Vector2d t = random_placement();
+    Eigen::Vector2d t = given ? given->front() : random_placement();
     std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
-    if (spacing.on()) spacing.begin(m, rp, cv);
-    if (!overlap.empty() && o.candidates > 1)
-      choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, conflicts, t, order);
-    // Blend the chosen placement in.
-    for (size_t s = 0; s < k; ++s) {
+    if (given) order = *given;
+    else if (!overlap.empty() && o.candidates > 1)
+      choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, t, order);
+    for (size_t s = 0; s < k; ++s) {  // blend the chosen placement in
       const int v = m.vertices[s];
       front.reach(v, m.uv[s].norm());
       if (cut || !(b[s] > 0)) continue;
@@ -1297,22 +1241,31 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
       const double w = std::pow(b[s], o.blend_power);
       sumW[v] += w;
       sumD.row(v) += w * d.transpose();
-      if (b[s] > bmax[v]) {
-        bmax[v] = b[s];
-        res.owner[v] = patch;
-        res.copied.row(v) = raw.transpose();
-      }
+      if (b[s] > bmax[v]) bmax[v] = b[s], res.owner[v] = patch, res.copied.row(v) = raw.transpose();
     }
-    if (cut) {
-      const Eigen::Vector2d kept = placer.place(m, b, order, read, patch, rp, cv);
-      if (spacing.on()) spacing.commit(kept, patch, cv);
-    }
+    if (cut) placer.place(m, b, order, read, patch, rp, cv);
+  };
+  for (int c = front.next(); c >= 0; c = front.next()) {
+    place_at(c, nullptr);
     report(o.progress, 0.25 + 0.6 * (front.to_cover ? double(front.covered) / front.to_cover : 1.0), "patches");
   }
   if (front.covered < front.to_cover)
     res.warnings.push_back(fmt::format("{} of {} vertices were not reached by any patch (disconnected from the "
                                        "rest and too small for a patch?)",
                                        front.to_cover - front.covered, front.to_cover));
+  if (o.fill_holes && features.closest > 0) {
+    // The exemplar's features at the patch's centre, the nearest the disk's centre first.
+    std::vector<Eigen::Vector2d> at_centre;
+    for (const Eigen::Vector2d& z : features.roots)
+      if (z.norm() * ex.extent <= reach) at_centre.push_back(z * ex.extent);
+    std::sort(at_centre.begin(), at_centre.end(), [](const auto& a, const auto& b) { return a.norm() < b.norm(); });
+    const double unit = ex.extent * res.scale;  // target length per unit-disk length
+    if (!at_centre.empty())
+      for (int c : feature_holes(T, X, cv, res.weight, 0.05 * largest, (std::getenv("S4_ROOM") ? std::atof(std::getenv("S4_ROOM")) * features.footprint : features.closest - features.footprint) * unit,  // EXPERIMENT
+                                
+                                 features.closest * unit))
+        place_at(c, &at_centre);
+  }
 
   stage_done("patches");
   report(o.progress, 0.85, "unfold");
@@ -1404,10 +1357,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
 
   // Patches in a growing front.
   const SynthesisOptions placing = placing_options(o, largest, X, res.warnings);
-  // How far a feature reaches from any of its points: its footprint's diameter, with a margin (0: not separate
-  // features, no limit).
-  const double feature_size = (std::getenv("S4_SIZE") ? std::atof(std::getenv("S4_SIZE")) : 2.2) * exemplar_features(ex).footprint * ex.extent * res.scale;  // EXPERIMENT
-  place_patches(ex, T, X, N, F, largest, feature_size, o, placing, res, stage_done);
+  place_patches(ex, T, X, N, F, largest, o, placing, res, stage_done);
   if (o.unfold) {
     res.unfolded_vertices = unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, o.progress);
     if (res.unfolded_vertices)
@@ -1415,7 +1365,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
                                          res.unfolded_vertices));
   }
   stage_done("unfold");
-  encode_and_count(T, X, N, F, 0.05 * largest, feature_size, placing, res, stage_done);
+  encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   report(o.progress, 1, "done");

@@ -110,11 +110,15 @@ struct SynthesisOptions {
   //! feature, also its part outside the patch, within the patch radius plus the largest displacement of
   //! the patch's centre; a feature cut at the patch's rim leaves a wall that folds).
   bool drop_collisions = true;
-  //! seams = cut: placement by feature spacing (a Poisson-disk rule on the exemplar's features): a placement
-  //! whose new features (the exemplar's separate displaced regions, by the centre of their footprints) root
-  //! nearer than this share of the exemplar's closest two features to a feature already placed is tried only
-  //! after those that root none so (0: off; relief that is not a set of separate features has none).
-  double feature_spacing = 0.9;
+  //! seams = cut: a separate feature (the exemplar's features are separate displaced regions, as tentacles or
+  //! spikes) that a patch would write only in part, cut off at its rim, is not written: later patches write
+  //! it whole or not at all (a torn feature's other part is left to a later cut through its foot, where the
+  //! two parts crossed: bench/synthesis.md, seventh session).
+  bool whole_features = true;
+  //! seams = cut: after the front, patches centred wherever a whole feature has room (no displaced vertex
+  //! within the exemplar's closest feature spacing less a footprint), one of the exemplar's features at the
+  //! centre (a Poisson-disk fill at the exemplar's feature spacing).
+  bool fill_holes = true;
   //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
   //! there as drop_collisions does, unfold, and encode again (at most twice).
   bool repair_crossings = true;
