@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -77,9 +76,6 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "what is placed and the target)")
       .add("drop_collisions", &O::drop_collisions,
            "seams=cut: zero (feathered) the features of a kept placement that still crosses faces")
-      .add("whole_features", &O::whole_features,
-           "seams=cut: a separate feature a patch would write only in part (cut off at its rim) is left to later "
-           "patches")
       .add("fill_holes", &O::fill_holes,
            "seams=cut: after the front, a patch centred wherever a whole feature has room, one of the exemplar's "
            "features at its centre")
@@ -642,10 +638,9 @@ constexpr double kCrossingReach = 0.5;
 // that remain are dropped again with a lower tau (a quarter, twice: at last the patch's whole relief there).
 class Placer {
  public:
-  //! \p whole: features torn at the patch's rim are not written (trim_rim_features()).
-  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach, bool whole,
+  Placer(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double reach,
          const SynthesisOptions& o, SynthesisResult& res)
-      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach), whole_(whole) {
+      : T_(T), X_(X), Fi_(faces(T)), o_(o), res_(res), tau_(0.05 * reach), reach_(reach) {
     if (o.seams != SeamMethod::Cut) return;
     if (o.fold_tries > 1) folds_ = std::make_unique<FoldCheck>(T, X, N, F);
     if (o.avoid_crossings) crossings_ = std::make_unique<CrossingCheck>(T, X, N, F, reach);
@@ -657,7 +652,6 @@ class Placer {
   Eigen::Vector2d place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order,
                         Read read, int patch, double rp, Canvas& cv) {
     for (size_t s = 0; s < m.vertices.size(); ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
-    slot_ = &cv.slot;
     centre_ = m.vertices[0];
     drop_reach_ = rp + reach_;
     if (crossings_) crossings_->near(m, cv);
@@ -669,7 +663,6 @@ class Placer {
     const size_t tries = folds_ || crossings_ ? std::min(order.size(), static_cast<size_t>(o_.fold_tries)) : 1;
     for (size_t i = 0; i < tries && fewest != std::pair<size_t, long>{0, 0}; ++i) {
       Paste p = cut_paste(T_, m, b, [&](size_t s, Vec3* raw) { return read(order[i], s, raw); }, cv, o_.feather);
-      if (whole_) trim_rim_features(m, b, p);
       std::vector<int> folded;
       const long added = folds_ ? std::max(0L, folds_->added(m, b, p, cv, &folded)) : 0;
       std::vector<int> crossed = crossings_ ? new_crossings(m, b, &p, cv) : std::vector<int>();
@@ -698,29 +691,6 @@ class Placer {
   }
 
  private:
-  // Features the patch would write only in part, cut off at its rim (connected patch vertices taking the
-  // patch's displacement, over tau, one of them within the rim's outer tenth): not written, left to later
-  // patches. A feature torn at the rim leaves its other part to a later patch's cut, which then runs through
-  // its foot, where the two crossed (bench/synthesis.md: all the crossings on a plane were within one foot).
-  void trim_rim_features(const ExpMap& m, const std::vector<double>& b, Paste& p) {
-    const size_t k = m.vertices.size();
-    auto raised = [&](size_t s) { return b[s] > 0 && p.share[s] >= 0.5 && p.value[s].norm() > tau_; };
-    std::vector<char> seen(k, 0);
-    std::vector<size_t> queue;
-    const double rim = 0.9 * res_.patch_radius;
-    for (size_t s0 = 0; s0 < k; ++s0) {
-      if (seen[s0] || !raised(s0) || m.uv[s0].norm() < rim) continue;
-      queue.assign({s0});
-      seen[s0] = 1;
-      for (size_t i = 0; i < queue.size(); ++i)
-        for (auto w : T_.vv_range(T_.vertex_handle(m.vertices[queue[i]]))) {
-          const int t = slot_of(w.idx());
-          if (t >= 0 && !seen[t] && raised(t)) seen[t] = 1, queue.push_back(t);
-        }
-      for (size_t s : queue) p.share[s] = 0;
-    }
-  }
-  int slot_of(int v) const { return slot_ ? (*slot_)[v] : -1; }
   // The faces crossed with \p p (nullptr: now) and not before the patch (its first call computes "before").
   std::vector<int> new_crossings(const ExpMap& m, const std::vector<double>& b, const Paste* p, const Canvas& cv) {
     std::vector<int> after = crossings_->crossed(m, b, p, cv);
@@ -748,12 +718,10 @@ class Placer {
   const SynthesisOptions& o_;
   SynthesisResult& res_;
   double tau_, reach_, drop_reach_ = 0;
-  bool whole_;
   int centre_ = 0;
   std::unique_ptr<FoldCheck> folds_;
   std::unique_ptr<CrossingCheck> crossings_;
   std::optional<std::vector<int>> before_;
-  const std::vector<int>* slot_ = nullptr;
   std::vector<char> mark_;
   bool retrying_ = false;
 };
@@ -972,11 +940,11 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   stage_done("count");
 }
 
-// The exemplar's separate features (placement by feature spacing, issue 27): the connected regions of the
-// raster (4-neighbours, within the unit disk) displaced by over 5 % of its largest displacement, each by the
-// centroid of its footprint (a tentacle's foot; unit-disk coordinates), and the distance between the
-// closest two whose footprints stay off the disk's rim, and the largest radius of those footprints. Relief that is not a set of separate features (a
-// region over a fifth of the disk, or fewer than two inside it) has none.
+// The exemplar's separate features (fill_holes, bare_share; issue 27): the connected regions of the raster
+// (4-neighbours, within the unit disk) displaced by over 5 % of its largest displacement, each by the centroid
+// of its footprint (a tentacle's foot; unit-disk coordinates); the distance between the closest two whose
+// footprints stay off the disk's rim, and the largest radius of those footprints. Relief that is not a set of
+// separate features (a region over a fifth of the disk, or fewer than two inside it) has none.
 struct ExemplarFeatures {
   std::vector<Eigen::Vector2d> roots;
   double closest = 0;    // unit-disk length
@@ -1138,17 +1106,15 @@ class GrowthFront {
   size_t scan_ = 0;
 };
 
-// Where a whole feature has room and none stands (the fill after the front): vertices of weight ≥ 0.5 whose
-// distance along edges to the nearest vertex displaced by over \p tau is at least \p room, the farthest
-// first, none within \p apart of one taken before (a Poisson-disk rule).
-std::vector<int> feature_holes(const Mesh& T, const MatrixX3d& X, const Canvas& cv, const Eigen::VectorXd& weight,
-                               double tau, double room, double apart) {
+// Per vertex the distance along edges to the nearest vertex whose displacement \p D (#V by 3) exceeds \p tau,
+// up to \p limit (beyond: limit).
+Eigen::VectorXd bare_distance(const Mesh& T, const MatrixX3d& X, const MatrixX3d& D, double tau, double limit) {
   const int n = static_cast<int>(X.rows());
-  Eigen::VectorXd d = Eigen::VectorXd::Constant(n, room);
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(n, limit);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
   for (int v = 0; v < n; ++v)
-    if (cv.has[v] && cv.cur.row(v).norm() > tau) d[v] = 0, q.emplace(0.0, v);
+    if (D.row(v).norm() > tau) d[v] = 0, q.emplace(0.0, v);
   while (!q.empty()) {
     const auto [dv, v] = q.top();
     q.pop();
@@ -1156,8 +1122,16 @@ std::vector<int> feature_holes(const Mesh& T, const MatrixX3d& X, const Canvas& 
     for (auto w : T.vv_range(T.vertex_handle(v)))
       if (const double dw = dv + (X.row(v) - X.row(w.idx())).norm(); dw < d[w.idx()]) d[w.idx()] = dw, q.emplace(dw, w.idx());
   }
+  return d;
+}
+
+// Where a whole feature has room and none stands (the fill after the front): vertices of weight ≥ 0.5 whose
+// bare_distance() \p d is at least \p room, the farthest first, none within \p apart of one taken before (a
+// Poisson-disk rule).
+std::vector<int> feature_holes(const Mesh& T, const MatrixX3d& X, const Eigen::VectorXd& d,
+                               const Eigen::VectorXd& weight, double room, double apart) {
   std::vector<int> order;
-  for (int v = 0; v < n; ++v)
+  for (int v = 0; v < static_cast<int>(X.rows()); ++v)
     if (weight[v] >= 0.5 && d[v] >= room && !T.is_isolated(T.vertex_handle(v))) order.push_back(v);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d[a] > d[b]; });
   std::vector<int> out;
@@ -1167,6 +1141,20 @@ std::vector<int> feature_holes(const Mesh& T, const MatrixX3d& X, const Canvas& 
     if (free) out.push_back(v);
   }
   return out;
+}
+
+// The bare share (SynthesisResult::bare_share): the area share of the growth region (weight ≥ 0.5) where a
+// whole feature would fit between the displaced vertices of res.local (0 without separate features).
+double bare_share(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, double largest, const SynthesisResult& res) {
+  const ExemplarFeatures features = exemplar_features(ex);
+  if (!(features.closest > 0)) return 0;
+  const double room = features.footprint * ex.extent * res.scale;
+  const Eigen::VectorXd d = bare_distance(T, X, res.local, 0.05 * largest, room);
+  const Eigen::VectorXd va = vertex_areas(T);
+  double all = 0, bare = 0;
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    if (res.weight[v] >= 0.5) all += va[v], bare += d[v] >= room ? va[v] : 0.0;
+  return all > 0 ? bare / all : 0.0;
 }
 
 // Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
@@ -1195,7 +1183,7 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   res.copied = MatrixX3d::Zero(n, 3);
   Canvas cv{cut ? MatrixX3d::Zero(n, 3) : MatrixX3d(), std::vector<char>(cut ? n : 0, 0), &res.owner, &res.copied,
             std::vector<int>(n, -1)};
-  Placer placer(T, X, N, F, largest, o.whole_features && features.closest > 0, placing, res);
+  Placer placer(T, X, N, F, largest, placing, res);
   auto written = [&](int v) { return cut ? cv.has[v] != 0 : sumW[v] > 0; };
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
@@ -1261,10 +1249,11 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
     std::sort(at_centre.begin(), at_centre.end(), [](const auto& a, const auto& b) { return a.norm() < b.norm(); });
     const double unit = ex.extent * res.scale;  // target length per unit-disk length
     if (!at_centre.empty())
-      for (int c : feature_holes(T, X, cv, res.weight, 0.05 * largest, (std::getenv("S4_ROOM") ? std::atof(std::getenv("S4_ROOM")) * features.footprint : features.closest - features.footprint) * unit,  // EXPERIMENT
-                                
-                                 features.closest * unit))
+      for (int c : feature_holes(T, X, bare_distance(T, X, cv.cur, 0.05 * largest, features.footprint * unit),
+                                 res.weight, features.footprint * unit, features.closest * unit)) {
         place_at(c, &at_centre);
+        ++res.filled_patches;
+      }
   }
 
   stage_done("patches");
@@ -1366,6 +1355,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   }
   stage_done("unfold");
   encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);
+  res.bare_share = bare_share(ex, T, X, largest, res);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   report(o.progress, 1, "done");
