@@ -647,17 +647,16 @@ class Placer {
   }
 
   //! \p rp: the patch's radius (for the part of a dropped feature outside the patch).
-  //! \return the placement kept (one of \p order).
+  //! \p optional: commit nothing unless a placement neither crosses nor folds (a fill). \return whether it did.
   template <class Read>
-  Eigen::Vector2d place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order,
-                        Read read, int patch, double rp, Canvas& cv) {
+  bool place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order, Read read,
+             int patch, double rp, Canvas& cv, bool optional = false) {
     for (size_t s = 0; s < m.vertices.size(); ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
     centre_ = m.vertices[0];
     drop_reach_ = rp + reach_;
     if (crossings_) crossings_->near(m, cv);
     before_.reset();
     Paste best;
-    size_t kept = 0;
     std::pair<size_t, long> fewest{std::numeric_limits<size_t>::max(), 0};
     std::vector<int> best_folds, best_crossed;
     const size_t tries = folds_ || crossings_ ? std::min(order.size(), static_cast<size_t>(o_.fold_tries)) : 1;
@@ -668,8 +667,13 @@ class Placer {
       std::vector<int> crossed = crossings_ ? new_crossings(m, b, &p, cv) : std::vector<int>();
       const std::pair<size_t, long> key{crossed.size(), added};
       if (key < fewest)
-        fewest = key, kept = i, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
+        fewest = key, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
       if (i == 0 && key != std::pair<size_t, long>{0, 0} && tries > 1) retrying_ = true;
+    }
+    if (optional && fewest != std::pair<size_t, long>{0, 0}) {
+      for (int v : m.vertices) cv.slot[v] = -1;
+      retrying_ = false;
+      return false;
     }
     const bool dropping = o_.drop_collisions && (fewest.first > 0 || (o_.drop_folds && fewest.second > 0));
     if (crossings_ && dropping && !before_) before_ = crossings_->crossed(m, b, nullptr, cv);  // for the recheck
@@ -687,7 +691,7 @@ class Placer {
       }
     }
     for (int v : m.vertices) cv.slot[v] = -1;
-    return order[kept];
+    return true;
   }
 
  private:
@@ -1188,7 +1192,8 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
   };
-  // One patch at c: its placement chosen against the overlap, or the first of \p given (tried in turn).
+  // One patch at c: its placement chosen against the overlap, or (a fill) one of \p given that neither
+  // crosses nor folds (tried in turn; none: no patch). \return whether a patch was placed.
   auto place_at = [&](int c, const std::vector<Eigen::Vector2d>* given) {
     const int patch = static_cast<int>(res.centers.size());
     res.centers.push_back(c);
@@ -1231,7 +1236,11 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
       sumD.row(v) += w * d.transpose();
       if (b[s] > bmax[v]) bmax[v] = b[s], res.owner[v] = patch, res.copied.row(v) = raw.transpose();
     }
-    if (cut) placer.place(m, b, order, read, patch, rp, cv);
+    if (cut && !placer.place(m, b, order, read, patch, rp, cv, given != nullptr)) {
+      res.centers.pop_back();
+      return false;
+    }
+    return true;
   };
   for (int c = front.next(); c >= 0; c = front.next()) {
     place_at(c, nullptr);
@@ -1251,8 +1260,7 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
     if (!at_centre.empty())
       for (int c : feature_holes(T, X, bare_distance(T, X, cv.cur, 0.05 * largest, features.footprint * unit),
                                  res.weight, features.footprint * unit, features.closest * unit)) {
-        place_at(c, &at_centre);
-        ++res.filled_patches;
+        res.filled_patches += place_at(c, &at_centre);
       }
   }
 

@@ -36,7 +36,9 @@
 //!     faces near the patch, against what is placed and the target); the features of a placement that
 //!     still collides are dropped (`drop_collisions`: zeroed, feathered); what still folds at the end is
 //!     shrunk smoothly (`unfold`, the last resort: Gaussian dips of radius `unfold_radius` × the patch
-//!     radius around each folded face, until none folds).
+//!     radius around each folded face, until none folds). Then (`fill_holes`) where a whole feature of the
+//!     exemplar has room, patches centred there (a Poisson-disk rule at its closest feature spacing), each
+//!     with one of its features at the centre, kept only if it neither crosses nor folds.
 //!     seams = blend: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a
 //!     patch's centre, 0 at its rim, p = blend_power) — uncorrelated relief averages out, and features
 //!     from two patches cross where they overlap.
