@@ -1257,11 +1257,13 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
       if (z.norm() * ex.extent <= reach) at_centre.push_back(z * ex.extent);
     std::sort(at_centre.begin(), at_centre.end(), [](const auto& a, const auto& b) { return a.norm() < b.norm(); });
     const double unit = ex.extent * res.scale;  // target length per unit-disk length
+    // Room for a feature whose root stays 0.9 of the closest spacing from the others' (their footprints
+    // reach a footprint radius from theirs), and at least its own footprint.
+    const double room = std::max(features.footprint, 0.9 * features.closest - features.footprint) * unit;
     if (!at_centre.empty())
-      for (int c : feature_holes(T, X, bare_distance(T, X, cv.cur, 0.05 * largest, features.footprint * unit),
-                                 res.weight, features.footprint * unit, features.closest * unit)) {
+      for (int c : feature_holes(T, X, bare_distance(T, X, cv.cur, 0.05 * largest, room), res.weight, room,
+                                 features.closest * unit))
         res.filled_patches += place_at(c, &at_centre);
-      }
   }
 
   stage_done("patches");

@@ -282,19 +282,23 @@ TEST(Synthesis, DefaultsOnACoarseSphereEstimateRefineAndCountTheDamage) {
   }
   EXPECT_NEAR(r.refined_share, r.added_vertices / n, 1e-12);
   // Recount the shrunk vertices: the same seed without unfolding places the same patches (and drops the
-  // same features); the recount holds where nothing was zeroed after encoding.
-  EXPECT_EQ(r.repaired_vertices, 0u);
-  SynthesisOptions raw = o;
+  // same features); the recount holds where nothing was zeroed after encoding, so both runs of the recount
+  // leave the repair after encoding out (with the narrower dips of the seventh session it zeroed 727 vertices
+  // here, and re-unfolded).
+  SynthesisOptions kept = o;
+  kept.repair_crossings = false;
+  kept.progress = {};
+  kept.on_estimate = {};
+  const SynthesisResult k = synthesize_texture(e.p.base, e.t, target, kept);
+  EXPECT_EQ(k.repaired_vertices, 0u);
+  SynthesisOptions raw = kept;
   raw.unfold = false;
-  raw.repair_crossings = false;  // the repair after encoding differs between the two
-  raw.progress = {};
-  raw.on_estimate = {};
   const SynthesisResult u = synthesize_texture(e.p.base, e.t, target, raw);
-  ASSERT_EQ(u.local.rows(), r.local.rows());
+  ASSERT_EQ(u.local.rows(), k.local.rows());
   size_t shrunk = 0;
-  for (Eigen::Index i = 0; i < r.local.rows(); ++i) shrunk += r.local.row(i).norm() < 0.99 * u.local.row(i).norm();
-  EXPECT_EQ(shrunk, r.unfolded_vertices);
-  EXPECT_NEAR(r.shrunk_share, shrunk / n, 1e-12);
+  for (Eigen::Index i = 0; i < k.local.rows(); ++i) shrunk += k.local.row(i).norm() < 0.99 * u.local.row(i).norm();
+  EXPECT_EQ(shrunk, k.unfolded_vertices);
+  EXPECT_NEAR(k.shrunk_share, shrunk / n, 1e-12);
   double total = 0;
   for (const auto& [name, sec] : r.stage_seconds) {
     EXPECT_GE(sec, 0.0) << name;
