@@ -113,8 +113,9 @@ struct SynthesisOptions {
   //! the patch's centre; a feature cut at the patch's rim leaves a wall that folds).
   bool drop_collisions = true;
   //! seams = cut: after the front, patches centred wherever a whole feature has room (no displaced vertex
-  //! within the exemplar's closest feature spacing less a footprint), one of the exemplar's features at the
-  //! centre (a Poisson-disk fill at the exemplar's feature spacing).
+  //! within 0.9 × the exemplar's closest feature spacing less its footprint radius, nor within that radius),
+  //! none nearer than that spacing to another, one of the exemplar's features at the centre (a Poisson-disk
+  //! fill at the exemplar's feature spacing), kept only if it neither crosses nor folds.
   bool fill_holes = true;
   //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
   //! there as drop_collisions does, unfold, and encode again (at most twice).
