@@ -23,7 +23,7 @@ run() {  # exemplar target
     --texture-out "$W/${name}_t.ply" --report "$W/$name.json" $SYNTH_ARGS 2>&1 | grep -E "estimate|cpu|error"
   /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print(' '.join(f'{k}={r[k]}' for k in
     ['vertices','added_vertices','estimated_vertices','exemplar_share','self_intersecting','base_self_intersecting',
-     'excess_self_intersecting','shrunk_share','retried_placements','dropped_patches','dropped_vertices','repaired_vertices',
+     'excess_self_intersecting','shrunk_share','retried_placements','dropped_patches','dropped_vertices','repaired_vertices','filled_patches','bare_share',
      'refined_share','kept_out_share','kept_out_creases','kept_out_thin','folded','seconds']))" "$W/$name.json"
   /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
 }

@@ -132,6 +132,10 @@ const ResultTable<SynthesisResult>& synthesis_results() {
       .add("dropped_vertices", [](const R& r) { return r.dropped_vertices; }, "vertices zeroed by dropping")
       .add("repaired_vertices", [](const R& r) { return r.repaired_vertices; },
            "vertices zeroed after encoding, where the textured surface still crossed itself")
+      .add("filled_patches", [](const R& r) { return r.filled_patches; },
+           "patches placed where a whole feature had room after the front (fill_holes)")
+      .add("bare_share", [](const R& r) { return r.bare_share; },
+           "area share of the growth region where a whole feature would fit between the displaced vertices")
       .add("refined_share", [](const R& r) { return r.refined_share; }, "added_vertices / #V")
       .array("weight", [](const R& r) { return r.weight; },
              "#V the growth weight used (the user's times the automatic keep-out)", "", kPythonOnly)

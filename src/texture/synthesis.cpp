@@ -76,6 +76,9 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "what is placed and the target)")
       .add("drop_collisions", &O::drop_collisions,
            "seams=cut: zero (feathered) the features of a kept placement that still crosses faces")
+      .add("fill_holes", &O::fill_holes,
+           "seams=cut: after the front, a patch centred wherever a whole feature has room, one of the exemplar's "
+           "features at its centre")
       .add("repair_crossings", &O::repair_crossings,
            "where the textured surface still crosses itself, zero the features there, unfold and encode again "
            "(at most twice)")
@@ -644,9 +647,10 @@ class Placer {
   }
 
   //! \p rp: the patch's radius (for the part of a dropped feature outside the patch).
+  //! \p optional: commit nothing unless a placement neither crosses nor folds (a fill). \return whether it did.
   template <class Read>
-  void place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order, Read read,
-             int patch, double rp, Canvas& cv) {
+  bool place(const ExpMap& m, const std::vector<double>& b, const std::vector<Eigen::Vector2d>& order, Read read,
+             int patch, double rp, Canvas& cv, bool optional = false) {
     for (size_t s = 0; s < m.vertices.size(); ++s) cv.slot[m.vertices[s]] = static_cast<int>(s);
     centre_ = m.vertices[0];
     drop_reach_ = rp + reach_;
@@ -662,8 +666,14 @@ class Placer {
       const long added = folds_ ? std::max(0L, folds_->added(m, b, p, cv, &folded)) : 0;
       std::vector<int> crossed = crossings_ ? new_crossings(m, b, &p, cv) : std::vector<int>();
       const std::pair<size_t, long> key{crossed.size(), added};
-      if (key < fewest) fewest = key, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
+      if (key < fewest)
+        fewest = key, best = std::move(p), best_folds = std::move(folded), best_crossed = std::move(crossed);
       if (i == 0 && key != std::pair<size_t, long>{0, 0} && tries > 1) retrying_ = true;
+    }
+    if (optional && fewest != std::pair<size_t, long>{0, 0}) {
+      for (int v : m.vertices) cv.slot[v] = -1;
+      retrying_ = false;
+      return false;
     }
     const bool dropping = o_.drop_collisions && (fewest.first > 0 || (o_.drop_folds && fewest.second > 0));
     if (crossings_ && dropping && !before_) before_ = crossings_->crossed(m, b, nullptr, cv);  // for the recheck
@@ -681,6 +691,7 @@ class Placer {
       }
     }
     for (int v : m.vertices) cv.slot[v] = -1;
+    return true;
   }
 
  private:
@@ -933,6 +944,57 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   stage_done("count");
 }
 
+// The exemplar's separate features (fill_holes, bare_share; issue 27): the connected regions of the raster
+// (4-neighbours, within the unit disk) displaced by over 5 % of its largest displacement, each by the centroid
+// of its footprint (a tentacle's foot; unit-disk coordinates); the distance between the closest two whose
+// footprints stay off the disk's rim, and the largest radius of those footprints. Relief that is not a set of
+// separate features (a region over a fifth of the disk, or fewer than two inside it) has none.
+struct ExemplarFeatures {
+  std::vector<Eigen::Vector2d> roots;
+  double closest = 0;    // unit-disk length
+  double footprint = 0;  // unit-disk length
+};
+
+ExemplarFeatures exemplar_features(const Exemplar& ex) {
+  const int s = ex.size;
+  double largest = 0;
+  for (const Vec3& d : ex.grid) largest = std::max(largest, d.norm());
+  auto in = [&](int c) { return std::hypot(ex.coord(c % s), ex.coord(c / s)) <= 1; };
+  auto raised = [&](int c) { return in(c) && ex.grid[c].norm() > 0.05 * largest; };
+  size_t disk = 0;
+  for (int c = 0; c < s * s; ++c) disk += in(c);
+  ExemplarFeatures out;
+  std::vector<Eigen::Vector2d> inside;  // roots of footprints off the rim
+  std::vector<char> seen(static_cast<size_t>(s) * s, 0);
+  std::vector<int> queue;
+  for (int c0 = 0; c0 < s * s; ++c0) {
+    if (seen[c0] || !raised(c0)) continue;
+    queue.assign({c0});
+    seen[c0] = 1;
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    bool rim = false;
+    auto at = [&](int c) { return Eigen::Vector2d(ex.coord(c % s), ex.coord(c / s)); };
+    for (size_t i = 0; i < queue.size(); ++i) {
+      const int c = queue[i], x = c % s, y = c / s;
+      sum += at(c);
+      rim |= at(c).norm() > 0.95;
+      for (const int w : {x > 0 ? c - 1 : -1, x + 1 < s ? c + 1 : -1, y > 0 ? c - s : -1, y + 1 < s ? c + s : -1})
+        if (w >= 0 && !seen[w] && raised(w)) seen[w] = 1, queue.push_back(w);
+    }
+    if (queue.size() > disk / 5) return {};
+    if (queue.size() < 4) continue;  // a speck
+    out.roots.push_back(sum / static_cast<double>(queue.size()));
+    if (rim) continue;
+    inside.push_back(out.roots.back());
+    for (int c : queue) out.footprint = std::max(out.footprint, (at(c) - out.roots.back()).norm());
+  }
+  if (inside.size() < 2) return {};
+  out.closest = std::numeric_limits<double>::infinity();
+  for (size_t a = 0; a < inside.size(); ++a)
+    for (size_t b = a + 1; b < inside.size(); ++b) out.closest = std::min(out.closest, (inside[a] - inside[b]).norm());
+  return out;
+}
+
 // The placement of a patch that overlaps what is written: o.candidates random placements (\p t the
 // first), \p t set to one of those whose overlap matches within o.match_tolerance of the best, \p order
 // to it and then the others, best first (cut: the placements to try against folds). \p overlap: the
@@ -996,9 +1058,113 @@ SynthesisOptions placing_options(const SynthesisOptions& o, double largest, cons
   return placing;
 }
 
+// Patch centres in a growing front: the uncovered vertex nearest to the patches so far (its distance to the
+// nearest centre, with seeded jitter: no fixed order of growth), else one of a part not reached yet; a
+// vertex (of weight ≥ 0.5) is covered once a centre is within `spacing` of it.
+class GrowthFront {
+ public:
+  GrowthFront(const Mesh& T, const Eigen::VectorXd& weight, double spacing, Rng& rng)
+      : n_(T.n_vertices()), spacing_(spacing), rng_(rng), wanted_(n_, 0),
+        dmin_(n_, std::numeric_limits<double>::infinity()), key_(n_, std::numeric_limits<double>::infinity()) {
+    for (size_t i = 0; i < n_; ++i)
+      if (weight[i] >= 0.5 && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) wanted_[i] = 1, ++to_cover;
+    scan_ = rng.below(static_cast<uint64_t>(std::max<size_t>(n_, 1)));  // where a new component starts
+  }
+  //! The next centre (−1: all covered).
+  int next() {
+    while (!front_.empty()) {
+      const auto [k, v] = front_.top();
+      front_.pop();
+      if (k == key_[v] && dmin_[v] > spacing_) return v;
+    }
+    for (size_t c = 0; c < n_; ++c) {  // nothing in the front: a part not reached yet
+      const int v = static_cast<int>((scan_ + c) % n_);
+      if (wanted_[v] && dmin_[v] > spacing_) {
+        scan_ = v;
+        return v;
+      }
+    }
+    return -1;
+  }
+  //! A new patch reaches vertex \p v at distance \p d from its centre.
+  void reach(int v, double d) {
+    if (!(d < dmin_[v])) return;
+    const bool was = dmin_[v] <= spacing_;
+    dmin_[v] = d;
+    if (wanted_[v] && !was && d <= spacing_) ++covered;
+    if (wanted_[v] && d > spacing_) {
+      key_[v] = d * (1 + 0.3 * rng_.uniform());
+      front_.emplace(key_[v], v);
+    }
+  }
+  size_t to_cover = 0, covered = 0;
+
+ private:
+  using Item = std::pair<double, int>;
+  size_t n_;
+  double spacing_;
+  Rng& rng_;
+  std::vector<char> wanted_;
+  std::vector<double> dmin_, key_;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> front_;  // (jittered distance, vertex)
+  size_t scan_ = 0;
+};
+
+// Per vertex the distance along edges to the nearest vertex whose displacement \p D (#V by 3) exceeds \p tau,
+// up to \p limit (beyond: limit).
+Eigen::VectorXd bare_distance(const Mesh& T, const MatrixX3d& X, const MatrixX3d& D, double tau, double limit) {
+  const int n = static_cast<int>(X.rows());
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(n, limit);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+  for (int v = 0; v < n; ++v)
+    if (D.row(v).norm() > tau) d[v] = 0, q.emplace(0.0, v);
+  while (!q.empty()) {
+    const auto [dv, v] = q.top();
+    q.pop();
+    if (dv > d[v]) continue;
+    for (auto w : T.vv_range(T.vertex_handle(v)))
+      if (const double dw = dv + (X.row(v) - X.row(w.idx())).norm(); dw < d[w.idx()]) d[w.idx()] = dw, q.emplace(dw, w.idx());
+  }
+  return d;
+}
+
+// Where a whole feature has room and none stands (the fill after the front): vertices of weight ≥ 0.5 whose
+// bare_distance() \p d is at least \p room, the farthest first, none within \p apart of one taken before (a
+// Poisson-disk rule).
+std::vector<int> feature_holes(const Mesh& T, const MatrixX3d& X, const Eigen::VectorXd& d,
+                               const Eigen::VectorXd& weight, double room, double apart) {
+  std::vector<int> order;
+  for (int v = 0; v < static_cast<int>(X.rows()); ++v)
+    if (weight[v] >= 0.5 && d[v] >= room && !T.is_isolated(T.vertex_handle(v))) order.push_back(v);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d[a] > d[b]; });
+  std::vector<int> out;
+  for (int v : order) {
+    bool free = true;
+    for (int c : out) free &= (X.row(c) - X.row(v)).squaredNorm() >= apart * apart;
+    if (free) out.push_back(v);
+  }
+  return out;
+}
+
+// The bare share (SynthesisResult::bare_share): the area share of the growth region (weight ≥ 0.5) where a
+// whole feature would fit between the displaced vertices of res.local (0 without separate features).
+double bare_share(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, double largest, const SynthesisResult& res) {
+  const ExemplarFeatures features = exemplar_features(ex);
+  if (!(features.closest > 0)) return 0;
+  const double room = features.footprint * ex.extent * res.scale;
+  const Eigen::VectorXd d = bare_distance(T, X, res.local, 0.05 * largest, room);
+  const Eigen::VectorXd va = vertex_areas(T);
+  double all = 0, bare = 0;
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    if (res.weight[v] >= 0.5) all += va[v], bare += d[v] >= room ? va[v] : 0.0;
+  return all > 0 ? bare / all : 0.0;
+}
+
 // Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
 // and the displacements written, faded by the weights, in res.local. \p largest: how far a displaced
 // point can be from its base point; \p placing: the options placements are made with (placing_options()).
+// Then (fill_holes) patches where a whole feature has room, each trying the exemplar's features at its centre.
 void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F,
                    double largest, const SynthesisOptions& o, const SynthesisOptions& placing, SynthesisResult& res,
                    const std::function<void(const char*)>& stage_done) {
@@ -1010,11 +1176,11 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   // it, and off the jagged rim of the geodesic disk, where the map turns the frames by a few degrees (a
   // cut copies what it reads there; a blend averaged it away).
   const double reach = 0.95 * ex.extent - rp_ex;
-  const double spacing = o.patch_spacing * rp;
   Rng rng(o.seed);
   ExpMapper expmap(T, X, N);
-  std::vector<double> dmin(n, std::numeric_limits<double>::infinity());
+  GrowthFront front(T, res.weight, o.patch_spacing * rp, rng);
   const bool cut = o.seams == SeamMethod::Cut;
+  const ExemplarFeatures features = cut ? exemplar_features(ex) : ExemplarFeatures();
   Eigen::VectorXd sumW = Eigen::VectorXd::Zero(n), bmax = Eigen::VectorXd::Zero(n);  // blend
   MatrixX3d sumD = MatrixX3d::Zero(n, 3);                                             // blend
   res.owner = Eigen::VectorXi::Constant(n, -1);
@@ -1026,32 +1192,9 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
   auto old_at = [&](int v) -> Vec3 {
     return cut ? Vec3(cv.cur.row(v).transpose()) : Vec3(sumD.row(v).transpose() / sumW[v]);
   };
-  size_t to_cover = 0, covered = 0;
-  std::vector<char> wanted(n, 0);
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (res.weight[i] >= 0.5 && !T.is_isolated(T.vertex_handle(static_cast<int>(i)))) wanted[i] = 1, ++to_cover;
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> front;  // (jittered distance, vertex)
-  std::vector<double> key(n, std::numeric_limits<double>::infinity());
-  size_t scan = rng.below(static_cast<uint64_t>(std::max<Eigen::Index>(n, 1)));  // where a new component starts
-  auto next_center = [&]() -> int {
-    while (!front.empty()) {
-      const auto [k, v] = front.top();
-      front.pop();
-      if (k == key[v] && dmin[v] > spacing) return v;
-    }
-    for (size_t c = 0; c < static_cast<size_t>(n); ++c) {  // nothing in the front: a part not reached yet
-      const int v = static_cast<int>((scan + c) % n);
-      if (wanted[v] && dmin[v] > spacing) {
-        scan = v;
-        return v;
-      }
-    }
-    return -1;
-  };
-
-  std::vector<Vec3> cand;  // per patch vertex: a placement's displacement in the vertex's field frame
-  for (int c = next_center(); c >= 0; c = next_center()) {
+  // One patch at c: its placement chosen against the overlap, or (a fill) one of \p given that neither
+  // crosses nor folds (tried in turn; none: no patch). \return whether a patch was placed.
+  auto place_at = [&](int c, const std::vector<Eigen::Vector2d>* given) {
     const int patch = static_cast<int>(res.centers.size());
     res.centers.push_back(c);
     const ExpMap m = expmap.map(c, F.row(c).transpose(), rp);
@@ -1062,10 +1205,9 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
     std::vector<double> b(k);
     std::vector<size_t> overlap;
     for (size_t s = 0; s < k; ++s) {
-      const int v = m.vertices[s];
       const double r2 = m.uv[s].squaredNorm() / (rp * rp);
       b[s] = r2 < 1 ? (1 - r2) * (1 - r2) : 0.0;
-      if (b[s] > 0 && written(v)) overlap.push_back(s);
+      if (b[s] > 0 && written(m.vertices[s])) overlap.push_back(s);
     }
     // A placement t (exemplar units): vertex s reads the exemplar at t + uv_s / scale.
     auto read = [&](const Eigen::Vector2d& t, size_t s, Vec3* raw) {
@@ -1078,41 +1220,51 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
       double a = rng.uniform(0, 2 * M_PI), r = reach * std::sqrt(rng.uniform());
       return Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
     };
-    Eigen::Vector2d t = random_placement();
+    Eigen::Vector2d t = given ? given->front() : random_placement();
     std::vector<Eigen::Vector2d> order{t};  // cut: the placements to try against folds, in turn
-    if (!overlap.empty() && o.candidates > 1)
+    if (given) order = *given;
+    else if (!overlap.empty() && o.candidates > 1)
       choose_placement(overlap, b, m, o, rng, read, old_at, random_placement, t, order);
-    // Blend the chosen placement in.
-    for (size_t s = 0; s < k; ++s) {
+    for (size_t s = 0; s < k; ++s) {  // blend the chosen placement in
       const int v = m.vertices[s];
-      if (m.uv[s].norm() < dmin[v]) {
-        const bool was = dmin[v] <= spacing;
-        dmin[v] = m.uv[s].norm();
-        if (wanted[v] && !was && dmin[v] <= spacing) ++covered;
-        if (wanted[v] && dmin[v] > spacing) {
-          key[v] = dmin[v] * (1 + 0.3 * rng.uniform());  // seeded jitter: no fixed order of growth
-          front.emplace(key[v], v);
-        }
-      }
+      front.reach(v, m.uv[s].norm());
       if (cut || !(b[s] > 0)) continue;
       Vec3 raw;
       const Vec3 d = read(t, s, &raw);
       const double w = std::pow(b[s], o.blend_power);
       sumW[v] += w;
       sumD.row(v) += w * d.transpose();
-      if (b[s] > bmax[v]) {
-        bmax[v] = b[s];
-        res.owner[v] = patch;
-        res.copied.row(v) = raw.transpose();
-      }
+      if (b[s] > bmax[v]) bmax[v] = b[s], res.owner[v] = patch, res.copied.row(v) = raw.transpose();
     }
-    if (cut) placer.place(m, b, order, read, patch, rp, cv);
-    report(o.progress, 0.25 + 0.6 * (to_cover ? double(covered) / to_cover : 1.0), "patches");
+    if (cut && !placer.place(m, b, order, read, patch, rp, cv, given != nullptr)) {
+      res.centers.pop_back();
+      return false;
+    }
+    return true;
+  };
+  for (int c = front.next(); c >= 0; c = front.next()) {
+    place_at(c, nullptr);
+    report(o.progress, 0.25 + 0.6 * (front.to_cover ? double(front.covered) / front.to_cover : 1.0), "patches");
   }
-  if (covered < to_cover)
+  if (front.covered < front.to_cover)
     res.warnings.push_back(fmt::format("{} of {} vertices were not reached by any patch (disconnected from the "
                                        "rest and too small for a patch?)",
-                                       to_cover - covered, to_cover));
+                                       front.to_cover - front.covered, front.to_cover));
+  if (o.fill_holes && features.closest > 0) {
+    // The exemplar's features at the patch's centre, the nearest the disk's centre first.
+    std::vector<Eigen::Vector2d> at_centre;
+    for (const Eigen::Vector2d& z : features.roots)
+      if (z.norm() * ex.extent <= reach) at_centre.push_back(z * ex.extent);
+    std::sort(at_centre.begin(), at_centre.end(), [](const auto& a, const auto& b) { return a.norm() < b.norm(); });
+    const double unit = ex.extent * res.scale;  // target length per unit-disk length
+    // Room for a feature whose root stays 0.9 of the closest spacing from the others' (their footprints
+    // reach a footprint radius from theirs), and at least its own footprint.
+    const double room = std::max(features.footprint, 0.9 * features.closest - features.footprint) * unit;
+    if (!at_centre.empty())
+      for (int c : feature_holes(T, X, bare_distance(T, X, cv.cur, 0.05 * largest, room), res.weight, room,
+                                 features.closest * unit))
+        res.filled_patches += place_at(c, &at_centre);
+  }
 
   stage_done("patches");
   report(o.progress, 0.85, "unfold");
@@ -1213,6 +1365,7 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   }
   stage_done("unfold");
   encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);
+  res.bare_share = bare_share(ex, T, X, largest, res);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   report(o.progress, 1, "done");

@@ -282,19 +282,23 @@ TEST(Synthesis, DefaultsOnACoarseSphereEstimateRefineAndCountTheDamage) {
   }
   EXPECT_NEAR(r.refined_share, r.added_vertices / n, 1e-12);
   // Recount the shrunk vertices: the same seed without unfolding places the same patches (and drops the
-  // same features); the recount holds where nothing was zeroed after encoding.
-  EXPECT_EQ(r.repaired_vertices, 0u);
-  SynthesisOptions raw = o;
+  // same features); the recount holds where nothing was zeroed after encoding, so both runs of the recount
+  // leave the repair after encoding out (with the narrower dips of the seventh session it zeroed 727 vertices
+  // here, and re-unfolded).
+  SynthesisOptions kept = o;
+  kept.repair_crossings = false;
+  kept.progress = {};
+  kept.on_estimate = {};
+  const SynthesisResult k = synthesize_texture(e.p.base, e.t, target, kept);
+  EXPECT_EQ(k.repaired_vertices, 0u);
+  SynthesisOptions raw = kept;
   raw.unfold = false;
-  raw.repair_crossings = false;  // the repair after encoding differs between the two
-  raw.progress = {};
-  raw.on_estimate = {};
   const SynthesisResult u = synthesize_texture(e.p.base, e.t, target, raw);
-  ASSERT_EQ(u.local.rows(), r.local.rows());
+  ASSERT_EQ(u.local.rows(), k.local.rows());
   size_t shrunk = 0;
-  for (Eigen::Index i = 0; i < r.local.rows(); ++i) shrunk += r.local.row(i).norm() < 0.99 * u.local.row(i).norm();
-  EXPECT_EQ(shrunk, r.unfolded_vertices);
-  EXPECT_NEAR(r.shrunk_share, shrunk / n, 1e-12);
+  for (Eigen::Index i = 0; i < k.local.rows(); ++i) shrunk += k.local.row(i).norm() < 0.99 * u.local.row(i).norm();
+  EXPECT_EQ(shrunk, k.unfolded_vertices);
+  EXPECT_NEAR(k.shrunk_share, shrunk / n, 1e-12);
   double total = 0;
   for (const auto& [name, sec] : r.stage_seconds) {
     EXPECT_GE(sec, 0.0) << name;
@@ -334,8 +338,9 @@ TEST(Synthesis, NoSelfIntersectionOnAThinCylinder) {
 
 // Issue 27: tall, leaning tentacles on a sphere are seldom shrunk (the issue's goal: at most 5 % of the
 // vertices shrunk by over 1 %), not by dropping them instead: colliding features are dropped whole, not cut
-// at the patch's rim into walls that fold, and the unfolding's dips are about one fold wide. Before both, the
-// same run shrank 14.3 % and dropped 13.1 % (bench/synthesis.md); measured after: 3.2 % and 9.9 %.
+// at the patch's rim into walls that fold, and the unfolding's dips are one fold wide. Before both, the
+// same run shrank 14.3 % and dropped 13.1 % (bench/synthesis.md); measured after: 3.2 % and 9.9 %, and with
+// dips a twentieth of the patch radius (at least the face's edge) instead of a tenth 1.6 % (seventh session).
 TEST(Synthesis, TentaclesOnASphereAreSeldomShrunk) {
   const Tentacles e;
   const Mesh target = icosphere(3);
@@ -344,7 +349,7 @@ TEST(Synthesis, TentaclesOnASphereAreSeldomShrunk) {
   o.vertex_budget = 20'000;
   const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, o);
   const double n = static_cast<double>(r.target.n_vertices());
-  EXPECT_LT(r.shrunk_share, 0.06);
+  EXPECT_LT(r.shrunk_share, 0.025);
   EXPECT_LT(static_cast<double>(r.dropped_vertices + r.repaired_vertices), 0.15 * n);
   EXPECT_EQ(r.excess_self_intersecting, 0u);
   Mesh textured = r.target;
@@ -413,4 +418,34 @@ TEST(SynthesisKeepOut, CreasesAndPartsSmallerThanTheTextureAreKeptOutAndNothingE
   const detail::KeepOut tube = detail::keep_out(cylinder(0.05, 4.0, 24, 80), 1.0, 60, true);
   EXPECT_LT(tube.thin.maxCoeff(), 1e-9);  // 4ρ / span = 0.2 of a disk's area
   EXPECT_DOUBLE_EQ(detail::keep_out(cylinder(0.05, 4.0, 24, 80), 1.0, 60, false).thin.minCoeff(), 1.0);
+}
+
+// Issue 27: where dropped features left room for a whole feature, a second pass centres a patch there with one
+// of the exemplar's features at its centre (a Poisson-disk fill at the exemplar's spacing), kept only if it
+// neither crosses nor folds: less of the sphere is bare than without it (measured 3.1 % against 3.9 %), and
+// nothing crosses; with nothing displaced, all of it is bare.
+TEST(Synthesis, HolesWhereAWholeTentacleFitsAreFilled) {
+  const Tentacles e;
+  const Mesh target = icosphere(3);
+  SynthesisOptions o;
+  o.direction = Vec3(0, 0, 1);
+  o.vertex_budget = 20'000;
+  const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, o);
+  SynthesisOptions no_fill = o;
+  no_fill.fill_holes = false;
+  const SynthesisResult u = synthesize_texture(e.p.base, e.t, target, no_fill);
+  std::cout << fmt::format("[ tentacles on icosphere(3) ] bare {:.1f} % with the fill ({} patches), {:.1f} % without\n",
+                           100 * r.bare_share, r.filled_patches, 100 * u.bare_share);
+  EXPECT_EQ(u.filled_patches, 0u);
+  EXPECT_GT(r.filled_patches, 0u);
+  EXPECT_GT(u.bare_share, 0.0);
+  EXPECT_LT(r.bare_share, u.bare_share);
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
+  Mesh textured = r.target;
+  set_positions(textured, r.textured);
+  EXPECT_LE(folded_faces(textured), folded_faces(r.target));
+  // Nothing displaced: all bare.
+  SynthesisOptions flat = o;
+  flat.height_scale = 0;
+  EXPECT_DOUBLE_EQ(synthesize_texture(e.p.base, e.t, target, flat).bare_share, 1.0);
 }

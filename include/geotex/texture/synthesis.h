@@ -36,7 +36,9 @@
 //!     faces near the patch, against what is placed and the target); the features of a placement that
 //!     still collides are dropped (`drop_collisions`: zeroed, feathered); what still folds at the end is
 //!     shrunk smoothly (`unfold`, the last resort: Gaussian dips of radius `unfold_radius` × the patch
-//!     radius around each folded face, until none folds).
+//!     radius around each folded face, until none folds). Then (`fill_holes`) where a whole feature of the
+//!     exemplar has room, patches centred there (a Poisson-disk rule at its closest feature spacing), each
+//!     with one of its features at the centre, kept only if it neither crosses nor folds.
 //!     seams = blend: overlapping patches are averaged with weights b^p, b = (1 − |u|²/r²)² (1 at a
 //!     patch's centre, 0 at its rim, p = blend_power) — uncorrelated relief averages out, and features
 //!     from two patches cross where they overlap.
@@ -110,6 +112,11 @@ struct SynthesisOptions {
   //! feature, also its part outside the patch, within the patch radius plus the largest displacement of
   //! the patch's centre; a feature cut at the patch's rim leaves a wall that folds).
   bool drop_collisions = true;
+  //! seams = cut: after the front, patches centred wherever a whole feature has room (no displaced vertex
+  //! within 0.9 × the exemplar's closest feature spacing less its footprint radius, nor within that radius),
+  //! none nearer than that spacing to another, one of the exemplar's features at the centre (a Poisson-disk
+  //! fill at the exemplar's feature spacing), kept only if it neither crosses nor folds.
+  bool fill_holes = true;
   //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
   //! there as drop_collisions does, unfold, and encode again (at most twice).
   bool repair_crossings = true;
@@ -119,11 +126,12 @@ struct SynthesisOptions {
   //! Shrink the displacements around faces they fold (and not the base), by 0.75 a round at the face and
   //! less away from it (a Gaussian dip), until none does.
   bool unfold = true;
-  //! The unfolding dip's radius ρ (the dip reaches 2ρ) as a share of the patch radius: about the width of
-  //! one fold (about one exemplar edge with the tentacle plate), so that the features around it keep their relief
-  //! (bench/synthesis.md: a quarter shrank 15 % of the vertices by over 1 % with the tentacle plate on a
-  //! sphere, a tenth 4 %); at least the folded face's mean edge.
-  double unfold_radius = 0.1;
+  //! The unfolding dip's radius ρ (the dip reaches 2ρ) as a share of the patch radius, at least the folded
+  //! face's mean edge: one fold wide (with the tentacle plate on a refined target a twentieth is under an edge,
+  //! so the face's edge decides), so that the features around it keep their relief (bench/synthesis.md: with
+  //! the tentacle plate on a sphere a quarter shrank 15 % of the vertices by over 1 %, a tenth 4.7 %, a
+  //! twentieth 2 %; spot 5.2 % at a tenth, 2.4 % at a twentieth).
+  double unfold_radius = 0.05;
 
   // Keep-out: where a person would not cover the target by default (each multiplies the growth weight, by
   // degree; bench/synthesis.md). The texture's feature length (its largest displacement on the target) sets
@@ -199,6 +207,12 @@ struct SynthesisResult {
   size_t retried_placements = 0, dropped_patches = 0, dropped_vertices = 0;
   //! Vertices zeroed after encoding, where the textured surface still crossed itself (drop_collisions).
   size_t repaired_vertices = 0;
+  //! Patches placed by fill_holes (in \ref centers too).
+  size_t filled_patches = 0;
+  //! Area share of the growth region (weight ≥ 0.5) left bare: where a whole feature would fit (no vertex displaced
+  //! by over 5 % of the largest displacement within the exemplar's largest footprint radius). The exemplar's own
+  //! is about 0 (the tentacle plate's: 0); 0 for an exemplar without separate features.
+  double bare_share = 0;
   int exemplar_center = -1;  //!< the exemplar disk used (automatic or given)
   double exemplar_radius = 0;   //!< its geodesic radius (exemplar units)
   double exemplar_extent = 0;   //!< R: exemplar length per unit-disk length (the map's scale over |z| < 0.8)
