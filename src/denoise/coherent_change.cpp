@@ -8,24 +8,9 @@
 #include <fmt/format.h>
 
 #include "geotex/core/error.h"
+#include "geotex/denoise/reading_model.h"
 
 namespace geotex {
-
-namespace {
-// x summed over each vertex's ring and itself, \p rounds times (the neighbourhood grows a ring a round).
-Eigen::VectorXd ring_sums(const Neighborhoods& N, Eigen::VectorXd x, int rounds) {
-  Eigen::VectorXd y(x.size());
-  for (int k = 0; k < rounds; ++k) {
-    for (Eigen::Index v = 0; v < N.size(); ++v) {
-      double s = x[v];
-      for (int j = N.offsets[v]; j < N.offsets[v + 1]; ++j) s += x[N.indices[j]];
-      y[v] = s;
-    }
-    x.swap(y);
-  }
-  return x;
-}
-}  // namespace
 
 Eigen::VectorXd coherent_change_gain(const Neighborhoods& N, const MatrixX3d& normals, const MatrixX3d& change,
                                      double noise_var, const CoherentChangeOptions& o) {
@@ -33,6 +18,8 @@ Eigen::VectorXd coherent_change_gain(const Neighborhoods& N, const MatrixX3d& no
   if (normals.rows() != n || change.rows() != n)
     throw InvalidInput(fmt::format("coherent change: {} normals and {} changes for {} vertices", normals.rows(),
                                    change.rows(), n));
+  Eigen::VectorXd gain = Eigen::VectorXd::Ones(n);
+  if (o.weight <= 0) return gain;
   const Eigen::VectorXd d = (change.array() * normals.array()).rowwise().sum();
   // Each vertex's products d_v d_u over its edges, their squares and their count: summed over rings, the
   // mean is the local covariance across edges and the squares give its standard error.
@@ -48,11 +35,9 @@ Eigen::VectorXd coherent_change_gain(const Neighborhoods& N, const MatrixX3d& no
     sq[v] = s;
     count[v] = N.offsets[v + 1] - N.offsets[v];
   }
-  prod = ring_sums(N, prod, o.rings);
-  sq = ring_sums(N, sq, o.rings);
-  count = ring_sums(N, count, o.rings);
-  Eigen::VectorXd gain = Eigen::VectorXd::Ones(n);
-  if (o.weight <= 0) return gain;
+  prod = ring_sum(N, prod, o.rings);
+  sq = ring_sum(N, sq, o.rings);
+  count = ring_sum(N, count, o.rings);
   for (Eigen::Index v = 0; v < n; ++v) {
     const double m = std::max(1.0, count[v]);
     const double mean = prod[v] / m;

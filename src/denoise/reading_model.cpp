@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <limits>
 
 #include <Eigen/Dense>
@@ -92,18 +93,29 @@ double sigmoid(double t) { return t >= 0 ? 1 / (1 + std::exp(-t)) : std::exp(t) 
 
 }  // namespace
 
-Eigen::VectorXd ring_average(const Neighborhoods& N, Eigen::VectorXd x, int rounds) {
+namespace {
+// Each vertex's value and its one-ring's summed (divided by their count when \p mean), \p rounds times.
+Eigen::VectorXd ring_rounds(const Neighborhoods& N, Eigen::VectorXd x, int rounds, bool mean) {
   for (int round = 0; round < rounds; ++round) {
     Eigen::VectorXd next(x.size());
 #pragma omp parallel for schedule(static)
     for (Eigen::Index v = 0; v < x.size(); ++v) {
       double sum = x[v];
       for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) sum += x[N.indices[k]];
-      next[v] = sum / (1 + N.offsets[v + 1] - N.offsets[v]);
+      next[v] = mean ? sum / (1 + N.offsets[v + 1] - N.offsets[v]) : sum;
     }
     x.swap(next);
   }
   return x;
+}
+}  // namespace
+
+Eigen::VectorXd ring_average(const Neighborhoods& N, Eigen::VectorXd x, int rounds) {
+  return ring_rounds(N, std::move(x), rounds, true);
+}
+
+Eigen::VectorXd ring_sum(const Neighborhoods& N, Eigen::VectorXd x, int rounds) {
+  return ring_rounds(N, std::move(x), rounds, false);
 }
 
 const std::vector<std::string>& reading_feature_names() {

@@ -39,6 +39,8 @@ Eigen::VectorXd rule_reading(const Eigen::MatrixXd& features);
 
 //! Average a per-vertex quantity with its one-ring's, \p rounds times (Jacobi).
 Eigen::VectorXd ring_average(const Neighborhoods& N, Eigen::VectorXd x, int rounds);
+//! Sum a per-vertex quantity with its one-ring's, \p rounds times (the neighbourhood grows a ring a round).
+Eigen::VectorXd ring_sum(const Neighborhoods& N, Eigen::VectorXd x, int rounds);
 
 //! A logistic model p = 1 / (1 + exp(−(w · (x − mean) / scale + bias))): the probability that the sharp
 //! fit is the better one at a vertex of features x.
