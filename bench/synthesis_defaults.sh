@@ -4,7 +4,8 @@
 # [TARGET...] (data from ../shared/data or $GEOTEX_DATA). Prints per run: CPU, the report's counts, and
 # geval.py's self-intersections (the external ruler) against the refined base. $SYNTH_ARGS is added to
 # each synthesize (e.g. SYNTH_ARGS="--avoid-crossings false --drop-collisions false": the placement before
-# collisions were avoided).
+# collisions were avoided). Then bench/inward_faces.py: the relief's faces turned against the base, on the meshes
+# alone (and the radial test on every face), and the same for each exemplar.
 set -e
 G=${1:-build}/geotex
 W=${2:-/tmp/synthesis_defaults}
@@ -17,6 +18,9 @@ $G -q texture extract "$W/tp.ply" --base "$W/tp_base.ply" -o "$W/tp_tex.ply"
 $G -q generate spiky-plane --level 0 -o "$W/sp.ply" --base-output "$W/sp_base.ply"
 $G -q texture extract "$W/sp.ply" --base "$W/sp_base.ply" -o "$W/sp_tex.ply"
 $G -q generate sphere -o "$W/sphere.ply"
+for e in tp sp; do  # the exemplars' own faces turned against their base (the same measure as inward_share)
+  echo "$e exemplar: $(GEVAL="$E" /usr/bin/python3 "$(dirname "$0")/inward_faces.py" "$W/$e.ply" "$W/${e}_base.ply")"
+done
 run() {  # exemplar target
   name=$(basename "$1" _tex.ply)_$(basename "$2" | sed 's/\..*//')
   /usr/bin/time -f "$name cpu %U s user %S s sys" $G texture synthesize "$W/$1" --target "$2" -o "$W/$name.ply" \
@@ -24,8 +28,10 @@ run() {  # exemplar target
   /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print(' '.join(f'{k}={r[k]}' for k in
     ['vertices','added_vertices','estimated_vertices','exemplar_share','self_intersecting','base_self_intersecting',
      'excess_self_intersecting','shrunk_share','retried_placements','dropped_patches','dropped_vertices','repaired_vertices','filled_patches','bare_share',
-     'refined_share','kept_out_share','kept_out_creases','kept_out_thin','folded','seconds']))" "$W/$name.json"
+     'refined_share','kept_out_share','kept_out_creases','kept_out_thin','kept_out_pits','inward_share',
+     'exemplar_inward_share','folded','seconds']))" "$W/$name.json"
   /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
+  GEVAL="$E" /usr/bin/python3 "$(dirname "$0")/inward_faces.py" "$W/$name.ply" "$W/${name}_t.ply" --radial
 }
 for t in ${@:-$W/sphere.ply $D/spot.obj $D/cow.obj $D/stanford-bunny.obj $D/fandisk.obj $D/cheburashka.obj}; do
   run tp_tex.ply "$t"

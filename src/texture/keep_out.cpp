@@ -94,18 +94,85 @@ Eigen::VectorXd thin_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::V
   return w;
 }
 
+// Closed pits smaller than the texture (an eye socket with no crease round it): at each vertex, for rings at
+// r = span / 4, span / 2 and span (the band r/2 … r along edges), the ring's height above the vertex along the
+// disk's mean normal, in 8 sectors round that normal: the lowest sector's mean over r is how deep the vertex
+// sits in a pit closed on every side (a convex or flat place: ≤ 0; a groove or a saddle: about 0 along its open
+// side). The deepest over the three rings; bands under an edge wide are skipped (noise). The weight is 0 where
+// the depth is at least `depth` (and within a quarter of the span of such a vertex), rising to 1 at the span.
+Eigen::VectorXd pit_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& area, double span,
+                           double depth) {
+  const int n = static_cast<int>(X.rows());
+  const MatrixX3d N = vertex_normals(mesh);
+  double edge = 0;
+  for (auto e : mesh.edges()) edge += (X.row(e.v0().idx()) - X.row(e.v1().idx())).norm();
+  edge /= std::max<size_t>(1, mesh.n_edges());
+  std::vector<char> pit(n, 0);
+#pragma omp parallel
+  {
+    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+    std::vector<int> touched;
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+#pragma omp for schedule(dynamic, 256)
+    for (int v = 0; v < n; ++v) {
+      dist[v] = 0;
+      touched.push_back(v);
+      q.emplace(0.0, v);
+      while (!q.empty()) {
+        const auto [du, u] = q.top();
+        q.pop();
+        if (du > dist[u]) continue;
+        for (auto t : mesh.vv_range(mesh.vertex_handle(u))) {
+          const double dt = du + (X.row(u) - X.row(t.idx())).norm();
+          if (dt < span && dt < dist[t.idx()]) {
+            if (!std::isfinite(dist[t.idx()])) touched.push_back(t.idx());
+            dist[t.idx()] = dt;
+            q.emplace(dt, t.idx());
+          }
+        }
+      }
+      for (double r : {0.25 * span, 0.5 * span, span}) {
+        if (r < 2 * edge) continue;  // the band r/2 … r under an edge wide
+        Vec3 nm = Vec3::Zero();
+        for (int t : touched)
+          if (dist[t] <= r) nm += area[t] * N.row(t).transpose();
+        if (!(nm.norm() > 0)) continue;
+        nm.normalize();
+        const Vec3 e1 = nm.unitOrthogonal(), e2 = nm.cross(e1);
+        double sum[8] = {}, cnt[8] = {};
+        for (int t : touched) {
+          if (dist[t] < 0.5 * r || dist[t] > r) continue;
+          const Vec3 d = X.row(t) - X.row(v);
+          const double a = std::atan2(d.dot(e2), d.dot(e1));
+          const int k = std::clamp(static_cast<int>((a + M_PI) / (2 * M_PI) * 8), 0, 7);
+          sum[k] += area[t] * d.dot(nm), cnt[k] += area[t];
+        }
+        double low = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 8; ++k) low = std::min(low, cnt[k] > 0 ? sum[k] / cnt[k] : -1.0);
+        if (low >= depth * r) pit[v] = 1;
+      }
+      for (int t : touched) dist[t] = std::numeric_limits<double>::infinity();
+      touched.clear();
+    }
+  }
+  const Eigen::VectorXd d = edge_distance(mesh, X, pit, span);
+  return d.unaryExpr([&](double x) { return ramp(x, 0.25 * span, span); });
+}
+
 }  // namespace
 
-KeepOut keep_out(const Mesh& target, double span, double crease_angle_deg, bool thin) {
+KeepOut keep_out(const Mesh& target, double span, double crease_angle_deg, bool thin, double pit_depth) {
   const Eigen::Index n = target.n_vertices();
   KeepOut k;
-  k.creases = k.thin = k.weight = Eigen::VectorXd::Ones(n);
+  k.creases = k.thin = k.pits = k.weight = Eigen::VectorXd::Ones(n);
   k.area = mass_diagonal(target, MassType::Barycentric);
   if (n == 0 || !(span > 0) || !std::isfinite(span)) return k;
   const MatrixX3d X = positions(target);
   if (crease_angle_deg > 0) k.creases = crease_weight(target, X, span, crease_angle_deg);
   if (thin) k.thin = thin_weight(target, X, k.area, span);
-  k.weight = k.creases.cwiseProduct(k.thin);
+  if (pit_depth > 0) k.pits = pit_weight(target, X, k.area, span, pit_depth);
+  k.weight = k.creases.cwiseProduct(k.thin).cwiseProduct(k.pits);
   return k;
 }
 

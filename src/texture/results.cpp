@@ -136,6 +136,11 @@ const ResultTable<SynthesisResult>& synthesis_results() {
            "patches placed where a whole feature had room after the front (fill_holes)")
       .add("bare_share", [](const R& r) { return r.bare_share; },
            "area share of the growth region where a whole feature would fit between the displaced vertices")
+      .add("inward_share", [](const R& r) { return r.inward_share; },
+           "area share of the relief's faces (a corner displaced by over 5 % of the largest) whose normal points "
+           "against the base's")
+      .add("exemplar_inward_share", [](const R& r) { return r.exemplar_inward_share; },
+           "the same on the exemplar as it is read (its raster within the placements' reach)")
       .add("refined_share", [](const R& r) { return r.refined_share; }, "added_vertices / #V")
       .array("weight", [](const R& r) { return r.weight; },
              "#V the growth weight used (the user's times the automatic keep-out)", "", kPythonOnly)
@@ -143,6 +148,7 @@ const ResultTable<SynthesisResult>& synthesis_results() {
            "area share of the target kept out automatically (weight below 0.5)")
       .add("kept_out_creases", [](const R& r) { return r.kept_out_creases; }, "the same, near sharp creases")
       .add("kept_out_thin", [](const R& r) { return r.kept_out_thin; }, "the same, on parts smaller than the features")
+      .add("kept_out_pits", [](const R& r) { return r.kept_out_pits; }, "the same, in closed pits smaller than the span")
       .add("exemplar_share", [](const R& r) { return r.estimate.exemplar_share; },
            "the exemplar share used (given, or automatic)")
       .add("estimated_vertices", [](const R& r) { return r.estimate.vertices; },

@@ -92,6 +92,9 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            angle_deg())
       .add("keep_out_thin", &O::keep_out_thin,
            "keep texture off parts smaller than its features (the surface within its span under half a disk's area)")
+      .add("keep_out_pit_depth", &O::keep_out_pit_depth,
+           "keep texture out of closed pits smaller than its span: where the surface round a vertex stands above it "
+           "on every side by this share of the ring's radius (0: off)", non_negative())
       .add("direction", &O::direction, "the direction field's guide: its tangent part on the target")
       .nest(&O::field, DirectionFieldOptions::table())
       .add("seed", &O::seed, "random seed: same seed, same result")
@@ -1161,6 +1164,57 @@ double bare_share(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, double 
   return all > 0 ? bare / all : 0.0;
 }
 
+// Faces turned against the base (SynthesisResult::inward_share; issue 27): among the faces of the relief (a
+// corner displaced by over \p tau), the area share of those whose displaced normal points against the base's
+// normal at the same face (n_displaced · n_base < 0), areas of the displaced faces.
+double inward_share(const MatrixX3i& Fi, const MatrixX3d& base, const MatrixX3d& displaced, double tau) {
+  double all = 0, against = 0;
+  for (Eigen::Index f = 0; f < Fi.rows(); ++f) {
+    bool relief = false;
+    for (int k = 0; k < 3; ++k) relief |= (displaced.row(Fi(f, k)) - base.row(Fi(f, k))).norm() > tau;
+    if (!relief) continue;
+    auto normal = [&](const MatrixX3d& P) {
+      const Vec3 a = P.row(Fi(f, 0)), b = P.row(Fi(f, 1)), c = P.row(Fi(f, 2));
+      return Vec3((b - a).cross(c - a));
+    };
+    const Vec3 nd = normal(displaced), nb = normal(base);
+    all += 0.5 * nd.norm();
+    against += nd.dot(nb) < 0 ? 0.5 * nd.norm() : 0.0;
+  }
+  return all > 0 ? against / all : 0.0;
+}
+
+// The same for the exemplar as synthesis reads it: its raster over |z| ≤ 0.95 (the placements' reach) as a
+// displaced grid, two triangles a cell, the base the flat disk (exemplar units; relief over 5 % of the largest).
+double exemplar_inward_share(const Exemplar& ex) {
+  const int s = ex.size;
+  double largest = 0;
+  for (const Vec3& d : ex.grid) largest = std::max(largest, d.norm());
+  std::vector<int> id(static_cast<size_t>(s) * s, -1);
+  std::vector<Vec3> base, moved;
+  for (int j = 0; j < s; ++j)
+    for (int i = 0; i < s; ++i)
+      if (std::hypot(ex.coord(i), ex.coord(j)) <= 0.95) {
+        id[static_cast<size_t>(j) * s + i] = static_cast<int>(base.size());
+        base.emplace_back(ex.coord(i) * ex.extent, ex.coord(j) * ex.extent, 0.0);
+        moved.push_back(base.back() + ex.grid[static_cast<size_t>(j) * s + i]);
+      }
+  std::vector<Eigen::Vector3i> tri;
+  for (int j = 0; j + 1 < s; ++j)
+    for (int i = 0; i + 1 < s; ++i) {
+      const int a = id[static_cast<size_t>(j) * s + i], b = id[static_cast<size_t>(j) * s + i + 1],
+                c = id[static_cast<size_t>(j + 1) * s + i + 1], d = id[static_cast<size_t>(j + 1) * s + i];
+      if (a < 0 || b < 0 || c < 0 || d < 0) continue;
+      tri.emplace_back(a, b, c), tri.emplace_back(a, c, d);  // counter-clockwise in (u, v): normals +n
+    }
+  MatrixX3i Fi(static_cast<Eigen::Index>(tri.size()), 3);
+  for (size_t f = 0; f < tri.size(); ++f) Fi.row(static_cast<Eigen::Index>(f)) = tri[f].transpose();
+  MatrixX3d B(static_cast<Eigen::Index>(base.size()), 3), M(static_cast<Eigen::Index>(base.size()), 3);
+  for (size_t v = 0; v < base.size(); ++v)
+    B.row(static_cast<Eigen::Index>(v)) = base[v].transpose(), M.row(static_cast<Eigen::Index>(v)) = moved[v].transpose();
+  return inward_share(Fi, B, M, 0.05 * largest);
+}
+
 // Patches in a growing front (the "patches" stage): res.centers, res.owner, res.copied, res.patch_radius
 // and the displacements written, faded by the weights, in res.local. \p largest: how far a displaced
 // point can be from its base point; \p placing: the options placements are made with (placing_options()).
@@ -1277,9 +1331,10 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
 // \p largest: the features' length on the target (their largest displacement).
 void apply_keep_out(const Mesh& target, const Exemplar& ex, double largest, const SynthesisOptions& o,
                     Eigen::VectorXd& weight, SynthesisResult& res) {
-  if (!(o.keep_out_crease_angle > 0) && !o.keep_out_thin) return;
+  if (!(o.keep_out_crease_angle > 0) && !o.keep_out_thin && !(o.keep_out_pit_depth > 0)) return;
   const double span = std::min(largest, res.scale * o.patch_radius * ex.extent);  // or their patch radius
-  const detail::KeepOut k = detail::keep_out(target, span, o.keep_out_crease_angle, o.keep_out_thin);
+  const detail::KeepOut k = detail::keep_out(target, span, o.keep_out_crease_angle, o.keep_out_thin,
+                                                  o.keep_out_pit_depth);
   weight = weight.cwiseProduct(k.weight);
   const double total = k.area.sum();
   auto share = [&](const Eigen::VectorXd& w) {
@@ -1290,6 +1345,7 @@ void apply_keep_out(const Mesh& target, const Exemplar& ex, double largest, cons
   res.kept_out_share = share(k.weight);
   res.kept_out_creases = share(k.creases);
   res.kept_out_thin = share(k.thin);
+  res.kept_out_pits = share(k.pits);
 }
 
 }  // namespace
@@ -1366,6 +1422,8 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
   stage_done("unfold");
   encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);
   res.bare_share = bare_share(ex, T, X, largest, res);
+  res.inward_share = inward_share(faces(T), X, res.textured, 0.05 * largest);
+  res.exemplar_inward_share = exemplar_inward_share(ex);
   res.shrunk_share = n ? double(res.unfolded_vertices) / n : 0.0;
   res.refined_share = n ? double(res.added_vertices) / n : 0.0;
   report(o.progress, 1, "done");

@@ -369,9 +369,29 @@ TEST(Synthesis, TentaclesOnASphereAreSeldomShrunk) {
   for (Eigen::Index i = 0; i < r.local.rows(); ++i) largest = std::max(largest, r.local.row(i).norm());
   size_t kept = 0;
   for (Eigen::Index i = 0; i < r.local.rows(); ++i) kept += r.local.row(i).norm() > 0.05 * largest;
-  std::cout << fmt::format("[ tentacles on icosphere(3) ] shrunk {:.1f} %, dropped {:.1f} %, displaced {:.1f} %\n",
+  std::cout << fmt::format("[ tentacles on icosphere(3) ] shrunk {:.1f} %, dropped {:.1f} %, displaced {:.1f} %, "
+                           "inward {:.2f} % (exemplar {:.2f} %)\n",
                            100 * r.shrunk_share, 100 * (r.dropped_vertices + r.repaired_vertices) / n,
-                           100 * kept / n);
+                           100 * kept / n, 100 * r.inward_share, 100 * r.exemplar_inward_share);
+  // Faces turned against the base (the issue's "inward faces", ≤ 0.1 %): the leaning tentacles' undersides
+  // are turned in the exemplar too; the synthesis turns no more than 0.1 % of the relief beyond its share.
+  // Recounted here on the result's meshes (each face's normal against the base face's).
+  const MatrixX3i Fi = faces(r.target);
+  const MatrixX3d X = positions(r.target);
+  double all = 0, against = 0;
+  for (Eigen::Index f = 0; f < Fi.rows(); ++f) {
+    bool relief = false;
+    for (int k = 0; k < 3; ++k) relief |= (r.textured.row(Fi(f, k)) - X.row(Fi(f, k))).norm() > 0.05 * largest;
+    if (!relief) continue;
+    auto normal = [&](const MatrixX3d& P) {
+      return Vec3((P.row(Fi(f, 1)) - P.row(Fi(f, 0))).cross(P.row(Fi(f, 2)) - P.row(Fi(f, 0))));
+    };
+    all += normal(r.textured).norm();
+    against += normal(r.textured).dot(normal(X)) < 0 ? normal(r.textured).norm() : 0.0;
+  }
+  EXPECT_GT(r.exemplar_inward_share, 0.05);  // the tentacles lean: their undersides face the plate
+  EXPECT_NEAR(r.inward_share, against / all, 0.01);
+  EXPECT_LE(r.inward_share, r.exemplar_inward_share + 0.001);
 }
 
 // Issue 27: a run whose estimate is beyond the cap is refused before any work, naming the estimate.
@@ -456,4 +476,59 @@ TEST(Synthesis, HolesWhereAWholeTentacleFitsAreFilled) {
   SynthesisOptions flat = o;
   flat.height_scale = 0;
   EXPECT_DOUBLE_EQ(synthesize_texture(e.p.base, e.t, target, flat).bare_share, 1.0);
+}
+
+// Issue 27: eyes with no crease round them, as closed pits smaller than the texture's span: a smooth dimple
+// on a sphere is kept out (the old keep-out, creases and thin parts, kept nothing out there), the rest of
+// the sphere is not, a saddle or a groove (a torus' inner side) is not, and the option turns it off.
+namespace {
+// \p sphere with a smooth dimple round +z: radius `a` (along the surface), depth `depth` at its centre.
+Mesh dimpled(Mesh sphere, double a, double depth) {
+  MatrixX3d X = positions(sphere);
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double r = X.row(i).norm(), t = std::min(1.0, r * std::acos(std::clamp(X(i, 2) / r, -1.0, 1.0)) / a);
+    X.row(i) *= 1 - depth * (1 - t * t) * (1 - t * t) / r;
+  }
+  set_positions(sphere, X);
+  return sphere;
+}
+}  // namespace
+
+TEST(SynthesisKeepOut, ClosedPitsSmallerThanTheTextureAreKeptOut) {
+  const Mesh m = dimpled(icosphere(4), 0.3, 0.15);  // an eye socket: half as deep as it is wide
+  const MatrixX3d X = positions(m);
+  const detail::KeepOut k = detail::keep_out(m, 0.4, 60, true, 0.15);
+  Eigen::Index top = 0, bottom = 0;  // the dimple's centre (on +z: its rim is higher) and the opposite pole
+  X.col(2).minCoeff(&bottom);
+  (X.col(2).array() / X.rowwise().norm().array()).maxCoeff(&top);
+  EXPECT_LT(k.pits[top], 1e-9);
+  EXPECT_LT(k.weight[top], 1e-9);
+  EXPECT_DOUBLE_EQ(k.pits[bottom], 1.0);
+  EXPECT_DOUBLE_EQ(k.creases.minCoeff(), 1.0);  // no crease: only the pit rule finds it
+  double kept = 0, all = k.area.sum();
+  for (Eigen::Index i = 0; i < X.rows(); ++i) kept += k.pits[i] < 0.5 ? k.area[i] : 0.0;
+  EXPECT_LT(kept / all, 0.1);  // the dimple and a quarter span round it, not the sphere
+  EXPECT_DOUBLE_EQ(detail::keep_out(m, 0.4, 60, true, 0).pits.minCoeff(), 1.0);              // off
+  EXPECT_DOUBLE_EQ(detail::keep_out(icosphere(4), 0.4, 60, true, 0.15).pits.minCoeff(), 1.0);  // no pit
+  EXPECT_DOUBLE_EQ(detail::keep_out(torus(1.0, 0.35, 96, 36), 0.3, 60, true, 0.15).pits.minCoeff(), 1.0);
+}
+
+TEST(Synthesis, AnEyeWithNoCreaseIsKeptOutByDefault) {
+  const Tentacles e;
+  const Mesh target = dimpled(icosphere(4), 0.25, 0.1);
+  const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, tentacle_sphere_options());
+  // The vertex nearest the dimple's centre (+z): the input's vertices come first in the refined target.
+  Eigen::Index top = 0, bottom = 0;
+  const MatrixX3d X = positions(target);
+  X.col(2).minCoeff(&bottom);
+  (X.col(2).array() / X.rowwise().norm().array()).maxCoeff(&top);
+  std::cout << fmt::format("[ tentacles on a dimpled icosphere(4) ] kept out {:.1f} % (pits {:.1f} %), weight at the "
+                           "dimple {:.2f}, displaced there {:.3g}\n",
+                           100 * r.kept_out_share, 100 * r.kept_out_pits, r.weight[top], r.local.row(top).norm());
+  EXPECT_LT(r.weight[top], 1e-9);
+  EXPECT_EQ(r.local.row(top).norm(), 0.0);
+  EXPECT_DOUBLE_EQ(r.weight[bottom], 1.0);
+  EXPECT_GT(r.kept_out_share, 0.0);
+  EXPECT_LT(r.kept_out_share, 0.1);
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
 }

@@ -55,8 +55,11 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
                    r.exemplar_radius));
   if (r.kept_out_share > 0)
     info(fmt::format("synthesize: kept out {:.1f}% of the target's area (near creases {:.1f}%, parts smaller than the "
-                     "texture {:.1f}%; --keep-out-crease-angle 0 and --no-keep-out-thin cover them)",
-                     100 * r.kept_out_share, 100 * r.kept_out_creases, 100 * r.kept_out_thin));
+                     "texture {:.1f}%, closed pits {:.1f}%; --keep-out-crease-angle 0, --no-keep-out-thin and "
+                     "--keep-out-pit-depth 0 cover them)",
+                     100 * r.kept_out_share, 100 * r.kept_out_creases, 100 * r.kept_out_thin, 100 * r.kept_out_pits));
+  info(fmt::format("synthesize: {:.2f}% of the relief's faces turned against the base (the exemplar's own: {:.2f}%)",
+                   100 * r.inward_share, 100 * r.exemplar_inward_share));
   Mesh textured = r.target;
   set_positions(textured, r.textured);
   save_mesh(textured, a.output);

@@ -143,6 +143,11 @@ struct SynthesisOptions {
   //! smaller of its feature length and patch radius) is under a quarter of a flat disk's area (none), rising
   //! to full texture at a half (a finger or leg of radius ρ holds about 4ρ / span).
   bool keep_out_thin = true;
+  //! Keep texture out of closed pits smaller than its span (an eye socket with no crease round it): where the
+  //! surface round a vertex, in rings of a quarter, a half and the whole span, stands above it on every side
+  //! (the lowest of 8 sectors) by at least this share of the ring's radius; faded in from a quarter of the span
+  //! to the span away (0: no pit keep-out; bench/synthesis.md).
+  double keep_out_pit_depth = 0.15;
 
   // Orientation
   //! The direction field's guide (when no per-vertex guide is given): its tangent part on the target.
@@ -213,6 +218,11 @@ struct SynthesisResult {
   //! by over 5 % of the largest displacement within the exemplar's largest footprint radius). The exemplar's own
   //! is about 0 (the tentacle plate's: 0); 0 for an exemplar without separate features.
   double bare_share = 0;
+  //! Faces turned against the base (issue 27): among the relief's faces (a corner displaced by over 5 % of the
+  //! largest displacement), the area share of those whose normal points against the base's normal at the same
+  //! face; and the same for the exemplar as it is read (its raster over the placements' reach, a flat base).
+  //! The undersides of leaning features count in both: what exceeds the exemplar's is what synthesis turned.
+  double inward_share = 0, exemplar_inward_share = 0;
   int exemplar_center = -1;  //!< the exemplar disk used (automatic or given)
   double exemplar_radius = 0;   //!< its geodesic radius (exemplar units)
   double exemplar_extent = 0;   //!< R: exemplar length per unit-disk length (the map's scale over |z| < 0.8)
@@ -223,7 +233,7 @@ struct SynthesisResult {
   double shrunk_share = 0;   //!< unfolded_vertices / #V: vertices whose (non-zero) displacement unfold shrank by over 1 %
   double refined_share = 0;  //!< added_vertices / #V
   //! Area shares of the target kept out (automatic keep-out weight below 0.5): in all, and by each reason.
-  double kept_out_share = 0, kept_out_creases = 0, kept_out_thin = 0;
+  double kept_out_share = 0, kept_out_creases = 0, kept_out_thin = 0, kept_out_pits = 0;
   std::vector<std::pair<std::string, double>> stage_seconds;  //!< wall seconds per stage, in order
   std::vector<std::string> warnings;
 };

@@ -32,6 +32,19 @@ def test_the_damage_counts_and_the_estimate_are_returned(tentacles):
     assert 0 <= r.dropped_vertices + r.repaired_vertices < n and r.retried_placements >= 0
     assert n / 1.5 < r.estimated_vertices < 1.5 * n
     assert set(r.stage_seconds) >= {"exemplar", "refine", "patches", "unfold"}
+    # Faces turned against the base (the issue's inward faces): recounted here on the result's meshes, and
+    # no more than 0.1 % of the relief beyond the exemplar's own (its leaning tentacles' undersides).
+    V, B, F = np.asarray(r.V), np.asarray(r.V_base), np.asarray(r.F)
+    d = np.linalg.norm(V - B, axis=1)
+    relief = (d[F] > 0.05 * d.max()).any(axis=1)
+    nv = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    nb = np.cross(B[F[:, 1]] - B[F[:, 0]], B[F[:, 2]] - B[F[:, 0]])
+    area = np.linalg.norm(nv, axis=1)
+    against = relief & ((nv * nb).sum(axis=1) < 0)
+    assert r.inward_share == pytest.approx(area[against].sum() / area[relief].sum(), abs=0.01)
+    assert r.exemplar_inward_share > 0.05
+    assert r.inward_share <= r.exemplar_inward_share + 0.001
+    assert r.kept_out_pits == 0                     # a sphere has no pit
 
 
 def test_an_estimate_beyond_the_cap_is_refused_before_the_work(tentacles):
@@ -66,7 +79,7 @@ def test_cli_prints_the_estimate_first_refuses_beyond_the_cap_and_reports_the_co
                                   vertex_budget=20000)
     for key in ("self_intersecting", "base_self_intersecting", "excess_self_intersecting", "shrunk_share",
                 "refined_share", "estimated_vertices", "exemplar_share", "retried_placements", "dropped_patches",
-                "dropped_vertices", "repaired_vertices"):
+                "dropped_vertices", "repaired_vertices", "inward_share", "exemplar_inward_share", "kept_out_pits"):
         assert rep[key] == pytest.approx(getattr(py, key)), key
     V, _ = geotex.read_mesh(str(tmp_path / "o.ply"))
     assert np.allclose(V, py.V)
