@@ -1147,44 +1147,44 @@ class ScalarFactor {
 };
 
 // The split similarity system's three scalar matrices A_a = A_0 + w_F Σ_{pins along a} e_v e_vᵀ (x, y and z
-// differ only in the box's pins). With few pinned vertices, one factor of A_0 serves the three: the
-// pins are added back by the Sherman–Morrison–Woodbury identity, A_a⁻¹ = A_0⁻¹ − Z_a (I + U_aᵀ Z_a)⁻¹ Z_aᵀ,
-// U_a = √w_F E_a, Z_a = A_0⁻¹ U_a (one solve with a column per pinned vertex for the three, a k_a × k_a
-// capacitance matrix per axis): a factorization and a 3-column solve instead of three of each (igea, 25 pins: each
-// relaxation round's factorizations from three to one). Many pins (a flat bottom) keep three factors.
+// differ only in the box's pins). Axes with few pinned vertices share one factor of A_0: their pins are
+// added back by the Sherman–Morrison–Woodbury identity, A_a⁻¹ = A_0⁻¹ − Z_a (I + U_aᵀ Z_a)⁻¹ Z_aᵀ,
+// U_a = √w_F E_a, Z_a = A_0⁻¹ U_a (one solve with a column per pinned vertex of the sharing axes, a
+// k_a × k_a capacitance matrix per axis): a factorization and a multi-column solve instead of one of each
+// per axis (igea, 25 pins: each relaxation round's factorizations from three to one). An axis with many
+// pins (a flat bottom) gets its own factor of A_a; the others still share one when at least two can
+// (stanford-bunny: the bottom's pins along y, a few along x and z: two factors instead of three).
 class SplitSystem {
  public:
-  static constexpr size_t kWoodburyPins = 64;  // pinned vertices up to which one factor serves the three axes
+  static constexpr size_t kWoodburyPins = 64;  // pinned vertices (of the sharing axes) up to which they share A_0
 
   void factor(const SparseMatrix& G, const Eigen::VectorXd& d, const std::vector<std::array<int, 2>>& pins,
               double pin_weight) {
     const int n = static_cast<int>(d.size());
-    std::vector<int> vertices;
-    for (const auto& [v, a] : pins) vertices.push_back(v);
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    shared_ = vertices.size() <= kWoodburyPins;
+    choose_shared(pins);
     pin_weight_ = pin_weight;
-    for (int a = 0; a < (shared_ ? 1 : 3); ++a) {
+    for (int a = 0; a < 3; ++a) {
+      if (shared_[a]) continue;
       Eigen::VectorXd da = d;
-      if (!shared_)
-        for (const auto& [v, axis] : pins)
-          if (axis == a) da[v] += pin_weight;
+      for (const auto& [v, axis] : pins)
+        if (axis == a) da[v] += pin_weight;
       factors_[a].factor(G + SparseMatrix(da.asDiagonal()));
     }
-    if (!shared_) return;
-    // Z = A_0⁻¹ U for every pinned vertex at once (one multi-column solve), each axis its columns.
+    if (shared_axes() == 0) return;
+    factors_[3].factor(G + SparseMatrix(d.asDiagonal()));
+    // Z = A_0⁻¹ U for every vertex pinned along a sharing axis at once (one multi-column solve).
     const double u = std::sqrt(pin_weight);
-    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(vertices.size()));
-    for (size_t k = 0; k < vertices.size(); ++k) U(vertices[k], static_cast<Eigen::Index>(k)) = u;
-    Z_ = vertices.empty() ? Eigen::MatrixXd(n, 0) : factors_[0].solve(U);
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(vertices_.size()));
+    for (size_t k = 0; k < vertices_.size(); ++k) U(vertices_[k], static_cast<Eigen::Index>(k)) = u;
+    Z_ = vertices_.empty() ? Eigen::MatrixXd(n, 0) : factors_[3].solve(U);
     for (int a = 0; a < 3; ++a) {
       rows_[a].clear();
       columns_[a].clear();
+      if (!shared_[a]) continue;
       for (const auto& [v, axis] : pins)
         if (axis == a) {
           rows_[a].push_back(v);
-          columns_[a].push_back(static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), v) - vertices.begin()));
+          columns_[a].push_back(static_cast<int>(std::lower_bound(vertices_.begin(), vertices_.end(), v) - vertices_.begin()));
         }
       const auto k = static_cast<Eigen::Index>(rows_[a].size());
       Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(k, k);
@@ -1195,14 +1195,15 @@ class SplitSystem {
   }
   //! \return the columns of A_a⁻¹ R_a, a = x, y, z.
   MatrixX3d solve(const MatrixX3d& R) const {
-    if (!shared_) {
-      MatrixX3d Y(R.rows(), 3);
-      for (int a = 0; a < 3; ++a) Y.col(a) = factors_[a].solve(R.col(a));
-      return Y;
-    }
-    MatrixX3d Y = factors_[0].solve(R);
+    MatrixX3d Y(R.rows(), 3);
+    std::vector<int> together;  // the sharing axes' columns, solved with A_0 at once
+    for (int a = 0; a < 3; ++a)
+      if (shared_[a]) together.push_back(a);
+      else Y.col(a) = factors_[a].solve(R.col(a));
+    if (together.empty()) return Y;
+    Y(Eigen::all, together) = factors_[3].solve(R(Eigen::all, together));
     const double u = std::sqrt(pin_weight_);
-    for (int a = 0; a < 3; ++a) {
+    for (int a : together) {
       if (rows_[a].empty()) continue;
       Eigen::VectorXd t(static_cast<Eigen::Index>(rows_[a].size()));
       for (size_t k = 0; k < rows_[a].size(); ++k) t[static_cast<Eigen::Index>(k)] = u * Y(rows_[a][k], a);
@@ -1212,10 +1213,33 @@ class SplitSystem {
   }
 
  private:
-  std::array<ScalarFactor, 3> factors_;
-  bool shared_ = false;
+  // Which axes share A_0: from the fewest pinned vertices up, while their union stays within
+  // kWoodburyPins; at least two (one axis alone is cheaper with its own factor).
+  void choose_shared(const std::vector<std::array<int, 2>>& pins) {
+    std::array<std::vector<int>, 3> along;
+    for (const auto& [v, a] : pins) along[a].push_back(v);
+    std::array<int, 3> order{0, 1, 2};
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return along[a].size() < along[b].size(); });
+    vertices_.clear();
+    shared_ = {false, false, false};
+    for (int a : order) {
+      std::vector<int> merged = vertices_;
+      merged.insert(merged.end(), along[a].begin(), along[a].end());
+      std::sort(merged.begin(), merged.end());
+      merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+      if (merged.size() > kWoodburyPins) break;
+      vertices_.swap(merged);
+      shared_[a] = true;
+    }
+    if (shared_axes() < 2) shared_ = {false, false, false}, vertices_.clear();
+  }
+  int shared_axes() const { return int(shared_[0]) + int(shared_[1]) + int(shared_[2]); }
+
+  std::array<ScalarFactor, 4> factors_;          // A_x, A_y, A_z (the axes of their own), A_0 (the sharing ones)
+  std::array<bool, 3> shared_{};
   double pin_weight_ = 0;
-  std::array<std::vector<int>, 3> rows_;         // the vertices pinned along each axis
+  std::vector<int> vertices_;                    // the vertices pinned along a sharing axis: the columns of Z_
+  std::array<std::vector<int>, 3> rows_;         // the vertices pinned along each sharing axis
   std::array<std::vector<int>, 3> columns_;      // and their columns of Z_
   Eigen::MatrixXd Z_;                            // A_0⁻¹ U, a column per pinned vertex: A_0⁻¹ U_a its axis' columns
   std::array<Eigen::LLT<Eigen::MatrixXd>, 3> capacitance_;  // I + U_aᵀ A_0⁻¹ U_a
