@@ -387,7 +387,8 @@ def denoise_auto(mesh: MeshLike, F: Any = None, **options: Any) -> AutoDenoiseRe
     parameter derived from the input (auto_denoise.h). Returns a Result: V, F (same connectivity),
     edge_labels (per edges()), edges, noise_sigma, choices (what was chosen and why), creased (#F: how
     each face was read, 1 creased, 0 smooth, between: a transition), creased_share (of the area), relief (#F:
-    the fine relief kept in smooth regions, 0 plain to 1), relief_share, parameters."""
+    the fine relief kept in smooth regions, 0 plain to 1), relief_share, strong (#F: the sharp fit's stronger
+    smoothing taken in smooth regions), strong_share, change_kept (#F), change_kept_share, parameters."""
     return AutoDenoiseResult(**_geotex.denoise_auto(*_arrays(mesh, F), options))
 
 

@@ -31,6 +31,11 @@ const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
            "the share of the light fit's relief kept, area-weighted over the faces read smooth")
       .array("relief", [](const R& r) { return r.relief; },
              "#F: the light fit's relief kept, 0 plain (the mild fit) to 1 (relief above the noise: the light fit)")
+      .add("strong_share", [](const R& r) { return r.strong_share; },
+           "the share of the sharp fit's stronger smoothing taken (step 5c), area-weighted over the faces read smooth")
+      .array("strong", [](const R& r) { return r.strong; },
+             "#F: the sharp fit's stronger smoothing taken in smooth regions, 0 (the mild fit) to 1 (plain, "
+             "smoothly curved and noisy: the sharp fit)")
       .add("change_kept_share", [](const R& r) { return r.change_kept_share; },
            "the share of the change kept by step 6a (coherent change given back), area-weighted")
       .array("change_kept", [](const R& r) { return r.change_kept; },

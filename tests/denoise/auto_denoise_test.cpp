@@ -326,3 +326,28 @@ TEST(AutoDenoise, OptionTablesAreConsistent) {
   for (const auto& f : AutoDenoiseOptions::table().fields())
     EXPECT_EQ(f.info.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_0123456789"), std::string::npos) << f.info.name;
 }
+
+// Step 5c: where a region read smooth is plain and smoothly curved, it takes the sharp pass's stronger
+// smoothing; where it has relief, it does not: spot beside a plain sphere of the same edge length, at a noise
+// where the mild pass leaves the sphere rough.
+TEST(AutoDenoise, APlainNoisySphereTakesTheStrongerSmoothingAndReliefDoesNot) {
+  const Mesh cow = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
+  const Mesh clean = side_by_side(cow, icosphere(5)), noisy = with_noise(clean, 0.5);
+  const MatrixX3d V = positions(clean);
+  const MatrixX3i F = faces(clean);
+  const Eigen::Index nc = cow.n_faces(), nf = F.rows();
+  const auto error_on = [&](const MatrixX3d& X, Eigen::Index from, Eigen::Index to) { return part_error(F, V, X, from, to); };
+  const AutoDenoiseResult r = auto_denoise(noisy);
+  AutoDenoiseOptions o;
+  o.strong_floor = 0;  // the previous release: the mild fit wherever the surface is read smooth
+  const AutoDenoiseResult before = auto_denoise(noisy, o);
+  EXPECT_EQ(before.strong.maxCoeff(), 0.0);
+  // The sphere is read smooth (so the step applies) and mostly takes the stronger smoothing; spot hardly.
+  EXPECT_LT(r.creased.tail(nf - nc).mean(), 0.5);
+  EXPECT_GT(r.strong.tail(nf - nc).mean(), 0.3) << "the sphere";
+  EXPECT_LT(r.strong.head(nc).mean(), 0.15) << "spot's relief";
+  EXPECT_GT(r.strong_share, 0.0);
+  EXPECT_LT(r.strong_share, 1.0);
+  EXPECT_LT(error_on(r.positions, nc, nf), 0.9 * error_on(before.positions, nc, nf)) << "the sphere comes nearer the truth";
+  EXPECT_LE(error_on(r.positions, 0, nc), 1.03 * error_on(before.positions, 0, nc)) << "spot is not made worse";
+}

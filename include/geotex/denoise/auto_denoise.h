@@ -19,6 +19,10 @@
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
 //!     detail keep their shape where a plain sphere is still smoothed fully;
+//!  5c. the smooth reading smoothed as strongly as the sharp pass where that is safe: each vertex read smooth
+//!     takes the sharp fit where it departs from the mild one by less than the noise and its normals vary
+//!     less around the vertices (a dense sphere or torus at moderate noise: the mild pass leaves noise the sharp
+//!     pass removes; AutoDenoiseOptions::strong_floor, AutoDenoiseResult::strong);
 //!  6a. the smooth reading's change given back where it is spatially coherent beyond the noise
 //!     (coherent_change.h): removed noise is white from vertex to vertex, a coarse mesh's own facets smoothed
 //!     away are not (AutoDenoiseOptions::coherence_weight, AutoDenoiseResult::change_kept);
@@ -99,6 +103,10 @@ struct AutoDenoiseOptions {
   //! The noise floor of step 5b in units of the local noise energy: 0 keeps the light fit everywhere, a
   //! large value the mild fit everywhere (the previous release's smooth reading).
   double relief_floor = 0.13;
+  //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
+  //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
+  //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
+  double strong_floor = 0.02;
   //! Normal noise (mean edge lengths) at which half of the change is kept: inputs much less noisy are
   //! returned (nearly) as they are.
   double keep_below = 0.02;
@@ -130,6 +138,10 @@ struct AutoDenoiseResult {
   //! to 1 (relief well above the noise: the light fit); see AutoDenoiseOptions::relief_floor.
   Eigen::VectorXd relief;
   double relief_share = 0;             //!< the area-weighted mean of relief over the faces read smooth
+  //! #F: how much each face read smooth takes of the sharp fit's stronger smoothing (step 5c), 0 (the mild
+  //! fit) to 1 (the sharp fit: plain, smoothly curved, noisy); see AutoDenoiseOptions::strong_floor.
+  Eigen::VectorXd strong;
+  double strong_share = 0;             //!< the area-weighted mean of strong over the faces read smooth
   //! #F: the share of the change kept by step 6a (AutoDenoiseOptions::coherence_weight), 1 where the change
   //! is white like noise, towards 0 where it is coherent (a coarse mesh's facets smoothed away).
   Eigen::VectorXd change_kept;

@@ -156,6 +156,30 @@ def test_coherent_change_is_given_back_in_python_and_the_cli(tmp_path):
         assert np.allclose(report["change_kept"], kept) and abs(report["change_kept_share"] - r["change_kept_share"]) < 1e-12
 
 
+def test_strong_smoothing_takes_a_plain_noisy_sphere_in_python_and_the_cli(tmp_path):
+    # Step 5c (auto_denoise.h): a dense, plain sphere at σ 0.5, which the mild pass leaves rough, takes the sharp
+    # fit's stronger smoothing and comes nearer the truth; strong_floor=0 is the previous release. The map is the
+    # same in the CLI's report, and --strong-floor reaches the CLI.
+    V, F = geotex.generate("sphere", level=2)
+    Vn = geotex.add_noise(V, F, sigma=0.5, seed=3)
+    r, before = geotex.denoise(Vn, F), geotex.denoise(Vn, F, strong_floor=0)
+    strong = np.asarray(r["strong"])
+    assert strong.shape == (len(F),) and strong.min() >= 0 and strong.max() <= 1
+    assert 0.3 < r["strong_share"] <= 1 and any(line.startswith("strong smoothing") for line in r["choices"])
+    assert np.all(np.asarray(before["strong"]) == 0) and before["strong_share"] == 0
+    err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
+    assert err(r["V"]) < 0.9 * err(before["V"]), (err(r["V"]), err(before["V"]))
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        for extra, share in (([], r["strong_share"]), (["--strong-floor", "0"], 0.0)):
+            subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *extra,
+                            "--report", str(tmp_path / "r.json")], check=True)
+            report = json.loads((tmp_path / "r.json").read_text())
+            assert abs(report["strong_share"] - share) < 1e-12
+        assert report["strong_share"] == 0 and max(report["strong"]) == 0
+
+
 def test_surfel_primal_denoising(noisy_cube):
     V, F, Vn = noisy_cube
     r = geotex.denoise(Vn, F, method="surfel", retrieval="primal")

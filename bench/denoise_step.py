@@ -1,8 +1,9 @@
-# Step 6a of the default denoiser (issue 24, 2026-12-07): the change given back where it is coherent beyond
-# the noise. Default against coherence_weight=0 (the previous release) on clean and noisy models, mean
-# face-normal error (degrees) against the clean model, noise geotex.add_noise(seed=7).
-#   PYTHONPATH=build/python /usr/bin/python3 bench/denoise_coherent.py [model ...] > table.md
-# model: a file under ../shared/data, or gen:NAME (geotex.generate(NAME)).
+# One step of the default denoiser against the default with that step off (the previous release), on clean
+# and noisy models: mean face-normal error (degrees) against the clean model, noise geotex.add_noise(seed=7),
+# and the share the step reports (a result field).
+#   PYTHONPATH=build/python /usr/bin/python3 bench/denoise_step.py OPTION=OFF SHARE [model ...] > table.md
+# e.g. step 6a: coherence_weight=0 change_kept_share; step 5c: strong_floor=0 strong_share.
+# model: a file under ../shared/data, or gen:NAME[@LEVEL] (geotex.generate(NAME, level=LEVEL)).
 import os, sys, time, warnings
 import numpy as np
 import geotex
@@ -26,13 +27,17 @@ def error(P, F, T):
 
 def load(name):
     if name.startswith("gen:"):
-        return geotex.generate(name[4:])
+        gen, _, level = name[4:].partition("@")
+        return geotex.generate(gen, level=int(level)) if level else geotex.generate(gen)
     return geotex.read_mesh(os.path.join(DATA, name))
 
 
-models = sys.argv[1:] or ["spot.obj", "cheburashka.obj", "cow.obj", "stanford-bunny.obj", "beetle.obj", "fandisk.obj",
+off_name, _, off_value = sys.argv[1].partition("=")
+off = {off_name: float(off_value)}
+share = sys.argv[2]
+models = sys.argv[3:] or ["spot.obj", "cheburashka.obj", "cow.obj", "stanford-bunny.obj", "beetle.obj", "fandisk.obj",
                           "teapot.obj", "woody.obj", "gen:sphere", "gen:torus", "gen:spiky-sphere", "igea.ply"]
-print("| model | noise | input | previous (coherence_weight 0) | **default** | ratio | change kept | CPU s prev / new |")
+print(f"| model | noise | input | previous ({off_name} {off_value}) | **default** | ratio | {share} | CPU s prev / new |")
 print("|---|---|---|---|---|---|---|---|")
 ratios = {}
 for m in models:
@@ -41,7 +46,7 @@ for m in models:
     for kind, kw in NOISE.items():
         X = np.asarray(geotex.add_noise(V, F, seed=7, **kw)) if kw else V
         t0 = time.process_time()
-        prev = geotex.denoise(X, F, coherence_weight=0)
+        prev = geotex.denoise(X, F, **off)
         t1 = time.process_time()
         new = geotex.denoise(X, F)
         t2 = time.process_time()
@@ -49,7 +54,7 @@ for m in models:
         ratio = e1 / e0 if e0 > 1e-9 else 1.0
         ratios.setdefault(kind, []).append(ratio)
         print(f"| {m} | {kind} | {error(X, F, V):.2f} | {e0:.2f} | **{e1:.2f}** | {ratio:.3f} | "
-              f"{new.change_kept_share:.2f} | {t1 - t0:.2f} / {t2 - t1:.2f} |", flush=True)
+              f"{new[share]:.2f} | {t1 - t0:.2f} / {t2 - t1:.2f} |", flush=True)
 print()
 print("| noise | mean ratio | worst | better (< 0.99) | worse (> 1.01) |")
 print("|---|---|---|---|---|")
