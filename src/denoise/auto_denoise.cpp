@@ -186,6 +186,31 @@ int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d
   return bad;
 }
 
+// The wall time of each stage since the previous one, appended to \p seconds by stage("name").
+struct StageClock {
+  std::vector<std::pair<std::string, double>>& seconds;
+  std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
+  void operator()(const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    seconds.emplace_back(name, std::chrono::duration<double>(now - last).count());
+    last = now;
+  }
+};
+
+// Per face, the mean of a per-vertex quantity over its three corners.
+Eigen::VectorXd face_means(const MatrixX3i& F, const Eigen::VectorXd& v) {
+  Eigen::VectorXd m(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) m[f] = (v[F(f, 0)] + v[F(f, 1)] + v[F(f, 2)]) / 3;
+  return m;
+}
+
+// Step 6: the share \p keep of the change from the input \p X kept (low noise: nearly none).
+void keep_share_of_change(const MatrixX3d& X, double keep, AutoDenoiseResult& r) {
+  if (keep >= 0.999) return;
+  r.positions = X + keep * (r.positions - X);
+  r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept", 100 * keep));
+}
+
 // Face target normals of the smooth reading: the mean of the three corners' surfels (picking one corner
 // makes creases; measured on the smooth synthetic models: 5.82° against 6.59°), turned consistent.
 MatrixX3d mild_face_normals(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& S) {
@@ -437,8 +462,8 @@ void add_light_relief(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, 
   const MatrixX3d Xl = fit_vertices_to_normals(F, X, FNl, o.light_fit_iterations, kRelaxation);
   const Eigen::VectorXd w = keep_unfolded(N, F, Xm, Xl, relief_weights(N, F, X, Xm, Xl, o.relief_floor));
   Xm += w.asDiagonal() * (Xl - Xm);
+  relief = face_means(F, w);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    relief[f] = (w[F(f, 0)] + w[F(f, 1)] + w[F(f, 2)]) / 3;
     const Vec3 t = relief[f] * FNl.row(f) + (1 - relief[f]) * FNm.row(f);
     if (t.norm() > 0) FNm.row(f) = t.normalized().transpose();
   }
@@ -471,12 +496,10 @@ Eigen::VectorXd normal_spread(const MatrixX3i& F, const MatrixX3d& P) {
 // spikes, the input's departure from it is relief, not noise), and only where the
 // sharp fit's normals vary less around the vertices than the mild fit's over kReliefRings rings (smoother,
 // not faceted). Chosen on generated spheres, tori and capsules at levels 3-5, spot and cheburashka.
-// \p strong: per face, the share taken; \return it per vertex.
+// \p noise_var: the normal noise's variance (absolute). \return the share taken, per vertex.
 Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X, const MatrixX3i& F,
                                      const MatrixX3d& Xs, const MatrixX3d& FNs, const Eigen::VectorXd& cv,
-                                     double floor, double noise_var, MatrixX3d& Xm, MatrixX3d& FNm,
-                                     Eigen::VectorXd& strong) {
-  strong = Eigen::VectorXd::Zero(F.rows());
+                                     double floor, double noise_var, MatrixX3d& Xm, MatrixX3d& FNm) {
   if (floor <= 0) return Eigen::VectorXd::Zero(X.rows());
   const Eigen::VectorXd w = relief_weights(N, F, X, Xm, Xs, floor, noise_var);
   const Eigen::VectorXd rough_m = ring_average(N, normal_spread(F, Xm), kReliefRings);
@@ -486,9 +509,9 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
     t[v] = cv[v] < 1 && rough_s[v] < rough_m[v] ? 1 - w[v] : 0.0;
   t = keep_unfolded(N, F, Xm, Xs, t);
   Xm += t.asDiagonal() * (Xs - Xm);
+  const Eigen::VectorXd tf = face_means(F, t);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    strong[f] = (t[F(f, 0)] + t[F(f, 1)] + t[F(f, 2)]) / 3;
-    const Vec3 b = strong[f] * FNs.row(f) + (1 - strong[f]) * FNm.row(f);
+    const Vec3 b = tf[f] * FNs.row(f) + (1 - tf[f]) * FNm.row(f);
     if (b.norm() > 0) FNm.row(f) = b.normalized().transpose();
   }
   return t;
@@ -514,10 +537,8 @@ void give_back_coherent(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F
   r.positions = X + g.asDiagonal() * change;
   const Eigen::VectorXd area = face_areas(mesh);
   double kept = 0;
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    r.change_kept[f] = (g[F(f, 0)] + g[F(f, 1)] + g[F(f, 2)]) / 3;
-    kept += area[f] * r.change_kept[f];
-  }
+  r.change_kept = face_means(F, g);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) kept += area[f] * r.change_kept[f];
   r.change_kept_share = area.sum() > 0 ? kept / area.sum() : 1.0;
   if (r.change_kept_share < 0.995)
     r.choices.push_back(fmt::format("coherent change given back: {:.0f}% of the change kept (area-weighted; "
@@ -552,12 +573,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   o = options;
   const MatrixX3d X = positions(mesh);
   const MatrixX3i F = faces(mesh);
-  auto clock = std::chrono::steady_clock::now();
-  auto stage = [&](const char* name) {
-    const auto now = std::chrono::steady_clock::now();
-    r.seconds.emplace_back(name, std::chrono::duration<double>(now - clock).count());
-    clock = now;
-  };
+  StageClock stage{r.seconds};
 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
   // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
@@ -629,8 +645,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     cv = ring_average(N, sharp_vertices(features, o.reading), kReadingRings);
   }
-  r.creased.resize(F.rows());
-  for (Eigen::Index f = 0; f < F.rows(); ++f) r.creased[f] = (cv[F(f, 0)] + cv[F(f, 1)] + cv[F(f, 2)]) / 3;
+  r.creased = face_means(F, cv);
   // 5b. The smooth reading keeps the light fit's relief where it stands above the noise (the reading above
   // compared the mild fit, as it was tuned and trained to).
   stage("reading");
@@ -641,26 +656,22 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     add_light_relief(mesh, X, F, N, S0, mild, o, Xm, FNm, r.relief);
     stage("relief");
   }
-  r.strong = Eigen::VectorXd::Zero(F.rows());
+  // 5c. Plain, smoothly curved regions read smooth take the sharp fit's stronger smoothing.
+  const double noise_var = std::pow(normal_noise * base.unit_length, 2);
   Eigen::VectorXd strong = Eigen::VectorXd::Zero(X.rows());
   if (want_mild && want_sharp && cv.minCoeff() < 1) {
-    const double noise_abs = normal_noise * base.unit_length;
-    strong = add_strong_smoothing(N, X, F, Xs, FNs, cv, o.strong_floor, noise_abs * noise_abs, Xm, FNm, r.strong);
+    strong = add_strong_smoothing(N, X, F, Xs, FNs, cv, o.strong_floor, noise_var, Xm, FNm);
     stage("strong smoothing");
   }
-  if (!want_mild) r.positions = Xs;
-  else if (!want_sharp) r.positions = Xm;
-  else r.positions = cv.asDiagonal() * Xs + (Eigen::VectorXd::Ones(cv.size()) - cv).asDiagonal() * Xm;
+  r.strong = face_means(F, strong);
+  r.positions = !want_mild ? Xs : !want_sharp ? Xm : MatrixX3d(cv.asDiagonal() * Xs + (1 - cv.array()).matrix().asDiagonal() * Xm);
   const MatrixX3d FN = blended_face_normals(r.creased, want_sharp ? &FNs : nullptr, want_mild ? &FNm : nullptr);
   describe_reading(mesh, F, look, r);
   describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, r);
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
   give_back_coherent(mesh, X, F, N, cv, strong, normal_noise * base.unit_length, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
-  if (keep < 0.999) {
-    r.positions = X + keep * (r.positions - X);
-    r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept", 100 * keep));
-  }
+  keep_share_of_change(X, keep, r);
   r.turned_over = untangle(mesh, F, r.positions, FN, kUntangleRounds);
   stage("untangle");
   report(o.progress, 0.95, "auto: fit");
