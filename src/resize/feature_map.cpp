@@ -65,7 +65,10 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
       .add("max_extent", &O::max_extent,
            "a region spanning more than this share of the model's extent along an axis is a part, not a feature",
            between(0, 1))
-      .add("dilate", &O::dilate, "grow the map by this many vertex rings", between(0, 10000));
+      .add("dilate", &O::dilate, "grow the map by this many vertex rings", between(0, 10000))
+      .add("close_gaps", &O::close_gaps,
+           "importance: close gaps narrower than about twice this many vertex rings between important regions "
+           "(ring maxima, then as many ring minima; 0: off)", between(0, 1000));
   return t;
 }
 
@@ -478,6 +481,7 @@ Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eig
     f = f.cwiseMax(p);
   }
   f = diffuse(mesh, f, o.importance_smoothing).cwiseMax(0.0).cwiseMin(1.0);
+  if (o.close_gaps > 0) f = close_features(mesh, f, o.close_gaps);
   for (int i = 0; i < n; ++i)
     if (mesh.is_isolated(mesh.vertex_handle(i))) f[i] = 0;
   if (raw_out) *raw_out = std::move(raw);
@@ -535,6 +539,24 @@ Eigen::VectorXd dilate_features(const Mesh& mesh, const Eigen::VectorXd& f, int 
     g = h;
   }
   return g;
+}
+
+static Eigen::VectorXd erode_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
+  Eigen::VectorXd g = f;
+  for (int r = 0; r < rings; ++r) {
+    Eigen::VectorXd h = g;
+    for (auto e : mesh.edges()) {
+      const int a = e.v0().idx(), b = e.v1().idx();
+      h[a] = std::min(h[a], g[b]);
+      h[b] = std::min(h[b], g[a]);
+    }
+    g = h;
+  }
+  return g;
+}
+
+Eigen::VectorXd close_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
+  return erode_features(mesh, dilate_features(mesh, f, rings), rings).cwiseMax(f);
 }
 
 Eigen::VectorXd features_from_values(const Mesh& mesh, const Eigen::VectorXd& height, double threshold, int dilate) {

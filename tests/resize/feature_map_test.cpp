@@ -289,3 +289,35 @@ TEST(FeatureMap, AdfOfSeveralComponentsIsEachComponentsOwn) {
               iou(both.weights.head(n), s.adf.weights), both.summary.describe().c_str());
   EXPECT_GT(iou(both.weights.head(n), s.adf.weights), 0.8);
 }
+
+// close_features (the importance map's close_gaps): a gap two or three rings wide between important
+// bands takes their weight; a wide unimportant region keeps its zeros beyond the closing's reach; no
+// weight goes down.
+TEST(FeatureMap, ClosingFillsThinGapsAndKeepsWideUnimportantRegions) {
+  const Mesh m = plane(40, 1.0);
+  const MatrixX3d X = positions(m);
+  const double x0 = X.col(0).minCoeff(), w = X.col(0).maxCoeff() - x0, h = w / 40;
+  Eigen::VectorXd f(X.rows());
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double x = (X(i, 0) - x0) / w;  // 0..1
+    f[i] = (x < 0.3 || (x > 0.36 && x < 0.6)) ? 1.0 : 0.0;  // a gap of about 2 edges at 0.3..0.36
+  }
+  const int k = 3;
+  const Eigen::VectorXd g = close_features(m, f, k);
+  int gap = 0, wide = 0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    EXPECT_GE(g[i], f[i]);
+    const double x = (X(i, 0) - x0) / w;
+    if (x >= 0.3 && x <= 0.36) {
+      ++gap;
+      EXPECT_DOUBLE_EQ(g[i], 1.0) << "gap vertex at x " << x;
+    }
+    if ((X(i, 0) - x0) >= 0.6 * w + 2 * k * h) {
+      ++wide;
+      EXPECT_DOUBLE_EQ(g[i], 0.0) << "wide region at x " << x;
+    }
+  }
+  EXPECT_GT(gap, 40);
+  EXPECT_GT(wide, 200);
+  EXPECT_EQ(FeatureMapOptions{}.close_gaps, 0);  // off by default
+}
