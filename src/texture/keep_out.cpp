@@ -39,6 +39,41 @@ Eigen::VectorXd edge_distance(const Mesh& mesh, const MatrixX3d& X, const std::v
   return d;
 }
 
+// The vertices within `span` of one vertex along edges (Dijkstra), its buffers reused from vertex to vertex
+// by one thread: grow() calls visit(u) on each vertex as it is settled, nearest first, and stops when visit
+// returns false; dist and touched then hold what was reached until clear().
+struct EdgeBall {
+  std::vector<double> dist;
+  std::vector<int> touched;
+  explicit EdgeBall(int n) : dist(n, std::numeric_limits<double>::infinity()) {}
+  template <class Visit>
+  void grow(const Mesh& mesh, const MatrixX3d& X, int v, double span, Visit visit) {
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+    dist[v] = 0;
+    touched.push_back(v);
+    q.emplace(0.0, v);
+    while (!q.empty()) {
+      const auto [du, u] = q.top();
+      q.pop();
+      if (du > dist[u]) continue;
+      if (!visit(u)) break;
+      for (auto t : mesh.vv_range(mesh.vertex_handle(u))) {
+        const double dt = du + (X.row(u) - X.row(t.idx())).norm();
+        if (dt < span && dt < dist[t.idx()]) {
+          if (!std::isfinite(dist[t.idx()])) touched.push_back(t.idx());
+          dist[t.idx()] = dt;
+          q.emplace(dt, t.idx());
+        }
+      }
+    }
+  }
+  void clear() {
+    for (int t : touched) dist[t] = std::numeric_limits<double>::infinity();
+    touched.clear();
+  }
+};
+
 // Creases: vertices on an edge whose dihedral angle exceeds the threshold; the weight rises with the
 // distance from them, from a quarter of the texture's span to the span (a feature rooted farther than its
 // own length cannot lean over one).
@@ -61,34 +96,13 @@ Eigen::VectorXd thin_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::V
   const double disk = M_PI * span * span;
 #pragma omp parallel
   {
-    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
-    std::vector<int> touched;
-    using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+    EdgeBall ball(n);
 #pragma omp for schedule(dynamic, 256)
     for (int v = 0; v < n; ++v) {
       double reached = 0;
-      dist[v] = 0;
-      touched.push_back(v);
-      q.emplace(0.0, v);
-      while (!q.empty() && reached < 0.5 * disk) {
-        const auto [du, u] = q.top();
-        q.pop();
-        if (du > dist[u]) continue;
-        reached += area[u];
-        for (auto t : mesh.vv_range(mesh.vertex_handle(u))) {
-          const double dt = du + (X.row(u) - X.row(t.idx())).norm();
-          if (dt < span && dt < dist[t.idx()]) {
-            if (!std::isfinite(dist[t.idx()])) touched.push_back(t.idx());
-            dist[t.idx()] = dt;
-            q.emplace(dt, t.idx());
-          }
-        }
-      }
+      ball.grow(mesh, X, v, span, [&](int u) { return (reached += area[u]) < 0.5 * disk; });
       w[v] = ramp(reached / disk, 0.25, 0.5);
-      for (int t : touched) dist[t] = std::numeric_limits<double>::infinity();
-      touched.clear();
-      q = decltype(q)();
+      ball.clear();
     }
   }
   return w;
@@ -110,28 +124,12 @@ Eigen::VectorXd pit_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::Ve
   std::vector<char> pit(n, 0);
 #pragma omp parallel
   {
-    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
-    std::vector<int> touched;
-    using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+    EdgeBall ball(n);
+    const std::vector<double>& dist = ball.dist;
+    const std::vector<int>& touched = ball.touched;
 #pragma omp for schedule(dynamic, 256)
     for (int v = 0; v < n; ++v) {
-      dist[v] = 0;
-      touched.push_back(v);
-      q.emplace(0.0, v);
-      while (!q.empty()) {
-        const auto [du, u] = q.top();
-        q.pop();
-        if (du > dist[u]) continue;
-        for (auto t : mesh.vv_range(mesh.vertex_handle(u))) {
-          const double dt = du + (X.row(u) - X.row(t.idx())).norm();
-          if (dt < span && dt < dist[t.idx()]) {
-            if (!std::isfinite(dist[t.idx()])) touched.push_back(t.idx());
-            dist[t.idx()] = dt;
-            q.emplace(dt, t.idx());
-          }
-        }
-      }
+      ball.grow(mesh, X, v, span, [](int) { return true; });
       for (double r : {0.25 * span, 0.5 * span, span}) {
         if (r < 2 * edge) continue;  // the band r/2 … r under an edge wide
         Vec3 nm = Vec3::Zero();
@@ -152,8 +150,7 @@ Eigen::VectorXd pit_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::Ve
         for (int k = 0; k < 8; ++k) low = std::min(low, cnt[k] > 0 ? sum[k] / cnt[k] : -1.0);
         if (low >= depth * r) pit[v] = 1;
       }
-      for (int t : touched) dist[t] = std::numeric_limits<double>::infinity();
-      touched.clear();
+      ball.clear();
     }
   }
   const Eigen::VectorXd d = edge_distance(mesh, X, pit, span);

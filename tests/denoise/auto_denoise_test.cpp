@@ -82,6 +82,24 @@ double part_error(const MatrixX3i& F, const MatrixX3d& V, const MatrixX3d& X, Ei
   return sum / double(to - from);
 }
 
+// Spot (shipped in data/: eyes, nostrils, ears) beside a plain sphere of the same edge length, with noise σ;
+// each part's error against the truth (spot's faces come first).
+struct SpotBesideSphere {
+  Mesh clean, noisy;
+  Eigen::Index spot_faces, all_faces;
+  SpotBesideSphere(int sphere_subdivisions, double sigma) {
+    const Mesh cow = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
+    clean = side_by_side(cow, icosphere(sphere_subdivisions));
+    noisy = with_noise(clean, sigma);
+    spot_faces = cow.n_faces();
+    all_faces = clean.n_faces();
+  }
+  double spot_error(const MatrixX3d& X) const { return part_error(faces(clean), positions(clean), X, 0, spot_faces); }
+  double sphere_error(const MatrixX3d& X) const {
+    return part_error(faces(clean), positions(clean), X, spot_faces, all_faces);
+  }
+};
+
 int labelled(const Eigen::VectorXd& labels) { return static_cast<int>((labels.array() > 0.5).count()); }
 
 }  // namespace
@@ -204,25 +222,21 @@ TEST(AutoDenoise, AMixedMeshGetsTheRightReadingOnEachPart) {
 // (a cow with eyes, nostrils, ears: relief a few edges across; shipped in data/) beside a plain sphere of the
 // same edge length, with noise.
 TEST(AutoDenoise, FineReliefIsKeptWherePresentAndAPlainPartIsSmoothed) {
-  const Mesh cow = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
-  const Mesh clean = side_by_side(cow, icosphere(4)), noisy = with_noise(clean, 0.1);
-  const MatrixX3d V = positions(clean);
-  const MatrixX3i F = faces(clean);
-  const Eigen::Index nc = cow.n_faces(), nf = F.rows();
-  const auto error_on = [&](const MatrixX3d& X, Eigen::Index from, Eigen::Index to) { return part_error(F, V, X, from, to); };
+  const SpotBesideSphere m(4, 0.1);
+  const Eigen::Index nc = m.spot_faces, nf = m.all_faces;
   AutoDenoiseOptions o;
   o.creased = false;
-  const AutoDenoiseResult r = auto_denoise(noisy, o);
+  const AutoDenoiseResult r = auto_denoise(m.noisy, o);
   o.relief_floor = 0;  // the light fit everywhere
-  const MatrixX3d light = auto_denoise(noisy, o).positions;
+  const MatrixX3d light = auto_denoise(m.noisy, o).positions;
   o.relief_floor = 1e6;  // the mild fit everywhere
-  const MatrixX3d mild = auto_denoise(noisy, o).positions;
+  const MatrixX3d mild = auto_denoise(m.noisy, o).positions;
   EXPECT_GT(r.relief.head(nc).mean(), r.relief.tail(nf - nc).mean() + 0.3) << "the relief map follows the relief";
   // The two fits disagree on each part (so the test can fail), and the default takes the better on each.
-  EXPECT_LT(error_on(light, 0, nc), 0.8 * error_on(mild, 0, nc)) << "spot: the light fit keeps its relief";
-  EXPECT_LT(error_on(mild, nc, nf), 0.8 * error_on(light, nc, nf)) << "sphere: the mild fit smooths it";
-  EXPECT_LE(error_on(r.positions, 0, nc), 1.1 * error_on(light, 0, nc));
-  EXPECT_LE(error_on(r.positions, nc, nf), 1.1 * error_on(mild, nc, nf));
+  EXPECT_LT(m.spot_error(light), 0.8 * m.spot_error(mild)) << "spot: the light fit keeps its relief";
+  EXPECT_LT(m.sphere_error(mild), 0.8 * m.sphere_error(light)) << "sphere: the mild fit smooths it";
+  EXPECT_LE(m.spot_error(r.positions), 1.1 * m.spot_error(light));
+  EXPECT_LE(m.sphere_error(r.positions), 1.1 * m.sphere_error(mild));
   EXPECT_GT(r.relief_share, 0.0);
   EXPECT_LT(r.relief_share, 1.0);
 }
@@ -331,16 +345,12 @@ TEST(AutoDenoise, OptionTablesAreConsistent) {
 // smoothing; where it has relief, it does not: spot beside a plain sphere of the same edge length, at a noise
 // where the mild pass leaves the sphere rough.
 TEST(AutoDenoise, APlainNoisySphereTakesTheStrongerSmoothingAndReliefDoesNot) {
-  const Mesh cow = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
-  const Mesh clean = side_by_side(cow, icosphere(5)), noisy = with_noise(clean, 0.5);
-  const MatrixX3d V = positions(clean);
-  const MatrixX3i F = faces(clean);
-  const Eigen::Index nc = cow.n_faces(), nf = F.rows();
-  const auto error_on = [&](const MatrixX3d& X, Eigen::Index from, Eigen::Index to) { return part_error(F, V, X, from, to); };
-  const AutoDenoiseResult r = auto_denoise(noisy);
+  const SpotBesideSphere m(5, 0.5);
+  const Eigen::Index nc = m.spot_faces, nf = m.all_faces;
+  const AutoDenoiseResult r = auto_denoise(m.noisy);
   AutoDenoiseOptions o;
   o.strong_floor = 0;  // the previous release: the mild fit wherever the surface is read smooth
-  const AutoDenoiseResult before = auto_denoise(noisy, o);
+  const AutoDenoiseResult before = auto_denoise(m.noisy, o);
   EXPECT_EQ(before.strong.maxCoeff(), 0.0);
   // The sphere is read smooth (so the step applies) and mostly takes the stronger smoothing; spot hardly.
   EXPECT_LT(r.creased.tail(nf - nc).mean(), 0.5);
@@ -348,6 +358,6 @@ TEST(AutoDenoise, APlainNoisySphereTakesTheStrongerSmoothingAndReliefDoesNot) {
   EXPECT_LT(r.strong.head(nc).mean(), 0.15) << "spot's relief";
   EXPECT_GT(r.strong_share, 0.0);
   EXPECT_LT(r.strong_share, 1.0);
-  EXPECT_LT(error_on(r.positions, nc, nf), 0.9 * error_on(before.positions, nc, nf)) << "the sphere comes nearer the truth";
-  EXPECT_LE(error_on(r.positions, 0, nc), 1.03 * error_on(before.positions, 0, nc)) << "spot is not made worse";
+  EXPECT_LT(m.sphere_error(r.positions), 0.9 * m.sphere_error(before.positions)) << "the sphere comes nearer the truth";
+  EXPECT_LE(m.spot_error(r.positions), 1.03 * m.spot_error(before.positions)) << "spot is not made worse";
 }
