@@ -518,20 +518,20 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
 }
 
 // Step 6a: the change of the regions read smooth (1 - \p cv) given back where it is coherent beyond the
-// noise (coherent_change.h), \p noise_abs the normal noise (absolute); the sharp fit's share \p strong
-// (step 5c) is exempt like the creased reading (its low-frequency wobble removed is coherent, and rightly:
-// a torus at σ 0.5 1.43° with the exemption, 1.58° without). Fills r.change_kept(_share). Chosen on
+// noise (coherent_change.h), \p noise_var the normal noise's variance (absolute); the sharp fit's share
+// \p strong (step 5c) is exempt like the creased reading (its low-frequency wobble removed is coherent, and
+// rightly: a level-4 torus at σ 0.5 1.45° with the exemption, 1.58° without). Fills r.change_kept(_share). Chosen on
 // synthetic noise of cow, beetle, spot, bunny and cheburashka (bench/denoise.md "Coarse models"): the
 // creased reading is left alone (its crease fits move whole regions coherently, and rightly).
 void give_back_coherent(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, const Neighborhoods& N,
-                        const Eigen::VectorXd& cv, const Eigen::VectorXd& strong, double noise_abs,
+                        const Eigen::VectorXd& cv, const Eigen::VectorXd& strong, double noise_var,
                         AutoDenoiseResult& r) {
   r.change_kept = Eigen::VectorXd::Ones(F.rows());
   CoherentChangeOptions c;
   c.weight = r.resolved.coherence_weight;
   if (c.weight <= 0 || cv.minCoeff() >= 1) return;  // off, or every region read creased
   const MatrixX3d change = r.positions - X;
-  Eigen::VectorXd g = coherent_change_gain(N, vertex_normals(mesh), change, noise_abs * noise_abs, c);
+  Eigen::VectorXd g = coherent_change_gain(N, vertex_normals(mesh), change, noise_var, c);
   for (Eigen::Index v = 0; v < g.size(); ++v)
     g[v] = 1 - (1 - g[v]) * (1 - std::clamp(cv[v], 0.0, 1.0)) * (1 - strong[v]);
   r.positions = X + g.asDiagonal() * change;
@@ -669,7 +669,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   describe_reading(mesh, F, look, r);
   describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, r);
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
-  give_back_coherent(mesh, X, F, N, cv, strong, normal_noise * base.unit_length, r);
+  give_back_coherent(mesh, X, F, N, cv, strong, noise_var, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
   keep_share_of_change(X, keep, r);
   r.turned_over = untangle(mesh, F, r.positions, FN, kUntangleRounds);

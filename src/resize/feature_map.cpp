@@ -527,36 +527,27 @@ FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
 
 // ---------------------------------------------------------------------------------------------
 
-Eigen::VectorXd dilate_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
+// Each vertex the largest (\p largest) or smallest weight within \p rings vertex rings.
+static Eigen::VectorXd ring_extremum(const Mesh& mesh, const Eigen::VectorXd& f, int rings, bool largest) {
   Eigen::VectorXd g = f;
   for (int r = 0; r < rings; ++r) {
     Eigen::VectorXd h = g;
     for (auto e : mesh.edges()) {
       const int a = e.v0().idx(), b = e.v1().idx();
-      h[a] = std::max(h[a], g[b]);
-      h[b] = std::max(h[b], g[a]);
+      h[a] = largest ? std::max(h[a], g[b]) : std::min(h[a], g[b]);
+      h[b] = largest ? std::max(h[b], g[a]) : std::min(h[b], g[a]);
     }
     g = h;
   }
   return g;
 }
 
-static Eigen::VectorXd erode_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
-  Eigen::VectorXd g = f;
-  for (int r = 0; r < rings; ++r) {
-    Eigen::VectorXd h = g;
-    for (auto e : mesh.edges()) {
-      const int a = e.v0().idx(), b = e.v1().idx();
-      h[a] = std::min(h[a], g[b]);
-      h[b] = std::min(h[b], g[a]);
-    }
-    g = h;
-  }
-  return g;
+Eigen::VectorXd dilate_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
+  return ring_extremum(mesh, f, rings, true);
 }
 
 Eigen::VectorXd close_features(const Mesh& mesh, const Eigen::VectorXd& f, int rings) {
-  return erode_features(mesh, dilate_features(mesh, f, rings), rings).cwiseMax(f);
+  return ring_extremum(mesh, dilate_features(mesh, f, rings), rings, false).cwiseMax(f);
 }
 
 Eigen::VectorXd features_from_values(const Mesh& mesh, const Eigen::VectorXd& height, double threshold, int dilate) {

@@ -118,9 +118,7 @@ Eigen::VectorXd pit_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::Ve
                            double depth) {
   const int n = static_cast<int>(X.rows());
   const MatrixX3d N = vertex_normals(mesh);
-  double edge = 0;
-  for (auto e : mesh.edges()) edge += (X.row(e.v0().idx()) - X.row(e.v1().idx())).norm();
-  edge /= std::max<size_t>(1, mesh.n_edges());
+  const double edge = mean_edge_length(mesh);
   std::vector<char> pit(n, 0);
 #pragma omp parallel
   {
