@@ -48,6 +48,9 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("relief_floor", &O::relief_floor,
            "noise floor of the relief kept, in units of the local noise energy: 0 keeps the light fit everywhere, "
            "large values the mild fit everywhere", between(0, 1e6))
+      .add("creased_budget", &O::creased_budget,
+           "the creased reading is refused on organic-looking parts where the sharp fit moves the input by more than "
+           "this many noise variances along the normals (median over a 1-ring); 0 never", between(0, 1e6))
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "
            "below this × the local noise energy, and smoother normals; 0 never", between(0, 1e6))
@@ -93,6 +96,10 @@ constexpr int kReadingRings = 3;
 // (0.9 and 0.97 measured on 28 cases of synthetic noise on the shared clean models: mean ratio to the better
 // forced reading 1.010 and 1.037, the rule alone 1.043; bench/denoise.md).
 constexpr double kConfident = 0.9;
+// A part looks organic above this look (the share of the neighbour-normal angles the sharp fit keeps: 0.2–0.5
+// on CAD parts, 0.7–1.1 on organic ones at every noise level measured; bench/denoise.md); the creased reading
+// is refused there where the sharp fit moves the input by more than the noise (refuse_creased_beyond_noise()).
+constexpr double kOrganicLook = 0.6;
 
 // A target normal that points away from the input's own normals around the face (the area-weighted mean
 // over the faces sharing a vertex with it: a surfel turned over on a thin part, whose one-ring reaches the
@@ -355,6 +362,7 @@ void keep_noise_free(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, A
   r.creased_share = *o.creased ? 1.0 : 0.0;
   r.relief = Eigen::VectorXd::Ones(F.rows());  // every detail kept as it is
   r.strong = Eigen::VectorXd::Zero(F.rows());
+  r.refused = Eigen::VectorXd::Zero(F.rows());
   r.change_kept = Eigen::VectorXd::Ones(F.rows());
   r.relief_share = 1;
 }
@@ -385,6 +393,10 @@ void describe_reading(const Mesh& mesh, const MatrixX3i& F, std::pair<double, do
   }
   const double total = A.sum() > 0 ? A.sum() : 1.0;
   r.creased_share = creased_area / total;
+  double refused_area = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (r.refused[f] >= 0.5) refused_area += A[f];
+  r.refused_share = refused_area / total;
   double smooth_area = 0, relief_area = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (r.creased[f] < 0.5) smooth_area += A[f], relief_area += A[f] * r.relief[f];
@@ -399,6 +411,9 @@ void describe_reading(const Mesh& mesh, const MatrixX3i& F, std::pair<double, do
     r.choices.push_back(fmt::format("surface, read per region: {:.0f}% creased (CAD-like), {:.0f}% smooth (organic), "
                                     "{:.0f}% in transitions",
                                     100 * r.creased_share, 100 * (1 - r.creased_share), 100 * blend_area / total));
+  if (r.refused_share > 0)
+    r.choices.push_back(fmt::format("creased reading refused on {:.1f}% (organic-looking, the sharp fit moved it "
+                                    "beyond the noise; --creased-budget)", 100 * r.refused_share));
   if (!o.creased)
     r.choices.push_back(fmt::format("reading: {}; look (the share of the neighbour-normal angles the sharp fit "
                                     "keeps; CAD-like near 0.2-0.5, organic near 0.7-1.1): {:.3f}{}",
@@ -447,6 +462,40 @@ Eigen::VectorXd sharp_vertices(const Eigen::MatrixXd& features, ReadingRule read
                                                       : (p[v] > kConfident ? 1.0 : rule[v]);
   }
   return sharp_here;
+}
+
+// Step 5, the creased reading held to the noise: a fit that removes only noise moves each vertex along the normal
+// by about the noise (median of its squared move over a 1-ring about 0.45 σ², a χ² of one degree). Where the
+// sharp fit moves a vertex of an organic-looking part by more than \p budget σ² (the median over its closed
+// 1-ring, averaged over 2 rings: impulses, a tenth of the vertices, do not move the median), it flattens shape,
+// not noise: a coarse organic mesh's curvature at low noise (cow σ 0.05: the creased reading 18.5° against 9.6°,
+// and the rule read 8 % of it creased). Such vertices are read smooth (\p sharp set to 0). On CAD-looking parts
+// the sharp fit's larger moves are creases restored or scanner stripes flattened, rightly (the striped cube:
+// 3.1° as it is, 6.9° if they were refused). \return 1 at the vertices refused.
+Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X,
+                                            const MatrixX3d& Xs, const MatrixX3d& Xm, const Eigen::MatrixXd& features,
+                                            double budget, double noise_var, Eigen::VectorXd& sharp) {
+  const Eigen::Index n = X.rows();
+  Eigen::VectorXd refused = Eigen::VectorXd::Zero(n);
+  if (!(budget > 0)) return refused;
+  Mesh fit = mesh;
+  set_positions(fit, Xm);
+  const MatrixX3d Nm = vertex_normals(fit);
+  Eigen::VectorXd move(n), median(n);
+  for (Eigen::Index v = 0; v < n; ++v) move[v] = std::pow(Nm.row(v).dot(Xs.row(v) - X.row(v)), 2);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index v = 0; v < n; ++v) {
+    std::vector<double> ring{move[v]};
+    for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(move[N.indices[k]]);
+    const auto mid = ring.begin() + static_cast<std::ptrdiff_t>(ring.size() / 2);
+    std::nth_element(ring.begin(), mid, ring.end());
+    median[v] = *mid;
+  }
+  const Eigen::VectorXd typical = ring_average(N, median, 2);
+  for (Eigen::Index v = 0; v < n; ++v)  // column 4: the log of the part's look (reading_feature_names())
+    if (sharp[v] > 0 && typical[v] > budget * noise_var && features(v, 4) > std::log(kOrganicLook))
+      sharp[v] = 0, refused[v] = 1;
+  return refused;
 }
 
 // Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
@@ -633,7 +682,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
 
   // 5. The reading, per region (reading_model.h); --creased / --no-creased force one everywhere.
   std::pair<double, double> look{0, 0};
-  Eigen::VectorXd cv;
+  const double noise_var = std::pow(normal_noise * base.unit_length, 2);
+  Eigen::VectorXd cv, refused = Eigen::VectorXd::Zero(X.rows());
   if (o.creased) {
     cv = Eigen::VectorXd::Constant(N.size(), *o.creased ? 1.0 : 0.0);
   } else {
@@ -643,9 +693,12 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
       return r;
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
-    cv = ring_average(N, sharp_vertices(features, o.reading), kReadingRings);
+    Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
+    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, o.creased_budget, noise_var, sharp_here);
+    cv = ring_average(N, sharp_here, kReadingRings);
   }
   r.creased = face_means(F, cv);
+  r.refused = face_means(F, refused);
   // 5b. The smooth reading keeps the light fit's relief where it stands above the noise (the reading above
   // compared the mild fit, as it was tuned and trained to).
   stage("reading");
@@ -657,7 +710,6 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     stage("relief");
   }
   // 5c. Plain, smoothly curved regions read smooth take the sharp fit's stronger smoothing.
-  const double noise_var = std::pow(normal_noise * base.unit_length, 2);
   Eigen::VectorXd strong = Eigen::VectorXd::Zero(X.rows());
   if (want_mild && want_sharp && cv.minCoeff() < 1) {
     strong = add_strong_smoothing(N, X, F, Xs, FNs, cv, o.strong_floor, noise_var, Xm, FNm);

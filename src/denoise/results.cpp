@@ -27,6 +27,11 @@ const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
       .add("creased_share", [](const R& r) { return r.creased_share; }, "the share of the area read creased")
       .array("creased", [](const R& r) { return r.creased; },
              "#F: how each face was read, 1 creased, 0 smooth, between: a transition")
+      .add("refused_share", [](const R& r) { return r.refused_share; },
+           "the share of the area refused the creased reading: the sharp fit moved it beyond the noise")
+      .array("refused", [](const R& r) { return r.refused; },
+             "#F: the creased reading refused (the share of the face's vertices): the sharp fit moved them beyond the "
+             "noise on an organic-looking part")
       .add("relief_share", [](const R& r) { return r.relief_share; },
            "the share of the light fit's relief kept, area-weighted over the faces read smooth")
       .array("relief", [](const R& r) { return r.relief; },

@@ -361,3 +361,30 @@ TEST(AutoDenoise, APlainNoisySphereTakesTheStrongerSmoothingAndReliefDoesNot) {
   EXPECT_LT(m.sphere_error(r.positions), 0.9 * m.sphere_error(before.positions)) << "the sphere comes nearer the truth";
   EXPECT_LE(m.spot_error(r.positions), 1.03 * m.spot_error(before.positions)) << "spot is not made worse";
 }
+
+// Step 5, the creased reading held to the noise: at low noise the sharp fit flattens the curvature of a coarse
+// organic mesh (it moves the input by far more than the noise), and the rule reads part of it creased all the
+// same. Spot (coarse, organic) beside a cube (CAD) at σ 0.05: spot's creased reading is refused where it moves
+// beyond the noise, and spot comes nearer the truth; the cube, whose look is CAD-like, is left as it was.
+TEST(AutoDenoise, ACreasedReadingThatMovesAnOrganicPartBeyondTheNoiseIsRefused) {
+  const Mesh cube = subdivided_cube(12), spot = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
+  const Mesh clean = side_by_side(spot, cube), noisy = with_noise(clean, 0.05);
+  const MatrixX3i F = faces(clean);
+  const MatrixX3d V = positions(clean);
+  const Eigen::Index ns = spot.n_faces(), nf = F.rows();
+  const AutoDenoiseResult r = auto_denoise(noisy);
+  AutoDenoiseOptions o;
+  o.creased_budget = 0;  // the previous release: never refused
+  const AutoDenoiseResult before = auto_denoise(noisy, o);
+  EXPECT_EQ(before.refused.maxCoeff(), 0.0);
+  EXPECT_GT(before.creased.head(ns).mean(), 0.01) << "without the budget part of spot is read creased";
+  EXPECT_GT(r.refused.head(ns).mean(), 0.0) << "spot: some of it refused";
+  EXPECT_LT(r.creased.head(ns).mean(), before.creased.head(ns).mean());
+  EXPECT_LT(part_error(F, V, r.positions, 0, ns), 0.98 * part_error(F, V, before.positions, 0, ns))
+      << "spot comes nearer the truth";
+  EXPECT_EQ(r.refused.tail(nf - ns).maxCoeff(), 0.0) << "the cube: nothing refused";
+  EXPECT_GT(r.creased.tail(nf - ns).mean(), 0.9) << "the cube reads creased";
+  EXPECT_NEAR(part_error(F, V, r.positions, ns, nf), part_error(F, V, before.positions, ns, nf), 1e-9);
+  EXPECT_GT(r.refused_share, 0.0);
+  EXPECT_LT(r.refused_share, 0.5);
+}

@@ -15,6 +15,8 @@
 //!     part's look (creased-looking parts lean to the sharp reading), and the sharp fit wherever a learned
 //!     model (reading_model.h) is sure it is the better one (AutoDenoiseOptions::reading); a soft per-face map
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
+//!     the creased reading is refused where the sharp fit moves an organic-looking part by more than the noise
+//!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused);
 //!  5b. the smooth reading's relief per region: a light fit (1 mild sweep, 3 updates) keeps fine relief and
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
@@ -103,6 +105,11 @@ struct AutoDenoiseOptions {
   //! The noise floor of step 5b in units of the local noise energy: 0 keeps the light fit everywhere, a
   //! large value the mild fit everywhere (the previous release's smooth reading).
   double relief_floor = 0.13;
+  //! Step 5: the creased reading is refused on organic-looking parts (look above 0.6) where the sharp fit moves
+  //! the input along the normals by more than creased_budget × the normal noise variance (the median of the
+  //! squared moves over a vertex's closed 1-ring, averaged over 2 rings): it flattens shape there, not noise.
+  //! 0 never refuses (the previous release).
+  double creased_budget = 2.0;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
@@ -134,6 +141,10 @@ struct AutoDenoiseResult {
   //! mild pass's), in between a blend (transitions); constant when AutoDenoiseOptions::creased is given.
   Eigen::VectorXd creased;
   double creased_share = 0;            //!< the share of the surface area read creased (creased >= 0.5)
+  //! #F: where the creased reading was refused because the sharp fit moved the input beyond the noise (the share
+  //! of the face's vertices; AutoDenoiseOptions::creased_budget).
+  Eigen::VectorXd refused;
+  double refused_share = 0;            //!< the share of the surface area refused the creased reading (refused >= 0.5)
   //! #F: how much of the light fit's relief each face keeps in the smooth reading, 0 (plain: the mild fit)
   //! to 1 (relief well above the noise: the light fit); see AutoDenoiseOptions::relief_floor.
   Eigen::VectorXd relief;

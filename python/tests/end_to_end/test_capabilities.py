@@ -180,6 +180,32 @@ def test_strong_smoothing_takes_a_plain_noisy_sphere_in_python_and_the_cli(tmp_p
         assert report["strong_share"] == 0 and max(report["strong"]) == 0
 
 
+def test_creased_reading_beyond_the_noise_is_refused_in_python_and_the_cli(tmp_path):
+    # Step 5 (auto_denoise.h, creased_budget): spot (coarse, organic) at σ 0.05, where the sharp fit flattens its
+    # curvature, is refused the creased reading there and comes nearer the truth; creased_budget=0 is the previous
+    # release. The CLI's report carries the same share, and --creased-budget reaches the CLI.
+    root = Path(__file__).resolve().parents[3]
+    V, F = geotex.read_mesh(str(root / "data" / "spot.obj"))
+    Vn = geotex.add_noise(V, F, sigma=0.05, seed=7)
+    r, before = geotex.denoise(Vn, F), geotex.denoise(Vn, F, creased_budget=0)
+    refused = np.asarray(r["refused"])
+    assert refused.shape == (len(F),) and refused.min() >= 0 and refused.max() <= 1
+    assert 0 < r["refused_share"] < 0.5 and any("refused" in line for line in r["choices"])
+    assert np.all(np.asarray(before["refused"]) == 0) and before["refused_share"] == 0
+    assert np.mean(r["creased"]) < np.mean(before["creased"])
+    err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
+    assert err(r["V"]) < 0.98 * err(before["V"]), (err(r["V"]), err(before["V"]))
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        for extra, share in (([], r["refused_share"]), (["--creased-budget", "0"], 0.0)):
+            subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *extra,
+                            "--report", str(tmp_path / "r.json")], check=True)
+            report = json.loads((tmp_path / "r.json").read_text())
+            assert abs(report["refused_share"] - share) < 1e-12
+        assert max(report["refused"]) == 0
+
+
 def test_surfel_primal_denoising(noisy_cube):
     V, F, Vn = noisy_cube
     r = geotex.denoise(Vn, F, method="surfel", retrieval="primal")
