@@ -1348,7 +1348,9 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       throw InvalidInput("method axis: the deformation must be a box scale (scale); bends, twists, arcs and deformed "
                          "copies need another method (similarity)");
     const MatrixX3d W = axis_warp(mesh, stretch, lo, features, o.axis).apply(X);
-    MatrixX3d out = o.method == ResizeMethod::Axis ? W : similarity_resize_split(mesh, X, W, features, o);
+    MatrixX3d out = o.method == ResizeMethod::Axis            ? W
+                    : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o)
+                                                          : similarity_resize(mesh, X, W, features, o);
     report(o.progress, 1.0, "done");
     return out;
   }
