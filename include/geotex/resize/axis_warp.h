@@ -21,6 +21,12 @@
 //! along the normal (a face perpendicular to the stretch shows none of it): Kraevoy's slippage in its
 //! simplest form. The problem is a small QP (a few hundred unknowns, dense through the faces), solved
 //! by a primal active-set method: exact, milliseconds.
+//!
+//! Limits (bench/resize.md, ninth session): a slab is stretched as a whole, so where important surface
+//! fills every slab along an axis (tentacles all along a stick, a cow's uniformly important body) it cannot
+//! stay similar; slabs that hold only a protrusion's far end (a tentacle's, the teapot lid's knob) take the
+//! stretch and the protrusion grows longer. A triangle spanning cells of different slope may turn over when
+//! it is a sliver (a linear diag(s) never turns a face).
 
 #include <array>
 
