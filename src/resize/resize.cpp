@@ -74,7 +74,8 @@ SpaceMap space_map(const SpaceMapOptions& o, const BoundingBox& box) {
 
 const EnumNames<ResizeMethod>& resize_method_names() {
   static const EnumNames<ResizeMethod> names = {
-      {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis}};
+      {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis},
+      {"axis", ResizeMethod::Axis}, {"axis-similarity", ResizeMethod::AxisSimilarity}};
   return names;
 }
 
@@ -88,7 +89,9 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
   static const auto t = OptionTable<O>()
       .choice("method", &O::method, resize_method_names(),
               "similarity (continuous weights: near-similarities where important, default), sliding (binary "
-              "features rigid, background slides along the surface) or thesis (Eq. 9.2-9.3)", "Sec. 9.4")
+              "features rigid, background slides along the surface), thesis (Eq. 9.2-9.3), axis (box scales: a "
+              "separable axis-aligned warp, Kraevoy et al. 2008) or axis-similarity (the axis warp, then "
+              "similarity from it)", "Sec. 9.4")
       .add("position_weight", &O::position_weight, "w: weight of the position terms against the feature terms",
            positive(), "Eq. (9.2)")
       .alias("weight")
@@ -133,6 +136,7 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
       .add("flip_rings", &O::flip_rings, "similarity: vertex rings relaxed around a turned-over face", between(0, 100))
       .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",
               "Eq. (9.1)")
+      .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
               [](O& o) {
@@ -1338,6 +1342,18 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     throw InvalidInput("feature weights must lie in [0, 1]");
   report(o.progress, 0.0, "transforms");
   const MatrixX3d X = positions(mesh);
+  if (o.method == ResizeMethod::Axis || o.method == ResizeMethod::AxisSimilarity) {
+    Vec3 stretch, lo;
+    if (!box_scale_of(X, C, stretch, lo))
+      throw InvalidInput("method axis: the deformation must be a box scale (scale); bends, twists, arcs and deformed "
+                         "copies need another method (similarity)");
+    const MatrixX3d W = axis_warp(mesh, stretch, lo, features, o.axis).apply(X);
+    MatrixX3d out = o.method == ResizeMethod::Axis            ? W
+                    : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o)
+                                                          : similarity_resize(mesh, X, W, features, o);
+    report(o.progress, 1.0, "done");
+    return out;
+  }
   MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
                   : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
                   : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, C, features, o)

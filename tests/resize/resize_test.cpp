@@ -626,3 +626,136 @@ TEST(Resize, ThesisOnAFanSolvesEquation93AsWritten) {
   const Eigen::MatrixXd ref = A.colPivHouseholderQr().solve(B);
   EXPECT_LT((Y - ref).cwiseAbs().maxCoeff(), 1e-6 * ref.cwiseAbs().maxCoeff());
 }
+
+// ---------------------------------------------------------------------------------------------
+// The axis warp (axis_warp.h): separable, monotone, the box exact; important regions scale uniformly.
+
+namespace {
+
+// The solved warp's own properties: every σ_{a,m} ≥ s_min (so g_a increases), ∫ σ_a = λ_a L_a.
+void expect_warp_feasible(const AxisWarp& w, const Mesh& m, const Vec3& s, const AxisWarpOptions& o) {
+  const MatrixX3d X = positions(m);
+  const Vec3 ext = (X.colwise().maxCoeff() - X.colwise().minCoeff()).transpose();
+  for (int a = 0; a < 3; ++a) {
+    if (w.scales[a].size() == 0) continue;
+    EXPECT_GE(w.scales[a].minCoeff(), o.min_scale * s.minCoeff() * (1 - 1e-12)) << "axis " << a;
+    EXPECT_NEAR(w.length(a), s[a] * ext[a], 1e-12 * ext[a]) << "axis " << a;
+    EXPECT_NEAR(w.map(a, X.col(a).maxCoeff()) - w.map(a, X.col(a).minCoeff()), s[a] * ext[a], 1e-12 * ext[a]);
+  }
+}
+
+}  // namespace
+
+// No face turns over and each coordinate's order is kept even at ×3 with weights 0 and 1 side by side;
+// the box is exact and the QP's constraint and bounds hold.
+TEST(ResizeAxis, MonotoneNoFaceTurnsAndTheBoxIsExactAtThreeTimes) {
+  const BumpyPlate b = bumpy_plate({.n = 40, .bumps = 2, .spacing = 1.0, .radius = 0.25});
+  const MatrixX3d X = positions(b.mesh);
+  const Eigen::VectorXd f = b.truth;  // binary: the strongest contrast a map can have
+  ResizeOptions o = with(ResizeMethod::Axis);
+  for (const Vec3& s : {Vec3(3, 1, 1), Vec3(1, 3, 1), Vec3(1, 1, 3), Vec3(3, 1.5, 1)}) {
+    const MatrixX3d C = apply_map(scale_map(s), X);
+    const MatrixX3d Y = feature_aware_resize(b.mesh, C, f, o);
+    EXPECT_EQ(turned_over(b.mesh, Y, C), 0);
+    for (int a = 0; a < 3; ++a)
+      for (Eigen::Index i = 0; i < X.rows(); ++i)
+        for (Eigen::Index j : {Eigen::Index(0), X.rows() / 2, X.rows() - 1})
+          if (X(i, a) < X(j, a)) EXPECT_LE(Y(i, a), Y(j, a));
+    const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
+    const Vec3 asked = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
+    EXPECT_LT((box - asked).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((Y.colwise().minCoeff() - C.colwise().minCoeff()).cwiseAbs().maxCoeff(), 1e-12);
+    Vec3 lambda, lo;
+    ASSERT_TRUE(box_scale_of(X, C, lambda, lo));
+    EXPECT_LT((lambda - s).cwiseAbs().maxCoeff(), 1e-12);
+    expect_warp_feasible(axis_warp(b.mesh, lambda, lo, f, o.axis), b.mesh, s, o.axis);
+  }
+}
+
+// Painted bumps stretched sideways (×2 along x, the plate's plane): inside their core the warp is a
+// similarity (singular values equal within 5%, the plain stretch's are 2:1); two bumps at the same
+// height stay level (the same y and the same top); no importance at all gives the plain map.
+TEST(ResizeAxis, PaintedBumpsGetSimilaritiesAndStayLevel) {
+  // Room between the painted columns (a separable warp stretches whole slabs): footprints of radius 0.15.
+  const BumpyPlate b = bumpy_plate({.n = 64, .bumps = 2, .spacing = 1.0, .radius = 0.15});
+  const Eigen::VectorXd f = painted(b, b.radius);
+  const MatrixX3d X = positions(b.mesh);
+  const MatrixX3i F = faces(b.mesh);
+  const MatrixX3d C = apply_map(scale_map({2, 1, 1}), X);
+  const MatrixX3d Y = feature_aware_resize(b.mesh, C, f, with(ResizeMethod::Axis));
+  double worst = 0, plain = 0;
+  int core = 0;
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    if (std::min({f[F(k, 0)], f[F(k, 1)], f[F(k, 2)]}) < 1.0) continue;
+    const Eigen::Vector2d sv = face_stretch(F, X, Y, k), sp = face_stretch(F, X, C, k);
+    worst = std::max(worst, sv[0] / sv[1] - 1);
+    plain = std::max(plain, sp[0] / sp[1] - 1);
+    ++core;
+  }
+  std::printf("  axis ×2 x: %d core faces, worst s1/s2 - 1 = %.4f (plain %.3f)\n", core, worst, plain);
+  ASSERT_GT(core, 20);
+  EXPECT_LT(worst, 0.05);
+  EXPECT_GT(plain, 0.9);
+  // The bumps with centres at the same y (a row of the 2 × 2 grid) keep equal centre y and equal tops.
+  for (int r = 0; r < 2; ++r) {
+    std::vector<double> ys, tops;
+    for (const Vec3& c : b.centres) {
+      if (std::abs(c.y() - b.centres[2 * r].y()) > 1e-9) continue;
+      Eigen::Index best = 0;
+      for (Eigen::Index i = 0; i < X.rows(); ++i)
+        if ((X.row(i).head<2>() - c.head<2>().transpose()).norm() < (X.row(best).head<2>() - c.head<2>().transpose()).norm())
+          best = i;
+      ys.push_back(Y(best, 1)), tops.push_back(Y(best, 2));
+    }
+    ASSERT_EQ(ys.size(), 2u);
+    EXPECT_NEAR(ys[0], ys[1], 1e-12);
+    EXPECT_NEAR(tops[0], tops[1], 1e-12);
+  }
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(X.rows());
+  EXPECT_LT((feature_aware_resize(b.mesh, C, none, with(ResizeMethod::Axis)) - C).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// A painted region keeps its size: a sphere with its top cap painted, stretched ×2 up, keeps the cap's
+// height and width (within 5%) while the plain stretch doubles its height; the unpainted part takes the
+// stretch. Axis followed by similarity keeps the box and turns no face either.
+TEST(ResizeAxis, APaintedCapKeepsItsSize) {
+  const Mesh m = icosphere(4);
+  const MatrixX3d X = positions(m);
+  Eigen::VectorXd f(X.rows());
+  for (Eigen::Index i = 0; i < X.rows(); ++i) f[i] = std::clamp((X(i, 2) - 0.5) / 0.2, 0.0, 1.0);
+  const MatrixX3d C = apply_map(scale_map({1, 1, 2}), X);
+  for (auto method : {ResizeMethod::Axis, ResizeMethod::AxisSimilarity}) {
+    const MatrixX3d Y = feature_aware_resize(m, C, f, with(method));
+    double h0 = 0, h = 0, w0 = 0, w = 0;  // the fully painted cap's height and width, before and after
+    double zmin0 = 1e9, zmin = 1e9, xmin = 1e9, xmax = -1e9, xmin0 = 1e9, xmax0 = -1e9;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+      if (f[i] < 1.0) continue;
+      zmin0 = std::min(zmin0, X(i, 2)), zmin = std::min(zmin, Y(i, 2));
+      xmin0 = std::min(xmin0, X(i, 0)), xmax0 = std::max(xmax0, X(i, 0));
+      xmin = std::min(xmin, Y(i, 0)), xmax = std::max(xmax, Y(i, 0));
+    }
+    h0 = X.col(2).maxCoeff() - zmin0, h = Y.col(2).maxCoeff() - zmin;
+    w0 = xmax0 - xmin0, w = xmax - xmin;
+    std::printf("  %s: painted cap height %.3f -> %.3f, width %.3f -> %.3f\n",
+                enum_name(resize_method_names(), method).c_str(), h0, h, w0, w);
+    EXPECT_NEAR(h / h0, 1.0, 0.05);
+    EXPECT_NEAR(w / w0, 1.0, 0.05);
+    const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
+    EXPECT_LT((box - Vec3(2, 2, 4)).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_EQ(turned_over(m, Y, C), 0);
+  }
+}
+
+// A bend, twist or deformed copy that is not a box scale is refused by the axis methods.
+TEST(ResizeAxis, RefusesMapsThatAreNotABoxScale) {
+  const BumpyPlate b = bumpy_plate({.n = 20});
+  const MatrixX3d X = positions(b.mesh);
+  const Eigen::VectorXd f = b.truth;
+  for (const SpaceMap& map : {bend_map(1.5), twist_map(1.0)}) {
+    const MatrixX3d C = apply_map(map, X);
+    Vec3 s, lo;
+    EXPECT_FALSE(box_scale_of(X, C, s, lo));
+    for (auto method : {ResizeMethod::Axis, ResizeMethod::AxisSimilarity})
+      EXPECT_THROW(feature_aware_resize(b.mesh, C, f, with(method)), InvalidInput);
+  }
+}

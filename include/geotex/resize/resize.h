@@ -3,7 +3,7 @@
 //! map or an edited mesh) is applied while the features, given by per-vertex weights f_i ∈ [0, 1]
 //! (feature_map.h), keep their shape and size.
 //!
-//! Three formulations.
+//! Three formulations, and a separable warp for box scales.
 //!  - ResizeMethod::Similarity (default): for continuous weights f_i ∈ [0, 1] (the importance map of
 //!    feature_map.h). Every edge is pulled towards T_ij (x_i − x_j), T_i = s_i R_i the nearest
 //!    similarity to the space map's local linear part (polar rotation; s_i its smallest singular value
@@ -38,6 +38,12 @@
 //!    A feature at the box's extreme (an ear at the tip) is pushed, with its surroundings, until its
 //!    outermost vertex lands where the map puts it, so the box is scaled as asked. The stretch collects
 //!    in the background between the features, which keep their shape and size.
+//!  - ResizeMethod::Axis (box scales only, `--scale`): x' = g_x(x), y' = g_y(y), z' = g_z(z), each g_a
+//!    increasing, chosen so that important faces scale as uniformly as the box allows (axis_warp.h,
+//!    Kraevoy et al. 2008). No face can turn over and the box is exact; the stretch collects in the
+//!    slabs of the box that hold little of importance. A bend, twist, arc or deformed copy is refused
+//!    (InvalidInput): a separable warp cannot follow it. ResizeMethod::AxisSimilarity runs Similarity
+//!    with the warp's output in place of the plain map.
 
 #include <functional>
 #include <string>
@@ -48,6 +54,7 @@
 #include "geotex/core/options.h"
 #include "geotex/resize/feature_file.h"
 #include "geotex/core/progress.h"
+#include "geotex/resize/axis_warp.h"
 #include "geotex/resize/feature_map.h"
 #include "geotex/resize/measure.h"
 #include "geotex/toolkit/laplace.h"
@@ -84,9 +91,13 @@ SpaceMap space_map(const SpaceMapOptions& options, const BoundingBox& box);
 enum class ResizeMethod {
   Sliding,  //!< binary features rigid, background slides along the deformed surface; frame pinned
   Thesis,   //!< Eq. (9.2–9.3): weighted Laplacian least squares with p_i = 1 − f_i
-  Similarity  //!< continuous weights: near-similarities where important (default)
+  Similarity,  //!< continuous weights: near-similarities where important (default)
+  //! An axis-aligned separable warp (axis_warp.h, after Kraevoy et al. 2008); box scales only.
+  Axis,
+  //! The axis warp, then Similarity with the warp in place of the plain map; box scales only.
+  AxisSimilarity
 };
-//! "similarity", "sliding", "thesis".
+//! "similarity", "sliding", "thesis", "axis", "axis-similarity".
 const EnumNames<ResizeMethod>& resize_method_names();
 
 //! How the similarity method minimizes its energy.
@@ -157,6 +168,8 @@ struct ResizeOptions {
   int flip_rounds = 8;
   int flip_rings = 2;
   LaplacianType laplacian = LaplacianType::Umbrella;  //!< Eq. (9.1) uses the umbrella operator
+  //! Axis and AxisSimilarity: the separable warp's grid and weights (options axis_cells, axis_smoothness, …).
+  AxisWarpOptions axis;
   ProgressFn progress;
   static const OptionTable<ResizeOptions>& table();
 };

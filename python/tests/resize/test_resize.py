@@ -175,3 +175,50 @@ def test_cli_and_python_give_the_same_result(tmp_path):
     expected = geotex.resize(V, F, scale=(2, 1, 1.5)).V
     got, _ = geotex.read_mesh(out)
     assert np.abs(got - expected).max() < 1e-9
+
+
+def test_axis_method_honours_a_painted_map_and_keeps_the_box(plate, tmp_path):
+    V, F = plate
+    r = np.linalg.norm(V[:, :2] - (V.min(0) + V.max(0))[:2] / 2, axis=1)
+    t = np.clip((0.5 - r) / 0.25, 0, 1)
+    paint = t * t * (3 - 2 * t)
+    for scale in ((2, 1, 1), (1, 3, 1)):
+        a = geotex.resize(V, F, scale=scale, features=paint, method="axis").V
+        # The painted core keeps its proportions and its size (the stretch goes to unpainted slabs).
+        core = r < 0.2
+        for k in (0, 1):
+            assert np.ptp(a[core, k]) / np.ptp(V[core, k]) == pytest.approx(1, abs=0.05), (scale, k)
+        # The box exactly as asked, and no face turned over against the plain stretch.
+        assert np.ptp(a, axis=0) == pytest.approx(np.ptp(V, axis=0) * scale, rel=1e-12)
+        P = V * scale
+        n1 = np.cross(a[F[:, 1]] - a[F[:, 0]], a[F[:, 2]] - a[F[:, 0]])
+        n0 = np.cross(P[F[:, 1]] - P[F[:, 0]], P[F[:, 2]] - P[F[:, 0]])
+        assert ((n1 * n0).sum(1) > 0).all()
+    # Each coordinate goes through an increasing map of itself alone.
+    for k in range(3):
+        order = np.argsort(V[:, k], kind="stable")
+        assert (np.diff(a[order, k]) >= -1e-12).all()
+    with pytest.raises(geotex.InvalidInput, match="box scale"):
+        geotex.resize(V, F, bend=0.5, features=paint, method="axis").V
+
+
+@pytest.mark.skipif(not os.environ.get("GEOTEX_CLI"), reason="GEOTEX_CLI not set (ctest sets it)")
+def test_axis_method_from_the_cli_with_a_painted_file(tmp_path):
+    cli = os.environ["GEOTEX_CLI"]
+    mesh, out, paint = tmp_path / "plate.ply", tmp_path / "out.ply", tmp_path / "paint.txt"
+    subprocess.run([cli, "generate", "bumpy-plate", "--level", "0", "-o", str(mesh)], check=True, capture_output=True)
+    V, F = geotex.read_mesh(mesh)
+    f = np.clip(1.5 - 3 * np.abs(V[:, 0]), 0, 1)  # a painted vertical band
+    paint.write_text("".join(f"{x!r}\n" for x in f))
+    for method in ("axis", "axis-similarity"):
+        r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "2,1,1", "--features", str(paint),
+                            "--method", method], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        got, _ = geotex.read_mesh(out)
+        expected = geotex.resize(V, F, scale=(2, 1, 1), features=f, method=method).V
+        assert np.abs(got - expected).max() < 1e-9
+        band = f >= 1
+        assert np.ptp(got[band, 0]) / np.ptp(V[band, 0]) == pytest.approx(1, abs=0.05)  # the band keeps its width
+    r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--twist", "0.5", "--method", "axis"],
+                       capture_output=True, text=True)
+    assert r.returncode != 0 and "box scale" in r.stderr
