@@ -109,7 +109,7 @@ struct AutoDenoiseOptions {
   //! the input along the normals by more than creased_budget × the normal noise variance (the median of the
   //! squared moves over a vertex's closed 1-ring, averaged over 2 rings): it flattens shape there, not noise.
   //! 0 never refuses (the previous release).
-  double creased_budget = 2.0;
+  double creased_budget = 1.0;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
