@@ -95,6 +95,10 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("keep_out_pit_depth", &O::keep_out_pit_depth,
            "keep texture out of closed pits smaller than its span: where the surface round a vertex stands above it "
            "on every side by this share of the ring's radius (0: off)", non_negative())
+      .add("keep_out_dome_ridge", &O::keep_out_dome_ridge,
+           "keep texture off domes smaller than its span (an eyeball): islands closed round by a ridge whose mean "
+           "curvature times the span exceeds this (or a valley below minus half), standing above the surface round "
+           "them (0: off)", non_negative())
       .add("direction", &O::direction, "the direction field's guide: its tangent part on the target")
       .nest(&O::field, DirectionFieldOptions::table())
       .add("seed", &O::seed, "random seed: same seed, same result")
@@ -1331,10 +1335,12 @@ void place_patches(const Exemplar& ex, const Mesh& T, const MatrixX3d& X, const 
 // \p largest: the features' length on the target (their largest displacement).
 void apply_keep_out(const Mesh& target, const Exemplar& ex, double largest, const SynthesisOptions& o,
                     Eigen::VectorXd& weight, SynthesisResult& res) {
-  if (!(o.keep_out_crease_angle > 0) && !o.keep_out_thin && !(o.keep_out_pit_depth > 0)) return;
+  if (!(o.keep_out_crease_angle > 0) && !o.keep_out_thin && !(o.keep_out_pit_depth > 0) &&
+      !(o.keep_out_dome_ridge > 0))
+    return;
   const double span = std::min(largest, res.scale * o.patch_radius * ex.extent);  // or their patch radius
   const detail::KeepOut k = detail::keep_out(target, span, o.keep_out_crease_angle, o.keep_out_thin,
-                                                  o.keep_out_pit_depth);
+                                                  o.keep_out_pit_depth, o.keep_out_dome_ridge);
   weight = weight.cwiseProduct(k.weight);
   const double total = k.area.sum();
   auto share = [&](const Eigen::VectorXd& w) {
@@ -1346,6 +1352,7 @@ void apply_keep_out(const Mesh& target, const Exemplar& ex, double largest, cons
   res.kept_out_creases = share(k.creases);
   res.kept_out_thin = share(k.thin);
   res.kept_out_pits = share(k.pits);
+  res.kept_out_domes = share(k.domes);
 }
 
 }  // namespace
