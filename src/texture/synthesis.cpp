@@ -737,6 +737,62 @@ class Placer {
   bool retrying_ = false;
 };
 
+// The faces that P folds (folded_faces()'s test: a face's normal against the sum of its neighbours'), with
+// \p next the neighbours of each face (−1: none).
+std::vector<char> folded_mask(const MatrixX3i& Fi, const std::vector<std::array<int, 3>>& next, const MatrixX3d& P) {
+  const Eigen::Index nf = Fi.rows();
+  MatrixX3d FN(nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Vec3 a = P.row(Fi(f, 0)).transpose(), b = P.row(Fi(f, 1)).transpose(), c = P.row(Fi(f, 2)).transpose();
+    FN.row(f) = (b - a).cross(c - a).normalized().transpose();
+  }
+  std::vector<char> out(nf, 0);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    Vec3 s = Vec3::Zero();
+    for (int g : next[f])
+      if (g >= 0) s += FN.row(g).transpose();
+    out[f] = s.dot(FN.row(f).transpose()) < 0;
+  }
+  return out;
+}
+
+std::vector<std::array<int, 3>> face_neighbours(const Mesh& T) {
+  std::vector<std::array<int, 3>> next(T.n_faces(), {-1, -1, -1});
+  for (auto f : T.faces()) {
+    int c = 0;
+    for (auto g : T.ff_range(f)) next[f.idx()][c++] = g.idx();
+  }
+  return next;
+}
+
+// Folds' dips: each face f folded in \p now and not in \p base multiplies \p alpha by
+// 1 − depth exp(−d² / r²) within 2r of its centroid (d: distance from it; r: ρ, at least the face's mean edge).
+// \return whether any face was folded.
+bool dip_folds(const Mesh& T, const MatrixX3d& X, const MatrixX3i& Fi, const std::vector<char>& now,
+               const std::vector<char>& base, double rho, double depth, Eigen::VectorXd& alpha) {
+  std::vector<int> seen(X.rows(), -1), queue;
+  int visit = 0;
+  for (Eigen::Index f = 0; f < Fi.rows(); ++f) {
+    if (!now[f] || base[f]) continue;
+    const Vec3 c = (X.row(Fi(f, 0)) + X.row(Fi(f, 1)) + X.row(Fi(f, 2))).transpose() / 3;
+    double edges = 0;  // the face's mean edge: the narrowest dip
+    for (int k = 0; k < 3; ++k) edges += (X.row(Fi(f, k)) - X.row(Fi(f, (k + 1) % 3))).norm() / 3;
+    const double r = std::max(rho, edges);
+    queue.assign({Fi(f, 0), Fi(f, 1), Fi(f, 2)});
+    for (int v : queue) seen[v] = visit;
+    for (size_t i = 0; i < queue.size(); ++i) {
+      const int v = queue[i];
+      const double d2 = (X.row(v).transpose() - c).squaredNorm();
+      alpha[v] *= 1 - depth * std::exp(-d2 / (r * r));
+      for (auto w : T.vv_range(T.vertex_handle(v)))
+        if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * r)
+          seen[w.idx()] = visit, queue.push_back(w.idx());
+    }
+    ++visit;
+  }
+  return visit > 0;
+}
+
 // Shrink the displacements \p local (#V by 3 in the frames (F, n × F, n)) around the faces that X + D
 // folds (folded_faces()'s test) and the base X does not, smoothly: each round multiplies them by
 // 1 − 0.25 exp(−d² / ρ²), d the distance from the folded face's centroid (within 2ρ), until none folds (at
@@ -746,31 +802,9 @@ class Placer {
 size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double rho, MatrixX3d& local,
               const ProgressFn& progress) {
   const MatrixX3i Fi = faces(T);
-  const Eigen::Index nf = Fi.rows();
-  std::vector<std::array<int, 3>> next(nf, {-1, -1, -1});
-  for (auto f : T.faces()) {
-    int c = 0;
-    for (auto g : T.ff_range(f)) next[f.idx()][c++] = g.idx();
-  }
-  auto folded = [&](const MatrixX3d& P) {
-    MatrixX3d FN(nf, 3);
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      const Vec3 a = P.row(Fi(f, 0)).transpose(), b = P.row(Fi(f, 1)).transpose(), c = P.row(Fi(f, 2)).transpose();
-      FN.row(f) = (b - a).cross(c - a).normalized().transpose();
-    }
-    std::vector<char> out(nf, 0);
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      Vec3 s = Vec3::Zero();
-      for (int g : next[f])
-        if (g >= 0) s += FN.row(g).transpose();
-      out[f] = s.dot(FN.row(f).transpose()) < 0;
-    }
-    return out;
-  };
-  const std::vector<char> base = folded(X);
+  const std::vector<std::array<int, 3>> next = face_neighbours(T);
+  const std::vector<char> base = folded_mask(Fi, next, X);
   Eigen::VectorXd alpha = Eigen::VectorXd::Ones(X.rows());
-  std::vector<int> seen(X.rows(), -1), queue;
-  int visit = 0;
   for (int round = 0; round < 40; ++round) {
     report(progress, 0.85 + 0.05 * round / 40.0, "unfold");
     MatrixX3d P = X;
@@ -778,28 +812,7 @@ size_t unfold(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const Matri
       const Vec3 n = N.row(i).transpose(), f = F.row(i).transpose();
       P.row(i) += alpha[i] * (local(i, 0) * f + local(i, 1) * n.cross(f) + local(i, 2) * n).transpose();
     }
-    const std::vector<char> now = folded(P);
-    bool any = false;
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      if (!now[f] || base[f]) continue;
-      any = true;
-      const Vec3 c = (X.row(Fi(f, 0)) + X.row(Fi(f, 1)) + X.row(Fi(f, 2))).transpose() / 3;
-      double edges = 0;  // the face's mean edge: the narrowest dip
-      for (int k = 0; k < 3; ++k) edges += (X.row(Fi(f, k)) - X.row(Fi(f, (k + 1) % 3))).norm() / 3;
-      const double r = std::max(rho, edges);
-      queue.assign({Fi(f, 0), Fi(f, 1), Fi(f, 2)});
-      for (int v : queue) seen[v] = visit;
-      for (size_t i = 0; i < queue.size(); ++i) {
-        const int v = queue[i];
-        const double d2 = (X.row(v).transpose() - c).squaredNorm();
-        alpha[v] *= 1 - 0.25 * std::exp(-d2 / (r * r));
-        for (auto w : T.vv_range(T.vertex_handle(v)))
-          if (seen[w.idx()] != visit && (X.row(w.idx()).transpose() - c).norm() < 2 * r)
-            seen[w.idx()] = visit, queue.push_back(w.idx());
-      }
-      ++visit;
-    }
-    if (!any) break;
+    if (!dip_folds(T, X, Fi, folded_mask(Fi, next, P), base, rho, 0.25, alpha)) break;
   }
   size_t shrunk = 0;
   for (Eigen::Index i = 0; i < X.rows(); ++i) {
@@ -923,10 +936,27 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   report(o.progress, 0.9, "encode");
   TextureCodec codec(T, o.texture);
   const MatrixX3i Fi = faces(T);
+  const std::vector<std::array<int, 3>> next = face_neighbours(T);
+  const std::vector<char> base_folds = folded_mask(Fi, next, X);
   std::vector<char> base, mark(X.rows(), 0);
   for (int round = 0;; ++round) {
     res.texture = texture_from_local(codec, res.local, F);
     res.textured = codec.apply(res.texture);
+    // The encoding rounds the displacement a little (height and tilt per vertex), and can fold again a face that
+    // unfolding left just unfolded (cheburashka with the tentacle plate: one face; bench/synthesis.md): dipped as
+    // unfold() does, on the decoded surface, at most 8 rounds.
+    for (int k = 0; o.unfold && k < 8; ++k) {
+      Eigen::VectorXd alpha = Eigen::VectorXd::Ones(X.rows());
+      if (!dip_folds(T, X, Fi, folded_mask(Fi, next, res.textured), base_folds, o.unfold_radius * res.patch_radius,
+                     0.25, alpha))
+        break;
+      for (Eigen::Index i = 0; i < X.rows(); ++i) {
+        res.unfolded_vertices += alpha[i] < 0.99 && alpha[i] > 0.75 && res.local.row(i).norm() > 0;  // once each
+        res.local.row(i) *= alpha[i];
+      }
+      res.texture = texture_from_local(codec, res.local, F);
+      res.textured = codec.apply(res.texture);
+    }
     if (round == 0) {
       stage_done("encode");
       report(o.progress, 0.95, "self-intersections");
