@@ -28,7 +28,7 @@ run() {  # exemplar target
   /usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print(' '.join(f'{k}={r[k]}' for k in
     ['vertices','added_vertices','estimated_vertices','exemplar_share','self_intersecting','base_self_intersecting',
      'excess_self_intersecting','shrunk_share','retried_placements','dropped_patches','dropped_vertices','repaired_vertices','filled_patches','bare_share',
-     'refined_share','kept_out_share','kept_out_creases','kept_out_thin','kept_out_pits','inward_share',
+     'refined_share','kept_out_share','kept_out_creases','kept_out_thin','kept_out_pits','kept_out_domes','inward_share',
      'exemplar_inward_share','folded','seconds']))" "$W/$name.json"
   /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
   GEVAL="$E" /usr/bin/python3 "$(dirname "$0")/inward_faces.py" "$W/$name.ply" "$W/${name}_t.ply" --radial

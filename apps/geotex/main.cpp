@@ -9,6 +9,7 @@
 #include <string>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -36,6 +37,14 @@ bool address_space_limited() {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef __linux__
+  // OpenMP's idle threads spin before they sleep (libgomp's default): on a machine shared with other jobs that
+  // spinning took a quarter of a synthesis' CPU time and made its wall time 1.7× longer (bench/synthesis.md,
+  // issue 27). libgomp reads OMP_WAIT_POLICY before main, so when it is unset the tool runs itself again with
+  // it passive (OMP_WAIT_POLICY=active keeps the spinning); if that fails, it goes on as it is.
+  if (!std::getenv("OMP_WAIT_POLICY") && ::setenv("OMP_WAIT_POLICY", "passive", 1) == 0)
+    ::execv("/proc/self/exe", argv);
+#endif
   const int code = run(argc, argv);
   // Under an address-space cap, OpenBLAS's worker threads, started before main, may fail to map their
   // 128 MiB buffers and retry forever; its exit handler joins them, so geotex hung at exit after

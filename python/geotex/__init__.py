@@ -21,9 +21,13 @@ from __future__ import annotations
 import os
 from typing import Any, Callable, Iterable, List, Optional, Sequence, Tuple, Union
 
-import numpy as np
+# OpenMP's idle threads sleep instead of spinning (unless the caller chose): on a shared machine the spinning
+# took a quarter of a synthesis' CPU time (bench/synthesis.md). libgomp reads this when _geotex loads it.
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
-from . import _geotex
+import numpy as np  # noqa: E402
+
+from . import _geotex  # noqa: E402
 from ._geotex import Error, InvalidInput, IoError, SolverError  # noqa: F401
 from ._options import options_doc, table, with_options
 

@@ -19,21 +19,28 @@ double ramp(double x, double a, double b) {
   return t * t * (3 - 2 * t);
 }
 
-// Distance along edges from the vertices where `seed` is set, up to `limit` (beyond: limit).
-Eigen::VectorXd edge_distance(const Mesh& mesh, const MatrixX3d& X, const std::vector<char>& seed, double limit) {
+// Distance along edges from the vertices where `seed` is set, up to `limit` (beyond: limit). With `owner`
+// (#V, the seeds' labels), each vertex reached gets its nearest seed's label (−1 where none is reached).
+Eigen::VectorXd edge_distance(const Mesh& mesh, const MatrixX3d& X, const std::vector<char>& seed, double limit,
+                              std::vector<int>* owner = nullptr) {
   const int n = static_cast<int>(mesh.n_vertices());
   Eigen::VectorXd d = Eigen::VectorXd::Constant(n, limit);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
-  for (int v = 0; v < n; ++v)
+  for (int v = 0; v < n; ++v) {
     if (seed[v]) d[v] = 0, q.emplace(0.0, v);
+    if (owner && !seed[v]) (*owner)[v] = -1;
+  }
   while (!q.empty()) {
     const auto [dv, v] = q.top();
     q.pop();
     if (dv > d[v]) continue;
     for (auto w : mesh.vv_range(mesh.vertex_handle(v))) {
       const double dw = dv + (X.row(v) - X.row(w.idx())).norm();
-      if (dw < d[w.idx()]) d[w.idx()] = dw, q.emplace(dw, w.idx());
+      if (dw < d[w.idx()]) {
+        d[w.idx()] = dw, q.emplace(dw, w.idx());
+        if (owner) (*owner)[w.idx()] = (*owner)[v];
+      }
     }
   }
   return d;
@@ -155,19 +162,119 @@ Eigen::VectorXd pit_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::Ve
   return d.unaryExpr([&](double x) { return ramp(x, 0.25 * span, span); });
 }
 
+// Mean curvature (positive where convex, Eq. 5.10), averaged over each vertex's one ring by area (the
+// cotangent formula's noise on scanned surfaces is an edge wide).
+Eigen::VectorXd smooth_mean_curvature(const Mesh& mesh, const Eigen::VectorXd& area) {
+  const MatrixX3d Hn = mean_curvature_normals(mesh), N = vertex_normals(mesh);
+  const int n = static_cast<int>(area.size());
+  Eigen::VectorXd H(n), S(n);
+  for (int v = 0; v < n; ++v) H[v] = std::isfinite(Hn(v, 0)) ? Hn.row(v).dot(N.row(v)) : 0.0;
+  for (int v = 0; v < n; ++v) {
+    double h = area[v] * H[v], a = area[v];
+    for (auto w : mesh.vv_range(mesh.vertex_handle(v))) h += area[w.idx()] * H[w.idx()], a += area[w.idx()];
+    S[v] = a > 0 ? h / a : 0.0;
+  }
+  return S;
+}
+
+// The islands of the surface closed round by strong curvature: connected components of the vertices whose
+// smoothed mean curvature H is within (−ridge / 2, ridge) / span. Returns #V labels (−1: on the loop).
+std::vector<int> curvature_islands(const Mesh& mesh, const Eigen::VectorXd& H, double span, double ridge,
+                                   int& count) {
+  const int n = static_cast<int>(H.size());
+  std::vector<int> label(n, -1);
+  count = 0;
+  for (int s = 0; s < n; ++s) {
+    auto free = [&](int v) { return label[v] < 0 && H[v] * span < ridge && H[v] * span > -0.5 * ridge; };
+    if (!free(s)) continue;
+    std::vector<int> stack{s};
+    label[s] = count;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (auto w : mesh.vv_range(mesh.vertex_handle(v)))
+        if (free(w.idx())) label[w.idx()] = count, stack.push_back(w.idx());
+    }
+    ++count;
+  }
+  return label;
+}
+
+// One island of curvature_islands(): its vertices and area-weighted sums.
+struct Island {
+  std::vector<int> vertices;
+  double area = 0, curvature = 0;            // Σ A, Σ A H
+  Vec3 normal = Vec3::Zero(), mid = Vec3::Zero();  // Σ A n, Σ A x
+};
+
+// Whether an island stands on the surface round it: the band within 2ρ of it along edges (its rim and past it;
+// ρ = √(area / π)) faces its way (area-weighted mean cosine ≥ 0.8: not a foot's sole, a box's face or a horn's tip,
+// elsewhere on cheburashka, spot, the cow, fandisk and the bunny at most 0.76; its eyes 0.83–0.85) and lies below
+// it along that way by at
+// least 0.2 ρ (bench/synthesis.md).
+bool stands_on_surface(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& N, const Eigen::VectorXd& area,
+                       const Island& s) {
+  std::vector<char> seed(X.rows(), 0);
+  for (int v : s.vertices) seed[v] = 1;
+  const double rho = std::sqrt(s.area / M_PI);
+  const Eigen::VectorXd d = edge_distance(mesh, X, seed, 2 * rho);
+  const Vec3 n = s.normal.normalized();
+  double a = 0, cosine = 0;
+  Vec3 mid = Vec3::Zero();
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    if (d[v] > 0 && d[v] < 2 * rho) {
+      a += area[v], cosine += area[v] * N.row(v).dot(n);
+      mid += area[v] * X.row(v).transpose();
+    }
+  return a > 0 && cosine / a >= 0.8 && (s.mid / s.area - mid / a).dot(n) >= 0.2 * rho;
+}
+
+// Domes smaller than the texture (an eyeball with no crease round it, cheburashka's; bench/synthesis.md):
+// islands closed round by a loop of strong curvature — a ridge (mean curvature above `ridge` / span: the
+// eyeball's rounded edge) or a valley (below −ridge / 2 / span: a socket's groove) — that are small (from a
+// twentieth of a disk of the span's radius to one), convex on the whole (their mean H ≥ 0: not a pit) and
+// stand on the surface round them (stands_on_surface(): not a foot's sole or a box's face). The weight is 0 on
+// such islands and a quarter of the span round them, rising to 1 at the span.
+Eigen::VectorXd dome_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& area, double span,
+                            double ridge) {
+  const int n = static_cast<int>(X.rows());
+  const Eigen::VectorXd H = smooth_mean_curvature(mesh, area);
+  const MatrixX3d N = vertex_normals(mesh);
+  int count = 0;
+  const std::vector<int> label = curvature_islands(mesh, H, span, ridge, count);
+  std::vector<Island> islands(count);
+  for (int v = 0; v < n; ++v)
+    if (label[v] >= 0) {
+      Island& s = islands[label[v]];
+      s.vertices.push_back(v);
+      s.area += area[v], s.curvature += area[v] * H[v];
+      s.normal += area[v] * N.row(v).transpose(), s.mid += area[v] * X.row(v).transpose();
+    }
+  const double disk = M_PI * span * span;
+  std::vector<char> dome(n, 0);
+  for (const Island& s : islands)
+    if (s.area >= disk / 20 && s.area < disk && s.curvature >= 0 && s.normal.norm() > 0 &&
+        stands_on_surface(mesh, X, N, area, s))
+      for (int v : s.vertices) dome[v] = 1;
+  const Eigen::VectorXd e = edge_distance(mesh, X, dome, span);
+  return e.unaryExpr([&](double x) { return ramp(x, 0.25 * span, span); });
+}
+
 }  // namespace
 
-KeepOut keep_out(const Mesh& target, double span, double crease_angle_deg, bool thin, double pit_depth) {
+KeepOut keep_out(const Mesh& target, double span, double crease_angle_deg, bool thin, double pit_depth,
+                 double dome_ridge) {
   const Eigen::Index n = target.n_vertices();
   KeepOut k;
-  k.creases = k.thin = k.pits = k.weight = Eigen::VectorXd::Ones(n);
+  k.creases = k.thin = k.pits = k.domes = k.weight = Eigen::VectorXd::Ones(n);
   k.area = mass_diagonal(target, MassType::Barycentric);
   if (n == 0 || !(span > 0) || !std::isfinite(span)) return k;
   const MatrixX3d X = positions(target);
   if (crease_angle_deg > 0) k.creases = crease_weight(target, X, span, crease_angle_deg);
   if (thin) k.thin = thin_weight(target, X, k.area, span);
   if (pit_depth > 0) k.pits = pit_weight(target, X, k.area, span, pit_depth);
-  k.weight = k.creases.cwiseProduct(k.thin).cwiseProduct(k.pits);
+  if (dome_ridge > 0) k.domes = dome_weight(target, X, k.area, span, dome_ridge);
+  k.weight = k.creases.cwiseProduct(k.thin).cwiseProduct(k.pits).cwiseProduct(k.domes);
   return k;
 }
 

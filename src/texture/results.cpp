@@ -149,6 +149,8 @@ const ResultTable<SynthesisResult>& synthesis_results() {
       .add("kept_out_creases", [](const R& r) { return r.kept_out_creases; }, "the same, near sharp creases")
       .add("kept_out_thin", [](const R& r) { return r.kept_out_thin; }, "the same, on parts smaller than the features")
       .add("kept_out_pits", [](const R& r) { return r.kept_out_pits; }, "the same, in closed pits smaller than the span")
+      .add("kept_out_domes", [](const R& r) { return r.kept_out_domes; },
+           "the same, on domes smaller than the span (an eyeball)")
       .add("exemplar_share", [](const R& r) { return r.estimate.exemplar_share; },
            "the exemplar share used (given, or automatic)")
       .add("estimated_vertices", [](const R& r) { return r.estimate.vertices; },

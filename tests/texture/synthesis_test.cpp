@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -9,11 +10,13 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/io.h"
 #include "geotex/core/self_intersections.h"
 #include "geotex/texture/measures.h"
 #include "geotex/texture/synthesis.h"
 #include "geotex/tools/shapes.h"
 #include "../../src/texture/keep_out.h"
+#include "test_util.h"
 #include "geotex/tools/shapes.h"
 
 using namespace geotex;
@@ -531,4 +534,75 @@ TEST(Synthesis, AnEyeWithNoCreaseIsKeptOutByDefault) {
   EXPECT_GT(r.kept_out_share, 0.0);
   EXPECT_LT(r.kept_out_share, 0.1);
   EXPECT_EQ(r.excess_self_intersecting, 0u);
+}
+
+// Issue 27: eyeballs with no crease round them (cheburashka's), as domes smaller than the texture's span: a
+// button-shaped bump sunk into a sphere, its top closed round by a convex ridge and a concave rim, is kept out
+// (the creases, thin parts and pits keep nothing out there); the rest of the sphere, a plain sphere, a torus
+// (convex outside, saddles inside) and spot (a cow's body, ears, horns and legs) keep no dome out; the option
+// at 0 turns it off.
+namespace {
+// \p sphere with a button round +z: radial height h (1 − t⁸)² at t = (angle from +z) / a < 1, so its top is about
+// as curved as the sphere, its edge a ridge (mean curvature about 1 + 9 h / a² at t ≈ 0.8) and its foot a valley
+// (about 1 − 17 h / a² at t ≈ 0.95) meeting the sphere with no kink.
+Mesh buttoned(Mesh sphere, double a, double h) {
+  MatrixX3d X = positions(sphere);
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double t = std::acos(std::clamp(X(i, 2) / X.row(i).norm(), -1.0, 1.0)) / a, t8 = std::pow(t, 8);
+    if (t < 1) X.row(i) *= 1 + h * (1 - t8) * (1 - t8) / X.row(i).norm();
+  }
+  set_positions(sphere, X);
+  return sphere;
+}
+}  // namespace
+
+TEST(SynthesisKeepOut, DomesSmallerThanTheTextureAreKeptOut) {
+  const Mesh m = buttoned(icosphere(5), 0.35, 0.08);
+  const MatrixX3d X = positions(m);
+  const detail::KeepOut k = detail::keep_out(m, 0.4, 60, true, 0.15, 1.0);
+  Eigen::Index top = 0, bottom = 0;
+  X.col(2).maxCoeff(&top);
+  X.col(2).minCoeff(&bottom);
+  EXPECT_LT(k.domes[top], 1e-9);
+  EXPECT_LT(k.weight[top], 1e-9);
+  EXPECT_DOUBLE_EQ(k.domes[bottom], 1.0);
+  EXPECT_DOUBLE_EQ(k.creases[top] * k.thin[top] * k.pits[top], 1.0);  // only the dome rule finds it
+  double kept = 0, all = k.area.sum();
+  for (Eigen::Index i = 0; i < X.rows(); ++i) kept += k.domes[i] < 0.5 ? k.area[i] : 0.0;
+  std::cout << fmt::format("[ a button on icosphere(5) ] domes keep out {:.1f} %\n", 100 * kept / all);
+  EXPECT_LT(kept / all, 0.1);  // the button and a quarter span round it (its angle 0.35: 3 % of the sphere)
+  EXPECT_GT(kept / all, 0.005);
+  EXPECT_DOUBLE_EQ(detail::keep_out(m, 0.4, 60, true, 0.15, 0).domes.minCoeff(), 1.0);  // off
+  for (double span : {0.1, 0.2, 0.4}) {
+    EXPECT_DOUBLE_EQ(detail::keep_out(icosphere(5), span, 0, false, 0, 1.0).domes.minCoeff(), 1.0) << span;
+    EXPECT_DOUBLE_EQ(detail::keep_out(torus(1.0, 0.35, 96, 36), span, 0, false, 0, 1.0).domes.minCoeff(), 1.0)
+        << span;
+  }
+  const Mesh spot = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
+  for (double span : {0.05, 0.1, 0.2})  // spot is 2.6 long; the tentacle plate's span on it is about 0.15
+    EXPECT_DOUBLE_EQ(detail::keep_out(spot, span, 0, false, 0, 1.0).domes.minCoeff(), 1.0) << span;
+}
+
+TEST(Synthesis, AnEyeballWithNoCreaseIsKeptOutByDefault) {
+  const Tentacles e;
+  const Mesh target = buttoned(icosphere(5), 0.35, 0.08);
+  const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, tentacle_sphere_options());
+  Eigen::Index top = 0, bottom = 0;  // the input's vertices come first in the refined target
+  const MatrixX3d X = positions(target);
+  X.col(2).maxCoeff(&top);
+  X.col(2).minCoeff(&bottom);
+  std::cout << fmt::format("[ tentacles on a buttoned icosphere(5) ] kept out {:.1f} % (domes {:.1f} %), weight at "
+                           "the button {:.2f}, displaced there {:.3g}\n",
+                           100 * r.kept_out_share, 100 * r.kept_out_domes, r.weight[top], r.local.row(top).norm());
+  EXPECT_LT(r.weight[top], 1e-9);
+  EXPECT_EQ(r.local.row(top).norm(), 0.0);
+  EXPECT_DOUBLE_EQ(r.weight[bottom], 1.0);
+  EXPECT_GT(r.kept_out_domes, 0.0);
+  EXPECT_LT(r.kept_out_share, 0.1);
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
+  SynthesisOptions off = tentacle_sphere_options();  // the rules before the dome rule keep nothing out there
+  off.keep_out_dome_ridge = 0;
+  const SynthesisResult u = synthesize_texture(e.p.base, e.t, target, off);
+  EXPECT_DOUBLE_EQ(u.weight[top], 1.0);
+  EXPECT_EQ(u.kept_out_domes, 0.0);
 }

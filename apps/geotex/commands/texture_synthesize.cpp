@@ -55,9 +55,10 @@ void run_synthesize(const SynthesizeArgs& a, SynthesisOptions o) {
                    r.exemplar_radius));
   if (r.kept_out_share > 0)
     info(fmt::format("synthesize: kept out {:.1f}% of the target's area (near creases {:.1f}%, parts smaller than the "
-                     "texture {:.1f}%, closed pits {:.1f}%; --keep-out-crease-angle 0, --no-keep-out-thin and "
-                     "--keep-out-pit-depth 0 cover them)",
-                     100 * r.kept_out_share, 100 * r.kept_out_creases, 100 * r.kept_out_thin, 100 * r.kept_out_pits));
+                     "texture {:.1f}%, closed pits {:.1f}%, domes {:.1f}%; --keep-out-crease-angle 0, --no-keep-out-thin, "
+                     "--keep-out-pit-depth 0 and --keep-out-dome-ridge 0 cover them)",
+                     100 * r.kept_out_share, 100 * r.kept_out_creases, 100 * r.kept_out_thin, 100 * r.kept_out_pits,
+                     100 * r.kept_out_domes));
   info(fmt::format("synthesize: {:.2f}% of the relief's faces turned against the base (the exemplar's own: {:.2f}%)",
                    100 * r.inward_share, 100 * r.exemplar_inward_share));
   Mesh textured = r.target;

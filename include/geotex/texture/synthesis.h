@@ -148,6 +148,11 @@ struct SynthesisOptions {
   //! (the lowest of 8 sectors) by at least this share of the ring's radius; faded in from a quarter of the span
   //! to the span away (0: no pit keep-out; bench/synthesis.md).
   double keep_out_pit_depth = 0.15;
+  //! Keep texture off domes smaller than its span (an eyeball with no crease round it): islands closed round
+  //! by a ridge whose mean curvature exceeds this over the span (or a valley below minus half of it), smaller
+  //! than a disk of the span's radius, convex, standing above the surface round them (which faces their way);
+  //! faded in from a quarter of the span to the span away (0: no dome keep-out; bench/synthesis.md).
+  double keep_out_dome_ridge = 1;
 
   // Orientation
   //! The direction field's guide (when no per-vertex guide is given): its tangent part on the target.
@@ -233,7 +238,7 @@ struct SynthesisResult {
   double shrunk_share = 0;   //!< unfolded_vertices / #V: vertices whose (non-zero) displacement unfold shrank by over 1 %
   double refined_share = 0;  //!< added_vertices / #V
   //! Area shares of the target kept out (automatic keep-out weight below 0.5): in all, and by each reason.
-  double kept_out_share = 0, kept_out_creases = 0, kept_out_thin = 0, kept_out_pits = 0;
+  double kept_out_share = 0, kept_out_creases = 0, kept_out_thin = 0, kept_out_pits = 0, kept_out_domes = 0;
   std::vector<std::pair<std::string, double>> stage_seconds;  //!< wall seconds per stage, in order
   std::vector<std::string> warnings;
 };

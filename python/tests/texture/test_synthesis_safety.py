@@ -45,6 +45,7 @@ def test_the_damage_counts_and_the_estimate_are_returned(tentacles):
     assert r.exemplar_inward_share > 0.05
     assert r.inward_share <= r.exemplar_inward_share + 0.001
     assert r.kept_out_pits == 0                     # a sphere has no pit
+    assert r.kept_out_domes == 0                    # nor a dome
 
 
 def test_an_estimate_beyond_the_cap_is_refused_before_the_work(tentacles):
@@ -79,7 +80,8 @@ def test_cli_prints_the_estimate_first_refuses_beyond_the_cap_and_reports_the_co
                                   vertex_budget=20000)
     for key in ("self_intersecting", "base_self_intersecting", "excess_self_intersecting", "shrunk_share",
                 "refined_share", "estimated_vertices", "exemplar_share", "retried_placements", "dropped_patches",
-                "dropped_vertices", "repaired_vertices", "inward_share", "exemplar_inward_share", "kept_out_pits"):
+                "dropped_vertices", "repaired_vertices", "inward_share", "exemplar_inward_share", "kept_out_pits",
+                "kept_out_domes"):
         assert rep[key] == pytest.approx(getattr(py, key)), key
     V, _ = geotex.read_mesh(str(tmp_path / "o.ply"))
     assert np.allclose(V, py.V)
