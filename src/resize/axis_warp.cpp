@@ -21,6 +21,10 @@ const OptionTable<AxisWarpOptions>& AxisWarpOptions::table() {
       .add("size_weight", &O::size_weight,
            "axis: weight of important faces keeping the asked scale's smallest factor", non_negative())
       .add("plain_weight", &O::plain_weight, "axis: weight of each grid node's pull to the plain stretch", positive())
+      .add("slab_weight", &O::slab_weight,
+           "axis: weight of each slab keeping the asked scale's smallest factor by its mean importance v as v / (1 - v) "
+           "(a slab holding only a protrusion's end does not stretch; opt-in: lowers other models' ratios)",
+           non_negative())
       .add("min_scale", &O::min_scale,
            "axis: no cell is squeezed below this share of the asked scale's smallest factor", between(0.01, 0.99));
   return t;
@@ -170,6 +174,38 @@ Eigen::VectorXd solve_axis_qp(const AxisQp& qp, Eigen::VectorXd s, double s_min)
   throw SolverError("axis warp: the active-set method did not converge");
 }
 
+// The slab term μ_s Σ_a Σ_m (w_{a,m} / L_a) r(v̄_{a,m}) (σ_{a,m} − s̄)², r(v) = v / max(1 − v, 0.01): v̄_{a,m} the
+// area-weighted mean importance of the faces around node m along axis a (their centroids' hat-function shares).
+// A slab resists growing by how important its surface is on average, not by how much of it there is, and one
+// that holds nothing unimportant (a tentacle's far end: v̄ → 1) has no room at all (bench/resize.md, tenth session).
+void add_slab_terms(AxisQp& qp, const MatrixX3d& X, const MatrixX3i& F, const Eigen::VectorXd& f, const AxisWarp& w,
+                    const std::array<int, 3>& offset, const std::array<int, 3>& cells, double weight, double s_bar) {
+  if (weight <= 0) return;
+  const Eigen::Index n = qp.g.size();
+  Eigen::VectorXd num = Eigen::VectorXd::Zero(n), den = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    const Vec3 p0 = X.row(F(k, 0)), p1 = X.row(F(k, 1)), p2 = X.row(F(k, 2)), p = (p0 + p1 + p2) / 3;
+    const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm(), v = (f[F(k, 0)] + f[F(k, 1)] + f[F(k, 2)]) / 3;
+    for (int a = 0; a < 3; ++a) {
+      if (cells[a] == 0) continue;
+      const double u = std::clamp((p[a] - w.lo[a]) / w.step[a], 0.0, static_cast<double>(cells[a]));
+      const int m = std::min(static_cast<int>(u), cells[a] - 1);
+      for (int j : {m, m + 1}) {
+        const double share = area * (j == m ? 1 - (u - m) : u - m);
+        num[offset[a] + j] += share * v, den[offset[a] + j] += share;
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int m = 0; m <= cells[a] && cells[a] > 0; ++m) {
+      const int i = offset[a] + m;
+      if (!(den[i] > 0)) continue;
+      const double v = num[i] / den[i];
+      const double c = weight * (m == 0 || m == cells[a] ? 0.5 : 1.0) / cells[a] * v / std::max(1 - v, 0.01);
+      qp.H(i, i) += c, qp.g[i] -= c * s_bar;
+    }
+}
+
 }  // namespace
 
 AxisWarp axis_warp(const Mesh& mesh, const Vec3& stretch, const Vec3& out_lo, const Eigen::VectorXd& f,
@@ -208,6 +244,7 @@ AxisWarp axis_warp(const Mesh& mesh, const Vec3& stretch, const Vec3& out_lo, co
     total += weight;
   }
   if (total > 0) qp.H /= total, qp.g /= total;
+  add_slab_terms(qp, X, F, f, w, offset, cells, o.slab_weight, s_bar);
   std::vector<int> axes;
   for (int a = 0; a < 3; ++a)
     if (cells[a] > 0) axes.push_back(a);

@@ -12,6 +12,7 @@
 //! + μ Σ_f a_f v_f |s(p_f) − s̄ 1|² / Σ_f a_f v_f                    important faces keep their size
 //! + λ Σ_a K_a Σ_m (σ_{a,m+1} − σ_{a,m})²                             smooth along each axis
 //! + ε Σ_a Σ_m (w_{a,m} / L_a) (σ_{a,m} − λ_a)²                       weakly the plain stretch
+//! + μ_s Σ_a Σ_m (w_{a,m} / L_a) v̄/(1 − v̄) (σ_{a,m} − s̄)²              opt-in: full slabs keep their size
 //! subject to Σ_m w_{a,m} σ_{a,m} = λ_a L_a (the box exactly as asked; w the trapezoid weights) and
 //! σ_{a,m} ≥ s_min > 0 (g_a increasing: no face turns over, no self-intersection appears).
 //! v_f is the face's mean importance f (feature_map.h), s̄ the asked scale's smallest factor, K_a the
@@ -41,6 +42,10 @@ struct AxisWarpOptions {
   double smoothness = 1e-5;   //!< λ: weight of the stretch's variation along each axis (bench/resize.md)
   double size_weight = 0.1;   //!< μ: weight of important faces keeping the asked scale's smallest factor
   double plain_weight = 1e-3; //!< ε: weight of each node's pull to the plain stretch λ_a
+  //! μ_s: weight of each slab (along each axis) keeping the asked scale's smallest factor, times v̄ / (1 − v̄),
+  //! v̄ its faces' mean importance: a slab holding only a protrusion's end (a tentacle's) takes no stretch.
+  //! 0 (off): on cow, cheburashka, fandisk and the bunny it raised axis-similarity's ratio (bench/resize.md).
+  double slab_weight = 0;
   //! s_min as a share of the asked scale's smallest factor: no cell is squeezed below it.
   double min_scale = 0.5;
   static const OptionTable<AxisWarpOptions>& table();
