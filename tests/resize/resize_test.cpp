@@ -352,6 +352,25 @@ Eigen::Vector2d face_stretch(const MatrixX3i& F, const MatrixX3d& X, const Matri
   return Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(Q * P.inverse()).singularValues();
 }
 
+// The worst anisotropy s1/s2 − 1 of the result \p Y and of the plain map \p C over the core of a painted map \p f
+// (the faces with weight 1 at all three corners), and how many core faces there are.
+struct CoreStretch {
+  double worst = 0, plain = 0;
+  int faces = 0;
+};
+CoreStretch core_stretch(const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Y, const MatrixX3d& C,
+                         const Eigen::VectorXd& f) {
+  CoreStretch c;
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    if (std::min({f[F(k, 0)], f[F(k, 1)], f[F(k, 2)]}) < 1.0) continue;
+    const Eigen::Vector2d sv = face_stretch(F, X, Y, k), sp = face_stretch(F, X, C, k);
+    c.worst = std::max(c.worst, sv[0] / sv[1] - 1);
+    c.plain = std::max(c.plain, sp[0] / sp[1] - 1);
+    ++c.faces;
+  }
+  return c;
+}
+
 // Faces whose normal points against the plain map's.
 int turned_over(const Mesh& m, const MatrixX3d& Y, const MatrixX3d& C) {
   const MatrixX3i F = faces(m);
@@ -435,15 +454,7 @@ TEST(ResizeSimilarity, PaintedWeightsGetSimilaritiesTheBoxIsExactAndNoFaceTurns)
   for (const Vec3& s : {Vec3(2, 1, 1), Vec3(1, 2, 1), Vec3(1.5, 1, 1)}) {
     const MatrixX3d C = apply_map(scale_map(s), X);
     const MatrixX3d Y = feature_aware_resize(b.mesh, C, f);
-    double worst = 0, plain = 0;
-    int core = 0;
-    for (Eigen::Index k = 0; k < F.rows(); ++k) {
-      if (std::min({f[F(k, 0)], f[F(k, 1)], f[F(k, 2)]}) < 1.0) continue;
-      const Eigen::Vector2d sv = face_stretch(F, X, Y, k), sp = face_stretch(F, X, C, k);
-      worst = std::max(worst, sv[0] / sv[1] - 1);
-      plain = std::max(plain, sp[0] / sp[1] - 1);
-      ++core;
-    }
+    const auto [worst, plain, core] = core_stretch(F, X, Y, C, f);
     const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
     const Vec3 asked = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
     std::printf("  scale %.1f,%.1f,%.1f: %d core faces, worst s1/s2 - 1 = %.4f (plain %.3f), box error %.1e\n", s.x(),
@@ -683,15 +694,7 @@ TEST(ResizeAxis, PaintedBumpsGetSimilaritiesAndStayLevel) {
   const MatrixX3i F = faces(b.mesh);
   const MatrixX3d C = apply_map(scale_map({2, 1, 1}), X);
   const MatrixX3d Y = feature_aware_resize(b.mesh, C, f, with(ResizeMethod::Axis));
-  double worst = 0, plain = 0;
-  int core = 0;
-  for (Eigen::Index k = 0; k < F.rows(); ++k) {
-    if (std::min({f[F(k, 0)], f[F(k, 1)], f[F(k, 2)]}) < 1.0) continue;
-    const Eigen::Vector2d sv = face_stretch(F, X, Y, k), sp = face_stretch(F, X, C, k);
-    worst = std::max(worst, sv[0] / sv[1] - 1);
-    plain = std::max(plain, sp[0] / sp[1] - 1);
-    ++core;
-  }
+  const auto [worst, plain, core] = core_stretch(F, X, Y, C, f);
   std::printf("  axis ×2 x: %d core faces, worst s1/s2 - 1 = %.4f (plain %.3f)\n", core, worst, plain);
   ASSERT_GT(core, 20);
   EXPECT_LT(worst, 0.05);

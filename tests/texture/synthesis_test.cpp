@@ -516,6 +516,17 @@ TEST(SynthesisKeepOut, ClosedPitsSmallerThanTheTextureAreKeptOut) {
   EXPECT_DOUBLE_EQ(detail::keep_out(torus(1.0, 0.35, 96, 36), 0.3, 60, true, 0.15).pits.minCoeff(), 1.0);
 }
 
+namespace {
+// Nothing grows at vertex \p kept (weight 0, no displacement), vertex \p open keeps its full weight, and no face
+// crosses beyond the base's own.
+void expect_kept_out_at(const SynthesisResult& r, Eigen::Index kept, Eigen::Index open) {
+  EXPECT_LT(r.weight[kept], 1e-9);
+  EXPECT_EQ(r.local.row(kept).norm(), 0.0);
+  EXPECT_DOUBLE_EQ(r.weight[open], 1.0);
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
+}
+}  // namespace
+
 TEST(Synthesis, AnEyeWithNoCreaseIsKeptOutByDefault) {
   const Tentacles e;
   const Mesh target = dimpled(icosphere(4), 0.25, 0.1);
@@ -528,12 +539,9 @@ TEST(Synthesis, AnEyeWithNoCreaseIsKeptOutByDefault) {
   std::cout << fmt::format("[ tentacles on a dimpled icosphere(4) ] kept out {:.1f} % (pits {:.1f} %), weight at the "
                            "dimple {:.2f}, displaced there {:.3g}\n",
                            100 * r.kept_out_share, 100 * r.kept_out_pits, r.weight[top], r.local.row(top).norm());
-  EXPECT_LT(r.weight[top], 1e-9);
-  EXPECT_EQ(r.local.row(top).norm(), 0.0);
-  EXPECT_DOUBLE_EQ(r.weight[bottom], 1.0);
+  expect_kept_out_at(r, top, bottom);
   EXPECT_GT(r.kept_out_share, 0.0);
   EXPECT_LT(r.kept_out_share, 0.1);
-  EXPECT_EQ(r.excess_self_intersecting, 0u);
 }
 
 // Issue 27: eyeballs with no crease round them (cheburashka's), as domes smaller than the texture's span: a
@@ -594,12 +602,9 @@ TEST(Synthesis, AnEyeballWithNoCreaseIsKeptOutByDefault) {
   std::cout << fmt::format("[ tentacles on a buttoned icosphere(5) ] kept out {:.1f} % (domes {:.1f} %), weight at "
                            "the button {:.2f}, displaced there {:.3g}\n",
                            100 * r.kept_out_share, 100 * r.kept_out_domes, r.weight[top], r.local.row(top).norm());
-  EXPECT_LT(r.weight[top], 1e-9);
-  EXPECT_EQ(r.local.row(top).norm(), 0.0);
-  EXPECT_DOUBLE_EQ(r.weight[bottom], 1.0);
+  expect_kept_out_at(r, top, bottom);
   EXPECT_GT(r.kept_out_domes, 0.0);
   EXPECT_LT(r.kept_out_share, 0.1);
-  EXPECT_EQ(r.excess_self_intersecting, 0u);
   SynthesisOptions off = tentacle_sphere_options();  // the rules before the dome rule keep nothing out there
   off.keep_out_dome_ridge = 0;
   const SynthesisResult u = synthesize_texture(e.p.base, e.t, target, off);
