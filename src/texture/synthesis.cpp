@@ -945,6 +945,63 @@ void check_inputs(const Mesh& target, const SynthesisOptions& o, const Synthesis
     throw InvalidInput(fmt::format("texture synthesis: expected one guide direction per target vertex ({})", n0));
 }
 
+// The faces owning an edge that crosses one of \p crossed in \p V (the other side of each crossing). Where the
+// crossed face itself is not displaced, zeroing its features cannot undo the crossing: the edge moved (the beetle
+// with the tentacle plate: 3 faces beyond the base's own, each beside the base's own crossings, crossed by edges
+// displaced by 1e-7 to 2e-5). Every face's edges are tested against each crossed face's box; \p crossed beyond
+// kMaxPartnerSearch faces are not searched (none is returned).
+constexpr size_t kMaxPartnerSearch = 2000;
+std::vector<int> crossing_partners(const MatrixX3d& V, const MatrixX3i& F, const std::vector<int>& crossed) {
+  std::vector<int> partners;
+  if (crossed.empty() || crossed.size() > kMaxPartnerSearch) return partners;
+  std::vector<Eigen::AlignedBox3d> boxes(crossed.size());
+  for (size_t c = 0; c < crossed.size(); ++c)
+    for (int k = 0; k < 3; ++k) boxes[c].extend(Vec3(V.row(F(crossed[c], k)).transpose()));
+  std::vector<char> is_partner(F.rows(), 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (Eigen::Index g = 0; g < F.rows(); ++g) {
+    Eigen::AlignedBox3d gb;
+    for (int k = 0; k < 3; ++k) gb.extend(Vec3(V.row(F(g, k)).transpose()));
+    for (size_t c = 0; c < crossed.size() && !is_partner[g]; ++c) {
+      if (!gb.intersects(boxes[c])) continue;
+      const int f = crossed[c], i = F(f, 0), j = F(f, 1), l = F(f, 2);
+      const Vec3 A = V.row(i).transpose(), e1 = (V.row(j) - V.row(i)).transpose(), e2 = (V.row(l) - V.row(i)).transpose();
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(g, k), b = F(g, (k + 1) % 3);
+        if (a == i || a == j || a == l || b == i || b == j || b == l) continue;
+        const Vec3 p0 = V.row(a).transpose();
+        if (segment_crosses_triangle(p0, V.row(b).transpose() - p0, A, e1, e2)) is_partner[g] = 1;
+      }
+    }
+  }
+  for (Eigen::Index g = 0; g < F.rows(); ++g)
+    if (is_partner[g]) partners.push_back(static_cast<int>(g));
+  return partners;
+}
+
+// Where the base crosses itself (a messy target: the beetle at 298 faces), a displacement however small moves
+// the crossing from face to face and the count beyond the base's own jitters (beetle with the spike plate: 2
+// faces, displaced by 1e-4 to 2e-4): both sides of each of the base's own crossings (\p base, its flags) keep the
+// base as it is, their one-ring half of its displacement \p D.
+void keep_own_crossings(const Mesh& T, const MatrixX3i& Fi, const MatrixX3d& X, const std::vector<char>& base,
+                        MatrixX3d& D) {
+  std::vector<int> own;
+  for (Eigen::Index f = 0; f < Fi.rows(); ++f)
+    if (base[f]) own.push_back(static_cast<int>(f));
+  std::vector<int> sides = crossing_partners(X, Fi, own);
+  sides.insert(sides.end(), own.begin(), own.end());
+  std::vector<char> still(X.rows(), 0);
+  for (int f : sides)
+    for (int k = 0; k < 3; ++k) still[Fi(f, k)] = 1;
+  std::vector<char> halved(X.rows(), 0);
+  for (Eigen::Index v = 0; v < X.rows(); ++v) {
+    if (!still[v]) continue;
+    D.row(v).setZero();
+    for (auto w : T.vv_range(T.vertex_handle(static_cast<int>(v))))
+      if (!still[w.idx()] && !halved[w.idx()]) D.row(w.idx()) *= 0.5, halved[w.idx()] = 1;
+  }
+}
+
 // Encode the displacements res.local as a height-and-tilt texture on T, apply it and count the faces
 // the textured surface crosses (self_intersecting_faces()) against the base's own. Where it crosses
 // beyond them (the texture reproduces the displacements approximately, and unfolding moved them) and
@@ -958,7 +1015,9 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
   const MatrixX3i Fi = faces(T);
   const std::vector<std::array<int, 3>> next = face_neighbours(T);
   const std::vector<char> base_folds = folded_mask(Fi, next, X);
-  std::vector<char> base, mark(X.rows(), 0);
+  std::vector<char> mark(X.rows(), 0);
+  const std::vector<char> base = self_intersecting_faces(X, Fi);
+  keep_own_crossings(T, Fi, X, base, res.local);
   for (int round = 0;; ++round) {
     res.texture = texture_from_local(codec, res.local, F);
     res.textured = codec.apply(res.texture);
@@ -980,7 +1039,6 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
     if (round == 0) {
       stage_done("encode");
       report(o.progress, 0.95, "self-intersections");
-      base = self_intersecting_faces(X, Fi);
     }
     const std::vector<char> hit = self_intersecting_faces(res.textured, Fi);
     res.self_intersecting = std::count(hit.begin(), hit.end(), 1);
@@ -993,6 +1051,12 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
     if (extra.empty() || !o.repair_crossings || round == 2) break;
     res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
                                            [](int) { return true; }, res.local, mark);
+    // Both sides of each crossing lose what is left of their displacement, however small (below tau).
+    std::vector<int> sides = crossing_partners(res.textured, Fi, extra);
+    sides.insert(sides.end(), extra.begin(), extra.end());
+    for (int f : sides)
+      for (int k = 0; k < 3; ++k)
+        if (res.local.row(Fi(f, k)).squaredNorm() > 0) res.local.row(Fi(f, k)).setZero(), ++res.repaired_vertices;
     if (o.unfold) res.unfolded_vertices += unfold(T, X, N, F, o.unfold_radius * res.patch_radius, res.local, {});
   }
   if (res.repaired_vertices)

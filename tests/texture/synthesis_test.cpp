@@ -611,3 +611,35 @@ TEST(Synthesis, AnEyeballWithNoCreaseIsKeptOutByDefault) {
   EXPECT_DOUBLE_EQ(u.weight[top], 1.0);
   EXPECT_EQ(u.kept_out_domes, 0.0);
 }
+
+// Issue 27: a target that crosses itself (two spheres overlapping, one mesh) keeps its own crossings as they are:
+// both sides of each are left undisplaced (a displacement however small moves a crossing from face to face and
+// the count beyond the base's jitters: the beetle), and the texture crosses nothing beyond them.
+TEST(Synthesis, ATargetsOwnCrossingsAreLeftAsTheyAre) {
+  const Tentacles e;
+  const Mesh a = icosphere(3);
+  MatrixX3d Vb = positions(a);
+  Vb.col(0).array() += 1.2;
+  const MatrixX3d Va = positions(a);
+  const MatrixX3i Fa = faces(a);
+  MatrixX3d V(2 * Va.rows(), 3);
+  V << Va, Vb;
+  MatrixX3i F(2 * Fa.rows(), 3);
+  F << Fa, Fa.array() + static_cast<int>(Va.rows());
+  const Mesh target = make_mesh(V, F);
+  const SynthesisResult r = synthesize_texture(e.p.base, e.t, target, tentacle_sphere_options());
+  const MatrixX3d X = positions(r.target);
+  const MatrixX3i Ft = faces(r.target);
+  const std::vector<char> own = self_intersecting_faces(X, Ft);
+  ASSERT_GT(std::count(own.begin(), own.end(), 1), 0) << "the spheres cross each other";
+  EXPECT_EQ(r.base_self_intersecting, static_cast<size_t>(std::count(own.begin(), own.end(), 1)));
+  EXPECT_EQ(r.excess_self_intersecting, 0u);
+  double largest = 0, own_largest = 0;
+  for (Eigen::Index f = 0; f < Ft.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      largest = std::max(largest, r.local.row(Ft(f, k)).norm());
+      if (own[f]) own_largest = std::max(own_largest, r.local.row(Ft(f, k)).norm());
+    }
+  EXPECT_GT(largest, 0.0) << "the rest is textured";
+  EXPECT_EQ(own_largest, 0.0) << "the faces the base crosses itself at keep it as it is";
+}
