@@ -81,7 +81,7 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
            "features at its centre")
       .add("repair_crossings", &O::repair_crossings,
            "where the textured surface still crosses itself, zero the features there, unfold and encode again "
-           "(at most twice)")
+           "(at most 4 times)")
       .add("drop_folds", &O::drop_folds,
            "seams=cut: zero the features of a kept placement that still folds faces too (not left to unfold)")
       .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.75 a round) until none folds")
@@ -888,9 +888,11 @@ std::vector<char> growth_region(const Eigen::VectorXd& weight) {
 // Calibration of the estimate (bench/synthesis.md, "Estimate"): refinement adds about kAddedPerNeeded ×
 // refine_need().needed − the region's vertices (tentacle plate onto a generated sphere: 243,200 added
 // where needed was 188,000), and the whole run costs about kSecondsPerVertex CPU seconds per output
-// vertex with the default options (288 s for 245,762 on the shared machine; 2.3e-4 when it was idle).
+// vertex with the default options: the tentacle plate 1.7–2.1e-4 on the six default targets at load 3–4
+// since idle OpenMP threads sleep (18 s for 102,402 on the sphere; it was 1.2e-3 with spinning threads at load
+// 5–6), the spike plate 0.6–1.0e-4; an exemplar of fine relief (igea) measured up to 4.8e-4 before that.
 constexpr double kAddedPerNeeded = 1.3;
-constexpr double kSecondsPerVertex = 1.2e-3;
+constexpr double kSecondsPerVertex = 3e-4;
 
 // The estimate at a given share (or the given scale).
 SynthesisEstimate estimate_at(const Exemplar& ex, const Mesh& target, const std::vector<char>& region, double area,
@@ -1006,7 +1008,10 @@ void keep_own_crossings(const Mesh& T, const MatrixX3i& Fi, const MatrixX3d& X, 
 // the textured surface crosses (self_intersecting_faces()) against the base's own. Where it crosses
 // beyond them (the texture reproduces the displacements approximately, and unfolding moved them) and
 // repair_crossings is on, the features there are zeroed (zero_features(), above \p tau, then a quarter
-// of it), what that folds unfolded, and the texture encoded again: at most twice.
+// of it), what that folds unfolded, and the texture encoded again: at most kRepairRounds times.
+// Rounds of zeroing what still crosses after encoding: the teapot (1,393 faces of its own crossings, patches meeting
+// along x = 0) with the tentacle plate left 9 faces crossed beyond them after 2 rounds, none after 4.
+constexpr int kRepairRounds = 4;
 void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, const MatrixX3d& F, double tau,
                       const SynthesisOptions& o, SynthesisResult& res,
                       const std::function<void(const char*)>& stage_done) {
@@ -1048,7 +1053,7 @@ void encode_and_count(const Mesh& T, const MatrixX3d& X, const MatrixX3d& N, con
     std::vector<int> extra;
     for (Eigen::Index f = 0; f < Fi.rows(); ++f)
       if (hit[f] && !base[f]) extra.push_back(static_cast<int>(f));
-    if (extra.empty() || !o.repair_crossings || round == 2) break;
+    if (extra.empty() || !o.repair_crossings || round == kRepairRounds) break;
     res.repaired_vertices += zero_features(T, Fi, extra, tau * std::pow(0.25, round), o.feather,
                                            [](int) { return true; }, res.local, mark);
     // Both sides of each crossing lose what is left of their displacement, however small (below tau).

@@ -118,7 +118,7 @@ struct SynthesisOptions {
   //! fill at the exemplar's feature spacing), kept only if it neither crosses nor folds.
   bool fill_holes = true;
   //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
-  //! there as drop_collisions does, unfold, and encode again (at most twice).
+  //! there as drop_collisions does, unfold, and encode again (at most 4 times).
   bool repair_crossings = true;
   //! seams = cut: drop the features of a kept placement that still folds faces too (rather than leaving
   //! the folds to unfold).
