@@ -485,13 +485,17 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
   const MatrixX3d Nm = vertex_normals(fit);
   Eigen::VectorXd move(n), median(n);
   for (Eigen::Index v = 0; v < n; ++v) move[v] = std::pow(Nm.row(v).dot(Xs.row(v) - X.row(v)), 2);
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index v = 0; v < n; ++v) {
-    std::vector<double> ring{move[v]};
-    for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(move[N.indices[k]]);
-    const auto mid = ring.begin() + static_cast<std::ptrdiff_t>(ring.size() / 2);
-    std::nth_element(ring.begin(), mid, ring.end());
-    median[v] = *mid;
+#pragma omp parallel
+  {
+    std::vector<double> ring;  // one buffer per thread, not one allocation per vertex
+#pragma omp for schedule(static)
+    for (Eigen::Index v = 0; v < n; ++v) {
+      ring.assign(1, move[v]);
+      for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(move[N.indices[k]]);
+      const auto mid = ring.begin() + static_cast<std::ptrdiff_t>(ring.size() / 2);
+      std::nth_element(ring.begin(), mid, ring.end());
+      median[v] = *mid;
+    }
   }
   const Eigen::VectorXd typical = ring_average(N, median, 2);
   for (Eigen::Index v = 0; v < n; ++v)  // column 4: the log of the part's look (reading_feature_names())

@@ -494,31 +494,21 @@ class CrossingCheck {
     double r = 0;
     for (int v : m.vertices) r = std::max(r, (X_.row(v).transpose() - c).norm());
     r += 2 * reach_;
-    // The faces whose boxes come within r of c, in a depth-first walk of the tree: visit_nearest()'s best-first
-    // heap took a fifth of a synthesis' time here, and crossed() does not depend on the faces' order.
+    // The faces whose boxes come within r of c, in a depth-first walk of the tree (visit_within()):
+    // visit_nearest()'s best-first heap took a fifth of a synthesis' time here, and crossed() does not depend on
+    // the faces' order.
     if (seen_.empty()) seen_.assign(Fi_.rows(), -1);
     ++stamp_;
-    std::vector<int> stack;
-    if (tree_.node_count() > 0) stack.push_back(0);
-    while (!stack.empty()) {
-      const int node = stack.back();
-      stack.pop_back();
-      if (tree_.node_box(node).squaredExteriorDistance(c) > r * r) continue;
-      if (const auto [left, right] = tree_.node_children(node); left >= 0) {
-        stack.push_back(left), stack.push_back(right);
-        continue;
-      }
-      for (int f : tree_.node_faces(node)) {
-        if (seen_[f] == stamp_) continue;
-        seen_[f] = stamp_;
-        Eigen::AlignedBox3d fb;
-        for (int k = 0; k < 3; ++k) fb.extend(Vec3(X_.row(Fi_(f, k)).transpose()));
-        if (fb.squaredExteriorDistance(c) > r * r) continue;
-        near_.push_back(f);
-        for (int k = 0; k < 3; ++k)
-          if (const int v = Fi_(f, k); local_[v] < 0) local_[v] = static_cast<int>(verts_.size()), verts_.push_back(v);
-      }
-    }
+    tree_.visit_within(c, r, [&](int f) {
+      if (seen_[f] == stamp_) return;
+      seen_[f] = stamp_;
+      Eigen::AlignedBox3d fb;
+      for (int k = 0; k < 3; ++k) fb.extend(Vec3(X_.row(Fi_(f, k)).transpose()));
+      if (fb.squaredExteriorDistance(c) > r * r) return;
+      near_.push_back(f);
+      for (int k = 0; k < 3; ++k)
+        if (const int v = Fi_(f, k); local_[v] < 0) local_[v] = static_cast<int>(verts_.size()), verts_.push_back(v);
+    });
     pos_.resize(verts_.size(), 3);
     written_.assign(verts_.size(), 0);
     for (size_t i = 0; i < verts_.size(); ++i)
@@ -950,31 +940,28 @@ void check_inputs(const Mesh& target, const SynthesisOptions& o, const Synthesis
 // The faces owning an edge that crosses one of \p crossed in \p V (the other side of each crossing). Where the
 // crossed face itself is not displaced, zeroing its features cannot undo the crossing: the edge moved (the beetle
 // with the tentacle plate: 3 faces beyond the base's own, each beside the base's own crossings, crossed by edges
-// displaced by 1e-7 to 2e-5). Every face's edges are tested against each crossed face's box; \p crossed beyond
-// kMaxPartnerSearch faces are not searched (none is returned).
+// displaced by 1e-7 to 2e-5). \p crossed beyond kMaxPartnerSearch faces are not searched (none is returned).
 constexpr size_t kMaxPartnerSearch = 2000;
 std::vector<int> crossing_partners(const MatrixX3d& V, const MatrixX3i& F, const std::vector<int>& crossed) {
   std::vector<int> partners;
   if (crossed.empty() || crossed.size() > kMaxPartnerSearch) return partners;
-  std::vector<Eigen::AlignedBox3d> boxes(crossed.size());
-  for (size_t c = 0; c < crossed.size(); ++c)
-    for (int k = 0; k < 3; ++k) boxes[c].extend(Vec3(V.row(F(crossed[c], k)).transpose()));
+  // An edge crossing face f meets it inside f's bounding sphere about its centroid, so one of the edge's
+  // face's boxes (a sliver's slabs) comes within that sphere: the tree's faces there are the candidates.
+  const TriangleTree tree(V, F);
   std::vector<char> is_partner(F.rows(), 0);
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (Eigen::Index g = 0; g < F.rows(); ++g) {
-    Eigen::AlignedBox3d gb;
-    for (int k = 0; k < 3; ++k) gb.extend(Vec3(V.row(F(g, k)).transpose()));
-    for (size_t c = 0; c < crossed.size() && !is_partner[g]; ++c) {
-      if (!gb.intersects(boxes[c])) continue;
-      const int f = crossed[c], i = F(f, 0), j = F(f, 1), l = F(f, 2);
-      const Vec3 A = V.row(i).transpose(), e1 = (V.row(j) - V.row(i)).transpose(), e2 = (V.row(l) - V.row(i)).transpose();
-      for (int k = 0; k < 3; ++k) {
+  for (int f : crossed) {
+    const int i = F(f, 0), j = F(f, 1), l = F(f, 2);
+    const Vec3 A = V.row(i).transpose(), e1 = (V.row(j) - V.row(i)).transpose(), e2 = (V.row(l) - V.row(i)).transpose();
+    const Vec3 centre = A + (e1 + e2) / 3;
+    const double radius = std::max({(A - centre).norm(), (A + e1 - centre).norm(), (A + e2 - centre).norm()});
+    tree.visit_within(centre, radius, [&](int g) {
+      for (int k = 0; k < 3 && !is_partner[g]; ++k) {
         const int a = F(g, k), b = F(g, (k + 1) % 3);
         if (a == i || a == j || a == l || b == i || b == j || b == l) continue;
         const Vec3 p0 = V.row(a).transpose();
         if (segment_crosses_triangle(p0, V.row(b).transpose() - p0, A, e1, e2)) is_partner[g] = 1;
       }
-    }
+    });
   }
   for (Eigen::Index g = 0; g < F.rows(); ++g)
     if (is_partner[g]) partners.push_back(static_cast<int>(g));
