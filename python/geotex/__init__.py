@@ -565,7 +565,7 @@ def texture_atlas(texture: TextureLike, target: MeshLike, F_target: Any = None,
 
 @with_options("SynthesisOptions")
 def texture_synthesize(texture: TextureLike, target: MeshLike, F_target: Any = None, weight: Any = None,
-                       direction_guide: Any = None, on_estimate: Optional[Callable[[dict], None]] = None,
+                       direction_guide: Any = None, *, on_estimate: Optional[Callable[[dict], None]] = None,
                        **options: Any) -> SynthesisResult:
     """Grow a texture like the exemplar texture over the whole target (`geotex texture synthesize`):
     patch-based, oriented by a smooth direction field (docs/synthesis.md). weight: #V_target values in
