@@ -26,7 +26,10 @@ const OptionTable<AxisWarpOptions>& AxisWarpOptions::table() {
            "(a slab holding only a protrusion's end does not stretch; opt-in: lowers other models' ratios)",
            non_negative())
       .add("min_scale", &O::min_scale,
-           "axis: no cell is squeezed below this share of the asked scale's smallest factor", between(0.01, 0.99));
+           "axis: no cell is squeezed below this share of the asked scale's smallest factor", between(0.01, 0.99))
+      .add("follow_weight", &O::follow_weight,
+           "axis-similarity: weight of every edge following the warp in the similarity stage (its background "
+           "smoothness)", positive());
   return t;
 }
 
@@ -260,17 +263,53 @@ AxisWarp axis_warp(const Mesh& mesh, const Vec3& stretch, const Vec3& out_lo, co
       qp.H(i, i) += o.plain_weight * wm;
       qp.g[i] -= o.plain_weight * wm * stretch[a];
       start[i] = stretch[a];
-      if (m < k) {  // λ K_a (σ_{m+1} − σ_m)²
-        qp.H(i, i) += o.smoothness * k, qp.H(i + 1, i + 1) += o.smoothness * k;
-        qp.H(i, i + 1) -= o.smoothness * k, qp.H(i + 1, i) -= o.smoothness * k;
-      }
     }
     qp.b[r] = stretch[a];
   }
-  const Eigen::VectorXd s = solve_axis_qp(qp, start, o.min_scale * s_bar);
-  for (int a : axes) {
-    w.scales[a] = s.segment(offset[a], cells[a] + 1);
-    w.scales[a] *= stretch[a] * ext[a] / w.length(a);  // the box exact up to rounding
+  // λ K_a (σ_{m+1} − σ_m)², λ per interval: raised tenfold over the intervals a face spans when the warp turns
+  // it against the plain stretch (a skinny face across cells of different slope; the beetle's), until none does.
+  Eigen::VectorXd smooth = Eigen::VectorXd::Constant(n, o.smoothness);  // interval (i, i + 1) of its axis
+  const MatrixX3d plain_normals = [&] {
+    MatrixX3d N(F.rows(), 3);
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      const Vec3 p0 = X.row(F(k, 0)), e1 = Vec3(X.row(F(k, 1))) - p0, e2 = Vec3(X.row(F(k, 2))) - p0;
+      N.row(k) = e1.cwiseProduct(stretch).cross(e2.cwiseProduct(stretch)).transpose();
+    }
+    return N;
+  }();
+  constexpr int kGuardRounds = 8;
+  for (int round = 0;; ++round) {
+    AxisQp q = qp;
+    for (int a : axes)
+      for (int m = 0; m < cells[a]; ++m) {
+        const int i = offset[a] + m;
+        const double c = smooth[i] * cells[a];
+        q.H(i, i) += c, q.H(i + 1, i + 1) += c, q.H(i, i + 1) -= c, q.H(i + 1, i) -= c;
+      }
+    const Eigen::VectorXd s = solve_axis_qp(q, start, o.min_scale * s_bar);
+    for (int a : axes) {
+      w.scales[a] = s.segment(offset[a], cells[a] + 1);
+      w.scales[a] *= stretch[a] * ext[a] / w.length(a);  // the box exact up to rounding
+    }
+    if (round == kGuardRounds) break;
+    const MatrixX3d Y = w.apply(X);
+    std::vector<char> raise(static_cast<std::size_t>(n), 0);
+    bool turned = false;
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      const Vec3 p0 = Y.row(F(k, 0)), e1 = Vec3(Y.row(F(k, 1))) - p0, e2 = Vec3(Y.row(F(k, 2))) - p0;
+      if (!(e1.cross(e2).dot(Vec3(plain_normals.row(k))) < 0)) continue;
+      turned = true;
+      for (int a : axes) {  // the intervals the face spans, and one more on each side
+        double x0 = X(F(k, 0), a), x1 = x0;
+        for (int j = 1; j < 3; ++j) x0 = std::min(x0, X(F(k, j), a)), x1 = std::max(x1, X(F(k, j), a));
+        const int m0 = std::max(0, static_cast<int>((x0 - w.lo[a]) / w.step[a]) - 1);
+        const int m1 = std::min(cells[a] - 1, static_cast<int>((x1 - w.lo[a]) / w.step[a]) + 1);
+        for (int m = m0; m <= m1; ++m) raise[offset[a] + m] = 1;
+      }
+    }
+    if (!turned) break;
+    for (int i = 0; i < n; ++i)
+      if (raise[i]) smooth[i] = std::max(10 * smooth[i], 1e-6);
   }
   return w;
 }
