@@ -48,6 +48,12 @@ struct AxisWarpOptions {
   double slab_weight = 0;
   //! s_min as a share of the asked scale's smallest factor: no cell is squeezed below it.
   double min_scale = 0.5;
+  //! AxisSimilarity: weight β of every edge following the warp in the similarity stage (the similarity
+  //! method's background_smoothness, 0.002, is for the plain map). The warp has spread the stretch smoothly
+  //! over slabs, so its edges are worth following: with 0.002 the similarity stage gathered igea's stretch
+  //! into creases and turned 989 faces before its relaxation rounds (8 left); with 0.03 none are left and no
+  //! crease (bench/resize.md, eleventh session).
+  double follow_weight = 0.03;
   static const OptionTable<AxisWarpOptions>& table();
 };
 
