@@ -788,6 +788,29 @@ TEST(ResizeAxis, NoFaceTurnsOnTheSharedModelsThatTurnedThem) {
   }
 }
 
+// axis_max_scale bounds every cell's stretch: on the tentacle stick ×2 across (its end slabs hold only
+// tentacles and take σ above 4 without a bound), every σ_y ≤ 1.5 · 2 with max_scale 1.5, the lower bound and
+// the box still hold, and no face turns.
+TEST(ResizeAxis, MaxScaleBoundsEveryCellsStretch) {
+  const TexturedShape s = tentacle_stick(1);
+  const Mesh& m = s.textured;
+  const MatrixX3d X = positions(m);
+  const Eigen::VectorXd f = feature_map(m).weights;
+  const Vec3 scale(1, 2, 1);
+  const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
+  Vec3 lambda, lo;
+  ASSERT_TRUE(box_scale_of(X, C, lambda, lo));
+  AxisWarpOptions capped;
+  capped.max_scale = 1.5;
+  const AxisWarp free = axis_warp(m, lambda, lo, f), bounded = axis_warp(m, lambda, lo, f, capped);
+  std::printf("  stick x2 y: largest sigma_y %.3f without a bound, %.3f with max_scale 1.5\n", free.scales[1].maxCoeff(),
+              bounded.scales[1].maxCoeff());
+  EXPECT_GT(free.scales[1].maxCoeff(), 3.5);
+  for (int a = 0; a < 3; ++a) EXPECT_LE(bounded.scales[a].maxCoeff(), 1.5 * lambda[a] * (1 + 1e-9)) << "axis " << a;
+  expect_warp_feasible(bounded, m, scale, capped);
+  EXPECT_EQ(turned_over(m, bounded.apply(X), C), 0);
+}
+
 // A bend, twist or deformed copy that is not a box scale is refused by the axis methods.
 TEST(ResizeAxis, RefusesMapsThatAreNotABoxScale) {
   const BumpyPlate b = bumpy_plate({.n = 20});

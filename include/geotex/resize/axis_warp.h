@@ -48,6 +48,9 @@ struct AxisWarpOptions {
   double slab_weight = 0;
   //! s_min as a share of the asked scale's smallest factor: no cell is squeezed below it.
   double min_scale = 0.5;
+  //! σ_{a,m} ≤ max_scale · λ_a (values below 1 count as 1); 0: no limit. A slab holding only a protrusion's
+  //! neck (the teapot lid's knob) otherwise takes up to 4× the asked stretch.
+  double max_scale = 0;
   //! AxisSimilarity: weight β of every edge following the warp in the similarity stage (the similarity
   //! method's background_smoothness, 0.002, is for the plain map). The warp has spread the stretch smoothly
   //! over slabs, so its edges are worth following: with 0.002 the similarity stage gathered igea's stretch
