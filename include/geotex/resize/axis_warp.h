@@ -26,8 +26,9 @@
 //! Limits (bench/resize.md, ninth session): a slab is stretched as a whole, so where important surface
 //! fills every slab along an axis (tentacles all along a stick, a cow's uniformly important body) it cannot
 //! stay similar; slabs that hold only a protrusion's far end (a tentacle's, the teapot lid's knob) take the
-//! stretch and the protrusion grows longer. A triangle spanning cells of different slope may turn over when
-//! it is a sliver (a linear diag(s) never turns a face).
+//! stretch and the protrusion grows longer (\ref AxisWarpOptions::max_scale bounds it, opt-in). A skinny triangle
+//! spanning cells of different slope could turn over (a linear diag(s) never turns a face): where one does,
+//! λ is raised tenfold over the intervals it spans and the QP solved again, until none does.
 
 #include <array>
 
