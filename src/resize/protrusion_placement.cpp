@@ -63,6 +63,23 @@ Similarity foot_similarity(const MatrixX3d& X, const MatrixX3d& Y, const RigidPr
   return s;
 }
 
+// Does region p stand out of its foot ring like a protrusion: at most kExtent of the model's largest
+// extent \p largest along every axis, and reaching kReach ring radii from the ring's centroid?
+bool protrusion_shape(const MatrixX3d& X, const RigidProtrusion& p, double largest) {
+  if (p.vertices.empty() || p.foot.size() < 3) return false;
+  Vec3 rlo = X.row(p.vertices[0]).transpose(), rhi = rlo;
+  for (int v : p.vertices) rlo = rlo.cwiseMin(X.row(v).transpose()), rhi = rhi.cwiseMax(X.row(v).transpose());
+  if ((rhi - rlo).maxCoeff() > kExtent * largest) return false;
+  Vec3 c = Vec3::Zero();
+  for (int v : p.foot) c += X.row(v).transpose();
+  c /= static_cast<double>(p.foot.size());
+  double radius = 0, reach = 0;
+  for (int v : p.foot) radius += (X.row(v).transpose() - c).norm();
+  radius /= static_cast<double>(p.foot.size());
+  for (int v : p.vertices) reach = std::max(reach, (X.row(v).transpose() - c).norm());
+  return reach >= kReach * radius;
+}
+
 }  // namespace
 
 void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D) {
@@ -147,6 +164,28 @@ std::vector<RigidProtrusion> find_protrusions(const Mesh& mesh, const MatrixX3d&
       for (auto u : mesh.vv_range(mesh.vertex_handle(regions[k][q])))
         if (f[u.idx()] >= kCore && id[u.idx()] < 0) id[u.idx()] = k, regions[k].push_back(u.idx());
   }
+  // Cores that cannot be protrusions (a cap, a patch of relief: too little reach from their own foot ring,
+  // or too large) let go of their vertices before the others grow, so that they block nobody.
+  const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  const double largest = (hi - lo).maxCoeff();
+  {
+    std::vector<std::vector<int>> kept;
+    std::vector<int> tag(n, -1);
+    for (size_t k = 0; k < regions.size(); ++k) {
+      RigidProtrusion core;
+      core.vertices = regions[k];
+      for (int v : core.vertices)
+        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+          if (id[u.idx()] != static_cast<int>(k) && tag[u.idx()] != static_cast<int>(k))
+            tag[u.idx()] = static_cast<int>(k), core.foot.push_back(u.idx());
+      if (protrusion_shape(X, core, largest)) kept.push_back(std::move(regions[k]));
+      else
+        for (int v : regions[k]) id[v] = -1;
+    }
+    regions.swap(kept);
+    for (size_t k = 0; k < regions.size(); ++k)
+      for (int v : regions[k]) id[v] = static_cast<int>(k);
+  }
   // Each core grown over its flared foot, ring by ring (all together, so that neighbours stay apart),
   // until its newest ring lies kGrow times as far from the core's foot centre as the core's own foot.
   const auto cores = static_cast<int>(regions.size());
@@ -177,8 +216,6 @@ std::vector<RigidProtrusion> find_protrusions(const Mesh& mesh, const MatrixX3d&
     if (grown.empty()) break;
     for (const auto& [k, v] : grown) regions[k].push_back(v);
   }
-  const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
-  const double largest = (hi - lo).maxCoeff();
   std::vector<RigidProtrusion> out;
   std::vector<int> tag(n, -1);
   for (size_t k = 0; k < regions.size(); ++k) {
@@ -195,17 +232,7 @@ std::vector<RigidProtrusion> find_protrusions(const Mesh& mesh, const MatrixX3d&
       }
     }
     if (!ok || p.foot.size() < 3 || !connected(mesh, p.foot, tag, static_cast<int>(k))) continue;
-    Vec3 rlo = X.row(p.vertices[0]).transpose(), rhi = rlo;
-    for (int v : p.vertices) rlo = rlo.cwiseMin(X.row(v).transpose()), rhi = rhi.cwiseMax(X.row(v).transpose());
-    if ((rhi - rlo).maxCoeff() > kExtent * largest) continue;
-    Vec3 c = Vec3::Zero();
-    for (int v : p.foot) c += X.row(v).transpose();
-    c /= static_cast<double>(p.foot.size());
-    double radius = 0, reach = 0;
-    for (int v : p.foot) radius += (X.row(v).transpose() - c).norm();
-    radius /= static_cast<double>(p.foot.size());
-    for (int v : p.vertices) reach = std::max(reach, (X.row(v).transpose() - c).norm());
-    if (reach < kReach * radius) continue;
+    if (!protrusion_shape(X, p, largest)) continue;
     out.push_back(std::move(p));
   }
   return out;

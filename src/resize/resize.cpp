@@ -138,7 +138,7 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
               "Eq. (9.1)")
       .add("rigid_protrusions", &O::rigid_protrusions,
            "similarity: protrusions (tentacles, ears, horns) placed as rigid pieces at their size on where their foot "
-           "went, the rest of the model taking the room; false: per-vertex similarities only")
+           "went, the rest of the model stretched to hold them in the box (opt-in); false: per-vertex similarities only")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -147,7 +147,6 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
                 o.square_weights = true;
                 o.keep_feature_size = false;
                 o.laplacian = LaplacianType::Umbrella;
-                o.rigid_protrusions = false;
               });
   return t;
 }

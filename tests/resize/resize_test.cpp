@@ -828,62 +828,65 @@ TEST(ResizeAxis, FullSlabsKeepTheirScaleAndTheTentaclesTheirLength) {
   }
 }
 
-// Issue 25: the tentacle stick ×2 along x, y and z with its automatic importance map and the default
-// method (similarity with rigid protrusions). Every tentacle keeps its length within 3% and its lean to
-// its foot ring within 3° (measured on the true foot ring, as in
+// Issue 25: the tentacle stick ×2 along x, y and z (levels 0 and 1: 9k and 38k vertices) with its automatic
+// importance map and rigid protrusions. Every tentacle is found (its true footprint inside one protrusion),
+// keeps its length within 3% and its lean to its foot ring within 3° (measured on the true foot ring, as in
 // FeatureMap.TentaclesKeepLengthAndAngleOnTheStretchedArc), no face turns over against the plain stretch,
-// and the box is the asked one. Without rigid protrusions the similarity method misses this on every axis.
+// and the box is the asked one. The similarity method's per-vertex similarities alone (the default) miss
+// this on every axis (level 1: 2.1% / 4.1°, 79.4% / 16.4°, 66.0% / 16.7°).
 TEST(ResizeSimilarity, RigidProtrusionsKeepEveryTentaclesLengthAndLeanOnEveryAxis) {
-  std::vector<Tentacle> info;
-  const TexturedShape s = tentacle_stick(1, &info);
-  const Mesh& m = s.textured;
-  const MatrixX3d X = positions(m);
-  const Eigen::VectorXd f = feature_map(m).weights;
-  const double radius = TentacleOptions{}.radius;
-  const std::vector<RigidProtrusion> found = find_protrusions(m, X, f);
-  int covered = 0;  // tentacles whose true footprint lies inside one found protrusion
-  for (const Tentacle& t : info) {
-    const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, radius);
-    for (const RigidProtrusion& p : found) {
-      std::vector<char> in(X.rows(), 0);
-      for (int v : p.vertices) in[v] = 1;
-      int missing = 0, inside = 0;
-      for (Eigen::Index i = 0; i < X.rows(); ++i) missing += foot[i] != 0 && !in[i], inside += foot[i] != 0 && in[i];
-      if (inside > 0) std::printf("    tentacle at %d: protrusion of %zu vertices, foot %zu, %d footprint vertices outside\n", t.foot, p.vertices.size(), p.foot.size(), missing);
-      covered += inside > 0 && missing == 0;
-    }
-  }
-  std::printf("  stick: %zu protrusions found, %d of %zu true footprints inside one\n", found.size(), covered,
-              info.size());
-  EXPECT_EQ(found.size(), info.size());
-  auto worst = [&](const MatrixX3d& Y) {
-    std::array<double, 2> w{0, 0};  // |length / length_0 − 1|, |lean − lean_0| (degrees)
+  for (int level : {0, 1}) {
+    std::vector<Tentacle> info;
+    const TexturedShape s = tentacle_stick(level, &info);
+    const Mesh& m = s.textured;
+    const MatrixX3d X = positions(m);
+    const Eigen::VectorXd f = feature_map(m).weights;
+    const double radius = TentacleOptions{}.radius;
+    const std::vector<RigidProtrusion> found = find_protrusions(m, X, f);
+    int covered = 0;  // tentacles whose true footprint lies inside one found protrusion
     for (const Tentacle& t : info) {
       const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, radius);
-      const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
-      w[0] = std::max(w[0], std::abs(b.length / a.length - 1));
-      w[1] = std::max(w[1], std::abs(b.angle_deg - a.angle_deg));
+      for (const RigidProtrusion& p : found) {
+        std::vector<char> in(X.rows(), 0);
+        for (int v : p.vertices) in[v] = 1;
+        int missing = 0, inside = 0;
+        for (Eigen::Index i = 0; i < X.rows(); ++i) missing += foot[i] != 0 && !in[i], inside += foot[i] != 0 && in[i];
+        covered += inside > 0 && missing == 0;
+      }
     }
-    return w;
-  };
-  ResizeOptions off;
-  off.rigid_protrusions = false;
-  for (int a = 0; a < 3; ++a) {
-    Vec3 scale = Vec3::Ones();
-    scale[a] = 2;
-    const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
-    const MatrixX3d Y = feature_aware_resize(m, C, f), Y0 = feature_aware_resize(m, C, f, off);
-    const auto r = worst(Y), r0 = worst(Y0);
-    const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
-    const Vec3 want = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
-    std::printf("  stick x2 %c, worst tentacle length / lean change: rigid protrusions %.2f%% / %.2f deg, without "
-                "%.1f%% / %.1f deg; turned %d, box error %.1e\n",
-                "xyz"[a], 100 * r[0], r[1], 100 * r0[0], r0[1], turned_over(m, Y, C),
-                (box - want).cwiseAbs().maxCoeff());
-    EXPECT_LT(r[0], 0.03);
-    EXPECT_LT(r[1], 3.0);
-    EXPECT_EQ(turned_over(m, Y, C), 0);
-    EXPECT_LT((box - want).cwiseAbs().maxCoeff(), 1e-9);
-    EXPECT_LT((Y.colwise().minCoeff() - C.colwise().minCoeff()).cwiseAbs().maxCoeff(), 1e-9);
+    std::printf("  stick level %d: %zu protrusions found, %d of %zu true footprints inside one\n", level, found.size(),
+                covered, info.size());
+    EXPECT_EQ(found.size(), info.size());
+    EXPECT_EQ(covered, static_cast<int>(info.size()));
+    auto worst = [&](const MatrixX3d& Y) {
+      std::array<double, 2> w{0, 0};  // |length / length_0 − 1|, |lean − lean_0| (degrees)
+      for (const Tentacle& t : info) {
+        const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, radius);
+        const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
+        w[0] = std::max(w[0], std::abs(b.length / a.length - 1));
+        w[1] = std::max(w[1], std::abs(b.angle_deg - a.angle_deg));
+      }
+      return w;
+    };
+    ResizeOptions rigid;
+    rigid.rigid_protrusions = true;
+    for (int a = 0; a < 3; ++a) {
+      Vec3 scale = Vec3::Ones();
+      scale[a] = 2;
+      const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
+      const MatrixX3d Y = feature_aware_resize(m, C, f, rigid), Y0 = feature_aware_resize(m, C, f);
+      const auto r = worst(Y), r0 = worst(Y0);
+      const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
+      const Vec3 want = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
+      std::printf("  stick level %d x2 %c, worst tentacle length / lean change: rigid protrusions %.2f%% / %.2f deg, "
+                  "without %.1f%% / %.1f deg; turned %d, box error %.1e\n",
+                  level, "xyz"[a], 100 * r[0], r[1], 100 * r0[0], r0[1], turned_over(m, Y, C),
+                  (box - want).cwiseAbs().maxCoeff());
+      EXPECT_LT(r[0], 0.03);
+      EXPECT_LT(r[1], 3.0);
+      EXPECT_EQ(turned_over(m, Y, C), 0);
+      EXPECT_LT((box - want).cwiseAbs().maxCoeff(), 1e-9);
+      EXPECT_LT((Y.colwise().minCoeff() - C.colwise().minCoeff()).cwiseAbs().maxCoeff(), 1e-9);
+    }
   }
 }

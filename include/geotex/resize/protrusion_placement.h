@@ -46,7 +46,7 @@ void set_protrusion_scales(const MatrixX3d& X, const MatrixX3d& C, std::vector<R
 //! ring's mean radius of the ring's centre take the protrusion's displacement, fading out harmonically
 //! to nothing at the band's rim (0: no blend). \return #V by 3 positions.
 MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y,
-                            const std::vector<RigidProtrusion>& protrusions, double blend = 2.5);
+                            const std::vector<RigidProtrusion>& protrusions, double blend = 1.2);
 
 //! \p D (#V by 3) made harmonic (umbrella weights) on the vertices with \p unknown[i] ≠ 0, its other rows fixed.
 //! \throw SolverError.
