@@ -1,5 +1,6 @@
 #!/bin/sh
-# Issue 27: tentacle and spike exemplars onto shared and generated models with defaults only (no share,
+# Issue 27: tentacle and spike exemplars onto every shared model and the generated ones (sphere, torus, a thin
+# cylinder) with defaults only (no share,
 # no scale; only the direction field's guide). Usage: bench/synthesis_defaults.sh BUILD_DIR WORK_DIR
 # [TARGET...] (data from ../shared/data or $GEOTEX_DATA). Prints per run: CPU, the report's counts, and
 # geval.py's self-intersections (the external ruler) against the refined base. $SYNTH_ARGS is added to
@@ -18,6 +19,11 @@ $G -q texture extract "$W/tp.ply" --base "$W/tp_base.ply" -o "$W/tp_tex.ply"
 $G -q generate spiky-plane --level 0 -o "$W/sp.ply" --base-output "$W/sp_base.ply"
 $G -q texture extract "$W/sp.ply" --base "$W/sp_base.ply" -o "$W/sp_tex.ply"
 $G -q generate sphere -o "$W/sphere.ply"
+$G -q generate torus -o "$W/torus.ply"
+# A thin cylinder: the generated one (radius 0.5, height 1, along z) narrowed to radius 0.1 (as in
+# Synthesis.NoSelfIntersectionOnAThinCylinder).
+$G -q --format obj generate cylinder -o - | awk '$1 == "v" { print "v", 0.2 * $2, 0.2 * $3, $4; next } { print }' \
+  > "$W/thin-cylinder.obj"
 for e in tp sp; do  # the exemplars' own faces turned against their base (the same measure as inward_share)
   echo "$e exemplar: $(GEVAL="$E" /usr/bin/python3 "$(dirname "$0")/inward_faces.py" "$W/$e.ply" "$W/${e}_base.ply")"
 done
@@ -33,7 +39,8 @@ run() {  # exemplar target
   /usr/bin/python3 "$E" self-intersections "$W/$name.ply" --base "$W/${name}_t.ply"  # the texture file holds the refined base
   GEVAL="$E" /usr/bin/python3 "$(dirname "$0")/inward_faces.py" "$W/$name.ply" "$W/${name}_t.ply" --radial
 }
-for t in ${@:-$W/sphere.ply $D/spot.obj $D/cow.obj $D/stanford-bunny.obj $D/fandisk.obj $D/cheburashka.obj}; do
+for t in ${@:-$W/sphere.ply $W/torus.ply $W/thin-cylinder.obj $D/spot.obj $D/cow.obj $D/stanford-bunny.obj \
+    $D/fandisk.obj $D/cheburashka.obj $D/igea.ply $D/beetle.obj $D/teapot.obj $D/woody.obj}; do
   run tp_tex.ply "$t"
   run sp_tex.ply "$t"
 done

@@ -565,16 +565,21 @@ def texture_atlas(texture: TextureLike, target: MeshLike, F_target: Any = None,
 
 @with_options("SynthesisOptions")
 def texture_synthesize(texture: TextureLike, target: MeshLike, F_target: Any = None, weight: Any = None,
-                       direction_guide: Any = None, **options: Any) -> SynthesisResult:
+                       direction_guide: Any = None, *, on_estimate: Optional[Callable[[dict], None]] = None,
+                       **options: Any) -> SynthesisResult:
     """Grow a texture like the exemplar texture over the whole target (`geotex texture synthesize`):
     patch-based, oriented by a smooth direction field (docs/synthesis.md). weight: #V_target values in
     [0, 1], where texture grows; direction_guide: #V_target×3 guide directions (else the `direction`
     option). Returns a SynthesisResult: V (the textured target), F and V_base (the target used, refined
     where it was coarser), height, tilt, lean, parameters, and the fields of `geotex texture synthesize
     --report` (help(geotex.SynthesisResult)): field, owner, centers, scale, counts, the damage, the
-    quality measures of synthesis_quality() (bench/synthesis.md) and seconds."""
+    quality measures of synthesis_quality() (bench/synthesis.md) and seconds. on_estimate: a callable
+    given, before the work, the estimate the CLI's first line states (a dict: vertices, seconds,
+    exemplar_share, scale, refine); progress: a callable(fraction, stage) from the first second."""
     Vb, F, h, t, lean = _texture(texture)
     Vt, Ft = _arrays(target, F_target)
+    if on_estimate is not None:
+        options["on_estimate"] = on_estimate
     return SynthesisResult(**_geotex.texture_synthesize(Vb, F, h, t, lean, Vt, Ft, weight, direction_guide, options))
 
 

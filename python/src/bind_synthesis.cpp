@@ -17,9 +17,31 @@ void bind_synthesis(py::module_& m) {
   m.def("texture_synthesize", [](py::handle V_base, py::handle F, py::handle height, py::handle tilt, py::object lean,
                                  py::handle V_target, py::handle F_target, py::object weight, py::object guide,
                                  py::dict kw) {
+        // on_estimate(dict): the estimate before the work (issue 27), as the CLI's first line states it.
+        py::object on_estimate = py::none();
+        if (kw.contains("on_estimate")) {
+          on_estimate = kw["on_estimate"];
+          PyDict_DelItemString(kw.ptr(), "on_estimate");
+          if (!on_estimate.is_none() && !PyCallable_Check(on_estimate.ptr()))
+            throw py::type_error("on_estimate: expected a callable(estimate: dict)");
+        }
         CallOptions call = call_options(kw);
         SynthesisOptions o = to_options<SynthesisOptions>(kw, call);
         o.progress = call.progress;
+        if (!on_estimate.is_none()) {
+          auto holder = std::make_shared<py::object>(on_estimate);
+          o.on_estimate = [holder](const SynthesisEstimate& e) {  // called without the GIL, as progress is
+            py::gil_scoped_acquire gil;
+            py::dict d;
+            d["vertices"] = e.vertices;
+            d["seconds"] = e.seconds;
+            d["exemplar_share"] = e.exemplar_share;
+            d["scale"] = e.scale;
+            d["refine"] = e.refine;
+            (*holder)(d);
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+          };
+        }
         const Mesh base = to_mesh(V_base, F);
         Texture ex{to_vector(height, base.n_vertices(), "height"), to_vector(tilt, base.n_edges(), "tilt"), {}};
         if (!lean.is_none()) ex.lean = to_vector(lean, base.n_vertices(), "lean");

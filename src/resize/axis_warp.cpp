@@ -26,7 +26,13 @@ const OptionTable<AxisWarpOptions>& AxisWarpOptions::table() {
            "(a slab holding only a protrusion's end does not stretch; opt-in: lowers other models' ratios)",
            non_negative())
       .add("min_scale", &O::min_scale,
-           "axis: no cell is squeezed below this share of the asked scale's smallest factor", between(0.01, 0.99));
+           "axis: no cell is squeezed below this share of the asked scale's smallest factor", between(0.01, 0.99))
+      .add("max_scale", &O::max_scale,
+           "axis: no cell along an axis is stretched beyond this multiple of the asked factor along it (0: no limit)",
+           non_negative())
+      .add("follow_weight", &O::follow_weight,
+           "axis-similarity: weight of every edge following the warp in the similarity stage (its background "
+           "smoothness)", positive());
   return t;
 }
 
@@ -133,12 +139,13 @@ void add_face_terms(AxisQp& qp, const AxisWarp& w, const std::array<int, 3>& off
   }
 }
 
-// Primal active-set method (Nocedal & Wright, Alg. 16.3) from the feasible plain stretch: each step
-// solves the equality-constrained problem on the free nodes; a blocking bound joins the active set, an
-// active bound with a negative multiplier leaves it. Strictly convex (the ε term), so it terminates.
-Eigen::VectorXd solve_axis_qp(const AxisQp& qp, Eigen::VectorXd s, double s_min) {
+// Primal active-set method (Nocedal & Wright, Alg. 16.3) from the feasible plain stretch, with bounds
+// s_min ≤ s_i ≤ s_max,i: each step solves the equality-constrained problem on the free nodes; a blocking bound
+// joins the active set, an active bound whose multiplier has the wrong sign leaves it. Strictly convex (the ε
+// term), so it terminates.
+Eigen::VectorXd solve_axis_qp(const AxisQp& qp, Eigen::VectorXd s, double s_min, const Eigen::VectorXd& s_max) {
   const Eigen::Index n = s.size(), rows = qp.A.rows();
-  std::vector<char> active(n, 0);
+  std::vector<signed char> active(n, 0);  // −1 at s_min, +1 at s_max
   for (int iter = 0; iter < 20 * n + 100; ++iter) {
     std::vector<Eigen::Index> free;
     for (Eigen::Index i = 0; i < n; ++i)
@@ -158,18 +165,23 @@ Eigen::VectorXd solve_axis_qp(const AxisQp& qp, Eigen::VectorXd s, double s_min)
     if (p.cwiseAbs().maxCoeff() <= 1e-13 * std::max(1.0, s.cwiseAbs().maxCoeff())) {
       const Eigen::VectorXd mult = grad + qp.A.transpose() * sol.tail(rows);  // bound multipliers
       Eigen::Index leave = -1;
+      double worst = 1e-14;
       for (Eigen::Index i = 0; i < n; ++i)
-        if (active[i] && mult[i] < -1e-14 && (leave < 0 || mult[i] < mult[leave])) leave = i;
+        if (active[i] && active[i] * mult[i] > worst) worst = active[i] * mult[i], leave = i;
       if (leave < 0) return s;
       active[leave] = 0;
       continue;
     }
     double alpha = 1;
     Eigen::Index block = -1;
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (!active[i] && p[i] < 0 && (s[i] - s_min) / -p[i] < alpha) alpha = (s[i] - s_min) / -p[i], block = i;
+    signed char side = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (active[i]) continue;
+      if (p[i] < 0 && (s[i] - s_min) / -p[i] < alpha) alpha = (s[i] - s_min) / -p[i], block = i, side = -1;
+      if (p[i] > 0 && (s_max[i] - s[i]) / p[i] < alpha) alpha = (s_max[i] - s[i]) / p[i], block = i, side = 1;
+    }
     s += alpha * p;
-    if (block >= 0) active[block] = 1, s[block] = s_min;
+    if (block >= 0) active[block] = side, s[block] = side < 0 ? s_min : s_max[block];
   }
   throw SolverError("axis warp: the active-set method did not converge");
 }
@@ -250,27 +262,64 @@ AxisWarp axis_warp(const Mesh& mesh, const Vec3& stretch, const Vec3& out_lo, co
     if (cells[a] > 0) axes.push_back(a);
   qp.A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(axes.size()), n);
   qp.b.resize(qp.A.rows());
-  Eigen::VectorXd start(n);
+  Eigen::VectorXd start(n), s_max(n);
   for (std::size_t r = 0; r < axes.size(); ++r) {
     const int a = axes[r], k = cells[a];
     for (int m = 0; m <= k; ++m) {
       const int i = offset[a] + m;
+      s_max[i] = o.max_scale > 0 ? std::max(o.max_scale, 1.0) * stretch[a] : std::numeric_limits<double>::infinity();
       const double wm = (m == 0 || m == k ? 0.5 : 1.0) / k;  // trapezoid weights over L_a
       qp.A(r, i) = wm;
       qp.H(i, i) += o.plain_weight * wm;
       qp.g[i] -= o.plain_weight * wm * stretch[a];
       start[i] = stretch[a];
-      if (m < k) {  // λ K_a (σ_{m+1} − σ_m)²
-        qp.H(i, i) += o.smoothness * k, qp.H(i + 1, i + 1) += o.smoothness * k;
-        qp.H(i, i + 1) -= o.smoothness * k, qp.H(i + 1, i) -= o.smoothness * k;
-      }
     }
     qp.b[r] = stretch[a];
   }
-  const Eigen::VectorXd s = solve_axis_qp(qp, start, o.min_scale * s_bar);
-  for (int a : axes) {
-    w.scales[a] = s.segment(offset[a], cells[a] + 1);
-    w.scales[a] *= stretch[a] * ext[a] / w.length(a);  // the box exact up to rounding
+  // λ K_a (σ_{m+1} − σ_m)², λ per interval: raised tenfold over the intervals a face spans when the warp turns
+  // it against the plain stretch (a skinny face across cells of different slope; the beetle's), until none does.
+  Eigen::VectorXd smooth = Eigen::VectorXd::Constant(n, o.smoothness);  // interval (i, i + 1) of its axis
+  const MatrixX3d plain_normals = [&] {
+    MatrixX3d N(F.rows(), 3);
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      const Vec3 p0 = X.row(F(k, 0)), e1 = Vec3(X.row(F(k, 1))) - p0, e2 = Vec3(X.row(F(k, 2))) - p0;
+      N.row(k) = e1.cwiseProduct(stretch).cross(e2.cwiseProduct(stretch)).transpose();
+    }
+    return N;
+  }();
+  constexpr int kGuardRounds = 8;
+  for (int round = 0;; ++round) {
+    AxisQp q = qp;
+    for (int a : axes)
+      for (int m = 0; m < cells[a]; ++m) {
+        const int i = offset[a] + m;
+        const double c = smooth[i] * cells[a];
+        q.H(i, i) += c, q.H(i + 1, i + 1) += c, q.H(i, i + 1) -= c, q.H(i + 1, i) -= c;
+      }
+    const Eigen::VectorXd s = solve_axis_qp(q, start, o.min_scale * s_bar, s_max);
+    for (int a : axes) {
+      w.scales[a] = s.segment(offset[a], cells[a] + 1);
+      w.scales[a] *= stretch[a] * ext[a] / w.length(a);  // the box exact up to rounding
+    }
+    if (round == kGuardRounds) break;
+    const MatrixX3d Y = w.apply(X);
+    std::vector<char> raise(static_cast<std::size_t>(n), 0);
+    bool turned = false;
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      const Vec3 p0 = Y.row(F(k, 0)), e1 = Vec3(Y.row(F(k, 1))) - p0, e2 = Vec3(Y.row(F(k, 2))) - p0;
+      if (!(e1.cross(e2).dot(Vec3(plain_normals.row(k))) < 0)) continue;
+      turned = true;
+      for (int a : axes) {  // the intervals the face spans, and one more on each side
+        double x0 = X(F(k, 0), a), x1 = x0;
+        for (int j = 1; j < 3; ++j) x0 = std::min(x0, X(F(k, j), a)), x1 = std::max(x1, X(F(k, j), a));
+        const int m0 = std::max(0, static_cast<int>((x0 - w.lo[a]) / w.step[a]) - 1);
+        const int m1 = std::min(cells[a] - 1, static_cast<int>((x1 - w.lo[a]) / w.step[a]) + 1);
+        for (int m = m0; m <= m1; ++m) raise[offset[a] + m] = 1;
+      }
+    }
+    if (!turned) break;
+    for (int i = 0; i < n; ++i)
+      if (raise[i]) smooth[i] = std::max(10 * smooth[i], 1e-6);
   }
   return w;
 }

@@ -921,15 +921,26 @@ void project_planes(const Mesh& mesh, const TriangleTree& tree, const MatrixX3i&
   }
 }
 
-// The faces of \p F that \p Y turns over against the normals \p Fn.
-std::vector<int> turned_faces(const MatrixX3i& F, const MatrixX3d& Fn, const MatrixX3d& Y) {
+// The faces of \p F that \p Y turns over against the normals \p Fn, or against \p Fn2 when given (the
+// plain stretch's, when the similarity method starts from the axis warp: the reference).
+std::vector<int> turned_faces(const MatrixX3i& F, const MatrixX3d& Fn, const MatrixX3d& Y, const MatrixX3d* Fn2 = nullptr) {
   std::vector<int> out;
   for (Eigen::Index k = 0; k < F.rows(); ++k) {
     const Vec3 a = Y.row(F(k, 0)).transpose(), b = Y.row(F(k, 1)).transpose(), c = Y.row(F(k, 2)).transpose();
-    if ((b - a).cross(c - a).dot(Vec3(Fn.row(k).transpose())) < 0) out.push_back(static_cast<int>(k));
+    const Vec3 nk = (b - a).cross(c - a);
+    if (nk.dot(Vec3(Fn.row(k).transpose())) < 0 || (Fn2 && nk.dot(Vec3(Fn2->row(k).transpose())) < 0))
+      out.push_back(static_cast<int>(k));
   }
   return out;
 }
+
+// What the similarity method takes besides the map C: the weight β of the edges following C
+// (ResizeOptions::background_smoothness; AxisWarpOptions::follow_weight when C is the axis warp) and, when C
+// is not the plain stretch, the plain stretch's face normals (a face is then turned against either).
+struct SimilarityBase {
+  double beta;
+  const MatrixX3d* plain_normals = nullptr;
+};
 
 // Marks in \p marked the vertices of the faces \p bad and \p rings vertex rings around them.
 void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& bad, int rings, std::vector<char>& marked) {
@@ -1017,9 +1028,9 @@ Eigen::VectorXd similarity_pull(const std::vector<char>& boundary, const Eigen::
 // with q_i, n_i at first c_i and its vertex normal, then the closest point of the stretched surface.
 // f_ij = (f_i + f_j)/2. Relaxed vertices (around faces that turned over) get f = 0 and β = 10.
 MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& f0,
-                            const ResizeOptions& o) {
+                            const ResizeOptions& o, const SimilarityBase& base) {
   const int n = static_cast<int>(X.rows());
-  const double w = o.surface_weight, beta = o.background_smoothness, eps = 1e-6;
+  const double w = o.surface_weight, beta = base.beta, eps = 1e-6;
   const MatrixX3i F = faces(mesh);
   std::vector<std::array<int, 2>> edges;
   edges.reserve(mesh.n_edges());
@@ -1086,7 +1097,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   auto refit = [&](const MatrixX3d& Y) { refit_similarities(mesh, X, Y, f, o.adapt_scale, s_lo, s_hi, scale, T); };
   const TriangleTree tree(C, F);
   auto project = [&](const MatrixX3d& Y) { project_planes(mesh, tree, F, Nc, f, Y, Q, Nrm); };
-  auto flipped = [&](const MatrixX3d& Y) { return turned_faces(F, Fn_plain, Y); };
+  auto flipped = [&](const MatrixX3d& Y) { return turned_faces(F, Fn_plain, Y, base.plain_normals); };
 
   report(o.progress, 0.2, "factor");
   SparseMatrix A = assemble();
@@ -1261,9 +1272,9 @@ class SplitSystem {
 // system's factor values. (Pins split off the same way, isotropic towards the plane x_a = t_a, would
 // need one matrix for the three, but slide too slowly along the box: fandisk ×2 y ratio 0.47 -> 0.73.)
 MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& f0,
-                                  const ResizeOptions& o) {
+                                  const ResizeOptions& o, const SimilarityBase& base) {
   const int n = static_cast<int>(X.rows());
-  const double w = o.surface_weight, beta = o.background_smoothness, eps = 1e-6;
+  const double w = o.surface_weight, beta = base.beta, eps = 1e-6;
   constexpr double kRelaxed = 10.0;  // as in similarity_resize
   constexpr int kSettle = 3;         // steps after each factorization (the first, each relaxation)
   const MatrixX3i F = faces(mesh);
@@ -1313,7 +1324,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   }
   // Faces turned over against the plain map: relax them and rings around them to the map.
   for (int round = 0; round < o.flip_rounds; ++round) {
-    const std::vector<int> bad = turned_faces(F, Fn_plain, out);
+    const std::vector<int> bad = turned_faces(F, Fn_plain, out, base.plain_normals);
     if (bad.empty()) break;
     report(o.progress, 0.7 + 0.25 * round / std::max(1, o.flip_rounds), fmt::format("relax {} turned faces", bad.size()));
     mark_around(mesh, F, bad, o.flip_rings + 2 * round, relaxed);  // wider each round
@@ -1351,15 +1362,22 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       throw InvalidInput("method axis: the deformation must be a box scale (scale); bends, twists, arcs and deformed "
                          "copies need another method (similarity)");
     const MatrixX3d W = axis_warp(mesh, stretch, lo, features, o.axis).apply(X);
+    // The similarity stage follows the warp's edges (β = the follow weight) and counts a face as turned
+    // against the warp or the plain stretch (the reference; the two differ by the warp's slivers).
+    Mesh plain = mesh;
+    set_positions(plain, C);
+    const MatrixX3d plain_normals = face_normals(plain);
+    const SimilarityBase base{o.axis.follow_weight, &plain_normals};
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
-                    : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o)
-                                                          : similarity_resize(mesh, X, W, features, o);
+                    : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
+                                                          : similarity_resize(mesh, X, W, features, o, base);
     report(o.progress, 1.0, "done");
     return out;
   }
+  const SimilarityBase base{o.background_smoothness, nullptr};
   auto similarity = [&](const MatrixX3d& map) {
-    return o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, map, features, o)
-                                               : similarity_resize(mesh, X, map, features, o);
+    return o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, map, features, o, base)
+                                               : similarity_resize(mesh, X, map, features, o, base);
   };
   if (o.method == ResizeMethod::Similarity && o.rigid_protrusions) {
     std::vector<RigidProtrusion> protrusions = find_protrusions(mesh, X, features);

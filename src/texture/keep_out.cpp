@@ -210,31 +210,39 @@ struct Island {
 // Whether an island stands on the surface round it: the band within 2ρ of it along edges (its rim and past it;
 // ρ = √(area / π)) faces its way (area-weighted mean cosine ≥ 0.8: not a foot's sole, a box's face or a horn's tip,
 // elsewhere on cheburashka, spot, the cow, fandisk and the bunny at most 0.76; its eyes 0.83–0.85) and lies below
-// it along that way by at
-// least 0.2 ρ (bench/synthesis.md).
-bool stands_on_surface(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& N, const Eigen::VectorXd& area,
-                       const Island& s) {
+// it along that way by at least 0.2 ρ; and whether it stands there alone, on a calm surface: at most kCalmLoops of
+// the band from 2ρ to 6ρ lies on the loops of strong curvature (label −1) that close islands round. An eyeball's
+// surroundings are the head (cheburashka's eyes: 0.16 and 0.18, the other eye and the nose in the band); a curl of
+// hair stands among others and their grooves (igea's: 0.24–0.64), like a field of buttons side by side (0.32;
+// bench/synthesis.md, eleventh session).
+constexpr double kCalmLoops = 0.21;
+bool stands_alone(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& N, const Eigen::VectorXd& area,
+                  const std::vector<int>& label, const Island& s) {
   std::vector<char> seed(X.rows(), 0);
   for (int v : s.vertices) seed[v] = 1;
   const double rho = std::sqrt(s.area / M_PI);
-  const Eigen::VectorXd d = edge_distance(mesh, X, seed, 2 * rho);
+  const Eigen::VectorXd d = edge_distance(mesh, X, seed, 6 * rho);
   const Vec3 n = s.normal.normalized();
-  double a = 0, cosine = 0;
+  double a = 0, cosine = 0, outer = 0, loops = 0;
   Vec3 mid = Vec3::Zero();
-  for (Eigen::Index v = 0; v < X.rows(); ++v)
+  for (Eigen::Index v = 0; v < X.rows(); ++v) {
     if (d[v] > 0 && d[v] < 2 * rho) {
       a += area[v], cosine += area[v] * N.row(v).dot(n);
       mid += area[v] * X.row(v).transpose();
+    } else if (d[v] >= 2 * rho && d[v] < 6 * rho) {
+      outer += area[v], loops += label[v] < 0 ? area[v] : 0.0;
     }
-  return a > 0 && cosine / a >= 0.8 && (s.mid / s.area - mid / a).dot(n) >= 0.2 * rho;
+  }
+  const bool stands = a > 0 && cosine / a >= 0.8 && (s.mid / s.area - mid / a).dot(n) >= 0.2 * rho;
+  return stands && loops <= kCalmLoops * outer;
 }
 
 // Domes smaller than the texture (an eyeball with no crease round it, cheburashka's; bench/synthesis.md):
 // islands closed round by a loop of strong curvature — a ridge (mean curvature above `ridge` / span: the
 // eyeball's rounded edge) or a valley (below −ridge / 2 / span: a socket's groove) — that are small (from a
 // twentieth of a disk of the span's radius to one), convex on the whole (their mean H ≥ 0: not a pit) and
-// stand on the surface round them (stands_on_surface(): not a foot's sole or a box's face). The weight is 0 on
-// such islands and a quarter of the span round them, rising to 1 at the span.
+// stand alone on the surface round them (stands_alone(): not a foot's sole or a box's face, nor one curl among
+// many). The weight is 0 on such islands and a quarter of the span round them, rising to 1 at the span.
 Eigen::VectorXd dome_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& area, double span,
                             double ridge) {
   const int n = static_cast<int>(X.rows());
@@ -254,7 +262,7 @@ Eigen::VectorXd dome_weight(const Mesh& mesh, const MatrixX3d& X, const Eigen::V
   std::vector<char> dome(n, 0);
   for (const Island& s : islands)
     if (s.area >= disk / 20 && s.area < disk && s.curvature >= 0 && s.normal.norm() > 0 &&
-        stands_on_surface(mesh, X, N, area, s))
+        stands_alone(mesh, X, N, area, label, s))
       for (int v : s.vertices) dome[v] = 1;
   const Eigen::VectorXd e = edge_distance(mesh, X, dome, span);
   return e.unaryExpr([&](double x) { return ramp(x, 0.25 * span, span); });

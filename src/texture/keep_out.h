@@ -22,7 +22,7 @@ struct KeepOut {
   //! pit_depth × the ring's radius; rings of span / 4, / 2 and 1) and a quarter of the span round them, 1 at the span
   Eigen::VectorXd pits;
   //! #V: 0 on domes smaller than the span (an eyeball: an island closed round by a ridge or a valley, convex,
-  //! standing above the surface round it; dome_weight()) and a quarter of the span round them, 1 at the span
+  //! standing above the surface round it and alone on it; dome_weight()) and a quarter of the span round them, 1 at the span
   Eigen::VectorXd domes;
 };
 

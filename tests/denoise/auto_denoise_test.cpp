@@ -362,6 +362,29 @@ TEST(AutoDenoise, APlainNoisySphereTakesTheStrongerSmoothingAndReliefDoesNot) {
   EXPECT_LE(m.spot_error(r.positions), 1.03 * m.spot_error(before.positions)) << "spot is not made worse";
 }
 
+// Steps 5b-5c mix two fits by a weight per vertex, averaged over a few rings (kBlendRings): mixed by a weight
+// that changes from vertex to vertex, two fits' positions wrinkle the surface between them, and a plain sphere
+// kept only half of what the sharp fit gains over the mild one (0.51). The sphere beside spot, at a noise where
+// the strong step applies in part: the default keeps more than 0.6 of that gain (0.65), and spot is not made
+// worse than with the mild fit alone.
+TEST(AutoDenoise, MixingTwoFitsKeepsMostOfTheBetterOnesGain) {
+  const SpotBesideSphere m(5, 0.5);
+  const AutoDenoiseResult r = auto_denoise(m.noisy);
+  AutoDenoiseOptions o;
+  o.strong_floor = 0;  // the mild fit wherever the surface is read smooth
+  const AutoDenoiseResult mild = auto_denoise(m.noisy, o);
+  o = {};
+  o.creased = true;  // the sharp fit everywhere
+  const AutoDenoiseResult sharp = auto_denoise(m.noisy, o);
+  const Eigen::Index nc = m.spot_faces, nf = m.all_faces;
+  const Eigen::VectorXd part = r.strong.tail(nf - nc);
+  ASSERT_GT(((part.array() > 0.05) && (part.array() < 0.95)).cast<double>().mean(), 0.1) << "the step applies in part";
+  const double e_mild = m.sphere_error(mild.positions), e_sharp = m.sphere_error(sharp.positions);
+  ASSERT_LT(e_sharp, 0.8 * e_mild) << "the sharp fit is the better one on the plain sphere";
+  EXPECT_LT(m.sphere_error(r.positions), e_mild - 0.6 * (e_mild - e_sharp));
+  EXPECT_LE(m.spot_error(r.positions), 1.01 * m.spot_error(mild.positions)) << "spot";
+}
+
 // Step 5, the creased reading held to the noise: at low noise the sharp fit flattens the curvature of a coarse
 // organic mesh (it moves the input by far more than the noise), and the rule reads part of it creased all the
 // same. Spot (coarse, organic) beside a cube (CAD) at σ 0.05: spot's creased reading is refused where it moves

@@ -553,11 +553,14 @@ namespace {
 // \p sphere with a button round +z: radial height h (1 − t⁸)² at t = (angle from +z) / a < 1, so its top is about
 // as curved as the sphere, its edge a ridge (mean curvature about 1 + 9 h / a² at t ≈ 0.8) and its foot a valley
 // (about 1 − 17 h / a² at t ≈ 0.95) meeting the sphere with no kink.
-Mesh buttoned(Mesh sphere, double a, double h) {
+Mesh buttoned(Mesh sphere, double a, double h, const std::vector<Vec3>& at = {Vec3(0, 0, 1)}) {
   MatrixX3d X = positions(sphere);
   for (Eigen::Index i = 0; i < X.rows(); ++i) {
-    const double t = std::acos(std::clamp(X(i, 2) / X.row(i).norm(), -1.0, 1.0)) / a, t8 = std::pow(t, 8);
-    if (t < 1) X.row(i) *= 1 + h * (1 - t8) * (1 - t8) / X.row(i).norm();
+    const Vec3 x = X.row(i).transpose();
+    for (const Vec3& c : at) {
+      const double t = std::acos(std::clamp(x.dot(c) / (x.norm() * c.norm()), -1.0, 1.0)) / a, t8 = std::pow(t, 8);
+      if (t < 1) X.row(i) *= 1 + h * (1 - t8) * (1 - t8) / X.row(i).norm();
+    }
   }
   set_positions(sphere, X);
   return sphere;
@@ -589,6 +592,29 @@ TEST(SynthesisKeepOut, DomesSmallerThanTheTextureAreKeptOut) {
   const Mesh spot = read_mesh(std::filesystem::path(geotex::test::source_dir()) / "data" / "spot.obj");
   for (double span : {0.05, 0.1, 0.2})  // spot is 2.6 long; the tentacle plate's span on it is about 0.15
     EXPECT_DOUBLE_EQ(detail::keep_out(spot, span, 0, false, 0, 1.0).domes.minCoeff(), 1.0) << span;
+}
+
+// Issue 27: an eyeball is a lone dome on a calm surface; igea's hair curls are a field of such islands side by
+// side (bench/synthesis.md, eleventh session). The same buttons as above, one at each of an icosahedron's 12
+// vertices (1.1 rad apart, 3.2 button radii: the rims 0.4 rad apart), keep none out as domes; the lone button on
+// the same sphere, at the same span, is kept out.
+TEST(SynthesisKeepOut, AFieldOfDomesIsNotKeptOutALoneDomeIs) {
+  const Mesh ico = icosphere(0);  // its 12 vertices: the buttons' axes
+  std::vector<Vec3> at;
+  for (auto v : ico.vertices()) at.push_back(Vec3(positions(ico).row(v.idx()).transpose()));
+  const Vec3 lone = at[0];
+  const Mesh field = buttoned(icosphere(5), 0.35, 0.08, at);
+  const Mesh one = buttoned(icosphere(5), 0.35, 0.08, {lone});
+  const detail::KeepOut kf = detail::keep_out(field, 0.4, 0, false, 0, 1.0);
+  const detail::KeepOut k1 = detail::keep_out(one, 0.4, 0, false, 0, 1.0);
+  Eigen::Index top = 0;
+  (positions(one) * lone).maxCoeff(&top);
+  double kept = 0;
+  for (Eigen::Index i = 0; i < kf.domes.size(); ++i) kept += kf.domes[i] < 0.5 ? kf.area[i] : 0.0;
+  std::cout << fmt::format("[ 12 buttons on icosphere(5) ] domes keep out {:.1f} %; the lone button: weight {:.2f}\n",
+                           100 * kept / kf.area.sum(), k1.domes[top]);
+  EXPECT_DOUBLE_EQ(kf.domes.minCoeff(), 1.0);
+  EXPECT_LT(k1.domes[top], 1e-9);
 }
 
 TEST(Synthesis, AnEyeballWithNoCreaseIsKeptOutByDefault) {

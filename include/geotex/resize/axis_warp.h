@@ -26,8 +26,9 @@
 //! Limits (bench/resize.md, ninth session): a slab is stretched as a whole, so where important surface
 //! fills every slab along an axis (tentacles all along a stick, a cow's uniformly important body) it cannot
 //! stay similar; slabs that hold only a protrusion's far end (a tentacle's, the teapot lid's knob) take the
-//! stretch and the protrusion grows longer. A triangle spanning cells of different slope may turn over when
-//! it is a sliver (a linear diag(s) never turns a face).
+//! stretch and the protrusion grows longer (\ref AxisWarpOptions::max_scale bounds it, opt-in). A skinny triangle
+//! spanning cells of different slope could turn over (a linear diag(s) never turns a face): where one does,
+//! λ is raised tenfold over the intervals it spans and the QP solved again, until none does.
 
 #include <array>
 
@@ -48,6 +49,15 @@ struct AxisWarpOptions {
   double slab_weight = 0;
   //! s_min as a share of the asked scale's smallest factor: no cell is squeezed below it.
   double min_scale = 0.5;
+  //! σ_{a,m} ≤ max_scale · λ_a (values below 1 count as 1); 0: no limit. A slab holding only a protrusion's
+  //! neck (the teapot lid's knob) otherwise takes up to 4× the asked stretch.
+  double max_scale = 0;
+  //! AxisSimilarity: weight β of every edge following the warp in the similarity stage (the similarity
+  //! method's background_smoothness, 0.002, is for the plain map). The warp has spread the stretch smoothly
+  //! over slabs, so its edges are worth following: with 0.002 the similarity stage gathered igea's stretch
+  //! into creases and turned 989 faces before its relaxation rounds (8 left); with 0.03 none are left and no
+  //! crease (bench/resize.md, eleventh session).
+  double follow_weight = 0.03;
   static const OptionTable<AxisWarpOptions>& table();
 };
 

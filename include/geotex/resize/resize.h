@@ -43,7 +43,8 @@
 //!    Kraevoy et al. 2008). No face can turn over and the box is exact; the stretch collects in the
 //!    slabs of the box that hold little of importance. A bend, twist, arc or deformed copy is refused
 //!    (InvalidInput): a separable warp cannot follow it. ResizeMethod::AxisSimilarity runs Similarity
-//!    with the warp's output in place of the plain map.
+//!    with the warp's output in place of the plain map, its edges following the warp's with
+//!    AxisWarpOptions::follow_weight, and relaxes faces turned against the warp or the plain stretch.
 
 #include <functional>
 #include <string>

@@ -150,8 +150,9 @@ struct SynthesisOptions {
   double keep_out_pit_depth = 0.15;
   //! Keep texture off domes smaller than its span (an eyeball with no crease round it): islands closed round
   //! by a ridge whose mean curvature exceeds this over the span (or a valley below minus half of it), smaller
-  //! than a disk of the span's radius, convex, standing above the surface round them (which faces their way);
-  //! faded in from a quarter of the span to the span away (0: no dome keep-out; bench/synthesis.md).
+  //! than a disk of the span's radius, convex, standing above the surface round them (which faces their way)
+  //! and alone on it (a calm surface round them, not a field of similar islands: a head's eyes, not curls of
+  //! hair); faded in from a quarter of the span to the span away (0: no dome keep-out; bench/synthesis.md).
   double keep_out_dome_ridge = 1;
 
   // Orientation

@@ -48,6 +48,26 @@ def test_the_damage_counts_and_the_estimate_are_returned(tentacles):
     assert r.kept_out_domes == 0                    # nor a dome
 
 
+def test_the_estimate_is_given_before_the_work(tentacles):
+    # Issue 27: the estimate is stated before the work (the CLI's first line; here on_estimate), after the
+    # exemplar is read and before any refinement or patch.
+    Vs, Fs = geotex.generate("sphere", level=1)
+    events = []
+    r = geotex.texture_synthesize(tentacles, Vs, Fs, direction=(0, 0, 1), vertex_budget=20000,
+                                  progress=lambda f, s: events.append(s) if not events or events[-1] != s else None,
+                                  on_estimate=lambda e: events.append(e))
+    first = [i for i, e in enumerate(events) if isinstance(e, dict)]
+    assert len(first) == 1, events
+    assert events[:first[0]] == ["exemplar"], events
+    assert "refine" in events[first[0]:] and "patches" in events[first[0]:], events
+    est = events[first[0]]
+    assert est["refine"] and est["seconds"] > 0 and 0 < est["exemplar_share"] <= 1 and est["scale"] > 0
+    assert est["vertices"] == r.estimated_vertices
+    assert len(r.V) / 1.5 < est["vertices"] < 1.5 * len(r.V)
+    with pytest.raises(TypeError, match="on_estimate"):
+        geotex.texture_synthesize(tentacles, Vs, Fs, on_estimate=3)
+
+
 def test_an_estimate_beyond_the_cap_is_refused_before_the_work(tentacles):
     Vs, Fs = geotex.generate("sphere", level=1)
     with pytest.raises(ValueError, match=r"output vertices estimated .* beyond max_vertices 20000"):
