@@ -136,6 +136,9 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
       .add("flip_rings", &O::flip_rings, "similarity: vertex rings relaxed around a turned-over face", between(0, 100))
       .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",
               "Eq. (9.1)")
+      .add("rigid_protrusions", &O::rigid_protrusions,
+           "similarity: protrusions (tentacles, ears, horns) placed as rigid pieces at their size on where their foot "
+           "went, the rest of the model stretched to hold them in the box (opt-in); false: per-vertex similarities only")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1372,10 +1375,30 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     return out;
   }
   const SimilarityBase base{o.background_smoothness, nullptr};
+  auto similarity = [&](const MatrixX3d& map) {
+    return o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, map, features, o, base)
+                                               : similarity_resize(mesh, X, map, features, o, base);
+  };
+  if (o.method == ResizeMethod::Similarity && o.rigid_protrusions) {
+    std::vector<RigidProtrusion> protrusions = find_protrusions(mesh, X, features);
+    if (!protrusions.empty()) {
+      // The similarity method, then the rest stretched a little more per axis so that the box holds the
+      // protrusions at their size, and each put back as one piece where its foot went. (Running the
+      // similarity method on a map with that room already made and the pieces in place dented the stick's
+      // body: its important caps resisted the larger stretch; bench/resize.md, eleventh session.)
+      set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
+      const Vec3 lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
+      MatrixX3d out = place_protrusions(mesh, X, fit_box_around_protrusions(mesh, X, similarity(C), lo, hi, protrusions),
+                                        protrusions);
+      relax_turned_faces(mesh, C, protrusions, out);  // a face the seams turned takes the map's way round
+      fit_box(out, C);
+      report(o.progress, 1.0, "done");
+      return out;
+    }
+  }
   MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
                   : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
-                  : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, C, features, o, base)
-                                                      : similarity_resize(mesh, X, C, features, o, base);
+                                                      : similarity(C);
   report(o.progress, 1.0, "done");
   return out;
 }

@@ -1,0 +1,68 @@
+#pragma once
+//! \file protrusion_placement.h Protrusions placed as rigid pieces (thesis ch. 9: features keep their
+//! shape and size), for feature-aware resizing (resize.h, ResizeOptions::rigid_protrusions).
+//!
+//! A protrusion (a tentacle, an ear, a horn) is a connected region of high importance that stands out of
+//! its foot: a single foot ring (the vertices next to the region) and a reach from the ring's centroid of
+//! more than its radius. Instead of letting a deformation's per-vertex similarities bend and grow it, the
+//! whole region is put back as one similarity x ↦ σ R x + t fitted to where the deformation moved its
+//! foot ring (R, t: Umeyama's fit of the ring; σ: the ring's smallest stretch in its plane, so a
+//! stretch keeps a protrusion's size and a uniform scale scales it, as the similarity method's s_i).
+//! What the region's placement moves at its foot is spread over a band around it (harmonic interpolation
+//! of the displacement, fading to nothing at the band's outer rim): no step at the seam. When protrusions
+//! reach the box, the rest of the model is stretched a little more per axis so that the box holds them
+//! at their size (fit_box_around_protrusions()).
+
+#include <vector>
+
+#include "geotex/core/mesh.h"
+
+namespace geotex {
+
+//! One protrusion: its rigid region and its foot ring (the vertices next to it, outside it).
+struct RigidProtrusion {
+  std::vector<int> vertices;
+  std::vector<int> foot;
+  double scale = 1;  //!< σ: the scale it is placed at (set_protrusion_scales())
+};
+
+//! The protrusions of weights \p f (#V in [0, 1]) on \p mesh at positions \p X (#V by 3): connected
+//! regions of f ≥ 0.9 grown over their flared foot (to twice the radius of the core's own foot ring),
+//! kept when their foot ring is one connected piece, they touch neither another region nor the mesh
+//! boundary, span at most half the model's largest extent, and reach from their foot ring's centroid at
+//! least 1.5 times the ring's mean radius (a bump, a patch of relief, a face or a whole body is not a
+//! protrusion; on the shared models of bench/resize.md every region touches another or the boundary).
+std::vector<RigidProtrusion> find_protrusions(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& f);
+
+//! Each protrusion's scale σ from the map \p C (#V by 3) of \p X: the smallest stretch of its foot ring in
+//! the ring's own plane (\p keep_size; a stretch keeps its size, a uniform scale scales it, as the
+//! similarity method's s_i), else the geometric mean of the two.
+void set_protrusion_scales(const MatrixX3d& X, const MatrixX3d& C, std::vector<RigidProtrusion>& protrusions,
+                           bool keep_size);
+
+//! \p Y (#V by 3, a deformation of \p X) with every protrusion replaced by its original shape scaled by
+//! its σ, turned and moved onto where \p Y put its foot ring (Umeyama's rotation of the ring, the ring's
+//! centroid onto its centroid). The vertices reached from a protrusion within \p blend times its foot
+//! ring's mean radius of the ring's centre take the protrusion's displacement, fading out harmonically
+//! to nothing at the band's rim (0: no blend). \return #V by 3 positions.
+MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y,
+                            const std::vector<RigidProtrusion>& protrusions, double blend = 1.2);
+
+//! \p D (#V by 3) made harmonic (umbrella weights) on the vertices with \p unknown[i] ≠ 0, its other rows fixed.
+//! \throw SolverError.
+void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D);
+
+//! Faces of \p Y turned over against the map \p C (#V by 3 both): their vertices and 2, 4, … rings around
+//! them (not the protrusions') take the displacement Y − C harmonically interpolated from around them, for up
+//! to \p rounds rounds. \return the faces still turned.
+int relax_turned_faces(const Mesh& mesh, const MatrixX3d& C, const std::vector<RigidProtrusion>& protrusions,
+                       MatrixX3d& Y, int rounds = 4);
+
+//! \p B (#V by 3, a deformation of \p X) scaled per axis about its box centre and moved so that
+//! place_protrusions() of it has the box [\p lo, \p hi]: the rest of the model takes the room the
+//! protrusions, kept at their size, do not (fixed-point steps on each axis' factor, the slope the extent of
+//! what is not a protrusion). \return B when the factors do not settle within (0.2, 5).
+MatrixX3d fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B, const Vec3& lo,
+                                     const Vec3& hi, const std::vector<RigidProtrusion>& protrusions);
+
+}  // namespace geotex

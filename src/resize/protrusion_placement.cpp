@@ -1,0 +1,337 @@
+#include "geotex/resize/protrusion_placement.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+
+#include "geotex/core/error.h"
+#include "geotex/toolkit/editing.h"
+
+namespace geotex {
+
+namespace {
+
+constexpr double kCore = 0.9;    // a protrusion's core: importance at least this
+constexpr double kGrow = 2.0;    // a core is grown to this many times its foot's radius (its flared foot)
+constexpr int kMaxGrowRings = 100;
+constexpr double kReach = 1.5;   // reach from the foot ring's centroid, in ring radii, that makes a protrusion
+constexpr double kExtent = 0.5;  // at most this share of the model's largest extent along any axis
+
+// Is the vertex set \p set (marked \p mark in \p tag) one connected piece of the mesh's graph?
+bool connected(const Mesh& mesh, const std::vector<int>& set, const std::vector<int>& tag, int mark) {
+  if (set.empty()) return false;
+  std::vector<char> seen(tag.size(), 0);
+  std::vector<int> stack{set.front()};
+  seen[set.front()] = 1;
+  size_t reached = 0;
+  while (!stack.empty()) {
+    const int v = stack.back();
+    stack.pop_back();
+    ++reached;
+    for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+      if (tag[u.idx()] == mark && !seen[u.idx()]) seen[u.idx()] = 1, stack.push_back(u.idx());
+  }
+  return reached == set.size();
+}
+
+// The foot ring's rows of X and Y, centred, and their centroids.
+struct Ring {
+  Eigen::MatrixX3d P, Q;
+  Eigen::RowVector3d pc, qc;
+};
+
+Ring ring_of(const MatrixX3d& X, const MatrixX3d& Y, const std::vector<int>& foot) {
+  const auto k = static_cast<Eigen::Index>(foot.size());
+  Ring r;
+  r.P.resize(k, 3), r.Q.resize(k, 3);
+  for (Eigen::Index i = 0; i < k; ++i) r.P.row(i) = X.row(foot[i]), r.Q.row(i) = Y.row(foot[i]);
+  r.pc = r.P.colwise().mean(), r.qc = r.Q.colwise().mean();
+  r.P.rowwise() -= r.pc, r.Q.rowwise() -= r.qc;
+  return r;
+}
+
+// The similarity x ↦ σ R x + t (σ the protrusion's scale) that puts the foot ring's original positions
+// onto \p Y's: R by Umeyama's fit, t moving the centroid onto the centroid.
+Similarity foot_similarity(const MatrixX3d& X, const MatrixX3d& Y, const RigidProtrusion& p) {
+  const Ring r = ring_of(X, Y, p.foot);
+  Similarity s = fit_similarity(r.P, r.Q, false);
+  s.s = p.scale;
+  s.t = r.qc.transpose() - s.s * (s.R * r.pc.transpose());
+  return s;
+}
+
+// Does region p stand out of its foot ring like a protrusion: at most kExtent of the model's largest
+// extent \p largest along every axis, and reaching kReach ring radii from the ring's centroid?
+bool protrusion_shape(const MatrixX3d& X, const RigidProtrusion& p, double largest) {
+  if (p.vertices.empty() || p.foot.size() < 3) return false;
+  Vec3 rlo = X.row(p.vertices[0]).transpose(), rhi = rlo;
+  for (int v : p.vertices) rlo = rlo.cwiseMin(X.row(v).transpose()), rhi = rhi.cwiseMax(X.row(v).transpose());
+  if ((rhi - rlo).maxCoeff() > kExtent * largest) return false;
+  Vec3 c = Vec3::Zero();
+  for (int v : p.foot) c += X.row(v).transpose();
+  c /= static_cast<double>(p.foot.size());
+  double radius = 0, reach = 0;
+  for (int v : p.foot) radius += (X.row(v).transpose() - c).norm();
+  radius /= static_cast<double>(p.foot.size());
+  for (int v : p.vertices) reach = std::max(reach, (X.row(v).transpose() - c).norm());
+  return reach >= kReach * radius;
+}
+
+}  // namespace
+
+void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D) {
+  const int n = static_cast<int>(D.rows());
+  std::vector<int> slot(n, -1);
+  std::vector<int> rows;
+  for (int i = 0; i < n; ++i)
+    if (unknown[i]) slot[i] = static_cast<int>(rows.size()), rows.push_back(i);
+  if (rows.empty()) return;
+  const auto m = static_cast<Eigen::Index>(rows.size());
+  std::vector<Eigen::Triplet<double>> t;
+  Eigen::MatrixX3d b = Eigen::MatrixX3d::Zero(m, 3);
+  for (Eigen::Index r = 0; r < m; ++r) {
+    double degree = 0;
+    for (auto u : mesh.vv_range(mesh.vertex_handle(rows[r]))) {
+      const int j = u.idx();
+      degree += 1;
+      if (slot[j] >= 0) t.emplace_back(r, slot[j], -1.0);
+      else b.row(r) += D.row(j);
+    }
+    t.emplace_back(r, r, std::max(degree, 1.0));
+  }
+  Eigen::SparseMatrix<double> A(m, m);
+  A.setFromTriplets(t.begin(), t.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success) throw SolverError("harmonic_fill: the system failed");
+  const Eigen::MatrixX3d d = solver.solve(b);
+  for (Eigen::Index r = 0; r < m; ++r) D.row(rows[r]) = d.row(r);
+}
+
+int relax_turned_faces(const Mesh& mesh, const MatrixX3d& C, const std::vector<RigidProtrusion>& protrusions,
+                       MatrixX3d& Y, int rounds) {
+  const int n = static_cast<int>(C.rows());
+  std::vector<char> rigid(n, 0);
+  for (const RigidProtrusion& p : protrusions)
+    for (int v : p.vertices) rigid[v] = 1;
+  auto turned = [&] {
+    std::vector<int> bad;
+    for (auto fh : mesh.faces()) {
+      std::array<int, 3> v{};
+      int k = 0;
+      for (auto vh : mesh.fv_range(fh)) v[k++] = vh.idx();
+      auto normal = [&](const MatrixX3d& P) {
+        return Vec3((P.row(v[1]) - P.row(v[0])).transpose().cross((P.row(v[2]) - P.row(v[0])).transpose()));
+      };
+      if (normal(C).dot(normal(Y)) < 0) bad.push_back(fh.idx());
+    }
+    return bad;
+  };
+  std::vector<int> bad = turned();
+  for (int round = 0; round < rounds && !bad.empty(); ++round) {
+    std::vector<int> unknown(n, 0), front;
+    for (int f : bad)
+      for (auto vh : mesh.fv_range(mesh.face_handle(f)))
+        if (!rigid[vh.idx()] && !unknown[vh.idx()]) unknown[vh.idx()] = 1, front.push_back(vh.idx());
+    for (int ring = 0; ring < 2 + 2 * round; ++ring) {  // wider each round
+      std::vector<int> next;
+      for (int v : front)
+        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+          if (!rigid[u.idx()] && !unknown[u.idx()]) unknown[u.idx()] = 1, next.push_back(u.idx());
+      front.swap(next);
+    }
+    MatrixX3d D = Y - C;
+    harmonic_fill(mesh, unknown, D);
+    Y = C + D;
+    bad = turned();
+  }
+  return static_cast<int>(bad.size());
+}
+
+std::vector<RigidProtrusion> find_protrusions(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& f) {
+  const int n = static_cast<int>(X.rows());
+  if (f.size() != n) throw InvalidInput("find_protrusions: one weight per vertex");
+  std::vector<int> id(n, -1);
+  std::vector<std::vector<int>> regions;
+  for (int seed = 0; seed < n; ++seed) {  // the cores: connected regions of f ≥ kCore
+    if (f[seed] < kCore || id[seed] >= 0 || mesh.is_isolated(mesh.vertex_handle(seed))) continue;
+    const int k = static_cast<int>(regions.size());
+    regions.emplace_back(1, seed);
+    id[seed] = k;
+    for (size_t q = 0; q < regions[k].size(); ++q)
+      for (auto u : mesh.vv_range(mesh.vertex_handle(regions[k][q])))
+        if (f[u.idx()] >= kCore && id[u.idx()] < 0) id[u.idx()] = k, regions[k].push_back(u.idx());
+  }
+  // Cores that cannot be protrusions (a cap, a patch of relief: too little reach from their own foot ring,
+  // or too large) let go of their vertices before the others grow, so that they block nobody.
+  const Vec3 lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  const double largest = (hi - lo).maxCoeff();
+  {
+    std::vector<std::vector<int>> kept;
+    std::vector<int> tag(n, -1);
+    for (size_t k = 0; k < regions.size(); ++k) {
+      RigidProtrusion core;
+      core.vertices = regions[k];
+      for (int v : core.vertices)
+        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+          if (id[u.idx()] != static_cast<int>(k) && tag[u.idx()] != static_cast<int>(k))
+            tag[u.idx()] = static_cast<int>(k), core.foot.push_back(u.idx());
+      if (protrusion_shape(X, core, largest)) kept.push_back(std::move(regions[k]));
+      else
+        for (int v : regions[k]) id[v] = -1;
+    }
+    regions.swap(kept);
+    for (size_t k = 0; k < regions.size(); ++k)
+      for (int v : regions[k]) id[v] = static_cast<int>(k);
+  }
+  // Each core grown over its flared foot, ring by ring (all together, so that neighbours stay apart),
+  // until its newest ring lies kGrow times as far from the core's foot centre as the core's own foot.
+  const auto cores = static_cast<int>(regions.size());
+  std::vector<Vec3> centre(cores, Vec3::Zero());
+  std::vector<double> reach(cores, 0);
+  std::vector<std::vector<int>> front(cores);
+  for (int k = 0; k < cores; ++k) {
+    for (int v : regions[k])
+      for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+        if (id[u.idx()] < 0 && std::find(front[k].begin(), front[k].end(), u.idx()) == front[k].end())
+          front[k].push_back(u.idx());
+    for (int v : front[k]) centre[k] += X.row(v).transpose();
+    centre[k] /= std::max<double>(1, static_cast<double>(front[k].size()));
+    for (int v : front[k]) reach[k] += (X.row(v).transpose() - centre[k]).norm();
+    reach[k] = kGrow * reach[k] / std::max<double>(1, static_cast<double>(front[k].size()));
+    front[k] = regions[k];
+  }
+  for (int ring = 0; ring < kMaxGrowRings; ++ring) {
+    std::vector<std::pair<int, int>> grown;
+    for (int k = 0; k < cores; ++k) {
+      std::vector<int> next;
+      for (int v : front[k])
+        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+          if (id[u.idx()] < 0 && (X.row(u.idx()).transpose() - centre[k]).norm() < reach[k])
+            id[u.idx()] = k, grown.emplace_back(k, u.idx()), next.push_back(u.idx());
+      front[k].swap(next);
+    }
+    if (grown.empty()) break;
+    for (const auto& [k, v] : grown) regions[k].push_back(v);
+  }
+  std::vector<RigidProtrusion> out;
+  std::vector<int> tag(n, -1);
+  for (size_t k = 0; k < regions.size(); ++k) {
+    RigidProtrusion p;
+    p.vertices = regions[k];
+    bool ok = true;
+    for (int v : p.vertices) {
+      if (mesh.is_boundary(mesh.vertex_handle(v))) ok = false;
+      for (auto u : mesh.vv_range(mesh.vertex_handle(v))) {
+        const int j = u.idx();
+        if (id[j] == static_cast<int>(k)) continue;
+        if (id[j] >= 0) ok = false;  // touches another region: neither can move alone
+        if (tag[j] != static_cast<int>(k)) tag[j] = static_cast<int>(k), p.foot.push_back(j);
+      }
+    }
+    if (!ok || p.foot.size() < 3 || !connected(mesh, p.foot, tag, static_cast<int>(k))) continue;
+    if (!protrusion_shape(X, p, largest)) continue;
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+void set_protrusion_scales(const MatrixX3d& X, const MatrixX3d& C, std::vector<RigidProtrusion>& protrusions,
+                           bool keep_size) {
+  for (RigidProtrusion& p : protrusions) {
+    const Ring r = ring_of(X, C, p.foot);
+    // The ring's plane: its two largest principal directions; the linear map of the plane that fits best.
+    const Eigen::JacobiSVD<Eigen::MatrixX3d> plane(r.P, Eigen::ComputeThinV);
+    const Eigen::MatrixX2d U = r.P * plane.matrixV().leftCols<2>();
+    const Eigen::Matrix2d UtU = U.transpose() * U;
+    p.scale = 1;
+    if (!(std::abs(UtU.determinant()) > 0)) continue;
+    const Eigen::Matrix<double, 2, 3> Mt = UtU.ldlt().solve(U.transpose() * r.Q);
+    const Eigen::Vector2d sv = Eigen::JacobiSVD<Eigen::Matrix<double, 2, 3>>(Mt).singularValues();
+    p.scale = keep_size ? sv[1] : std::sqrt(sv[0] * sv[1]);
+  }
+}
+
+MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y,
+                            const std::vector<RigidProtrusion>& protrusions, double blend) {
+  const int n = static_cast<int>(X.rows());
+  MatrixX3d Z = Y;
+  if (protrusions.empty()) return Z;
+  std::vector<int> slot(n, -1);  // -1: not reached, -2: a protrusion's, 0: the band's
+  MatrixX3d D = MatrixX3d::Zero(n, 3);  // the displacement Z − Y, fixed on the protrusions
+  for (const RigidProtrusion& p : protrusions) {
+    const Similarity s = foot_similarity(X, Y, p);
+    for (int v : p.vertices) {
+      Z.row(v) = s(X.row(v).transpose()).transpose();
+      D.row(v) = Z.row(v) - Y.row(v);
+      slot[v] = -2;
+    }
+  }
+  // The band: the vertices reached from a protrusion through vertices within \p blend foot radii of its
+  // foot ring's centre.
+  std::vector<int> band;
+  for (const RigidProtrusion& p : protrusions) {
+    Vec3 c = Vec3::Zero();
+    for (int v : p.foot) c += X.row(v).transpose();
+    c /= static_cast<double>(p.foot.size());
+    double radius = 0;
+    for (int v : p.foot) radius += (X.row(v).transpose() - c).norm();
+    radius *= blend / static_cast<double>(p.foot.size());
+    std::vector<int> wave = p.vertices;
+    while (!wave.empty()) {
+      std::vector<int> next;
+      for (int v : wave)
+        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+          if (slot[u.idx()] == -1 && (X.row(u.idx()).transpose() - c).norm() < radius)
+            slot[u.idx()] = 0, band.push_back(u.idx()), next.push_back(u.idx());
+      wave.swap(next);
+    }
+  }
+  for (int v : band) slot[v] = 0;
+  for (int i = 0; i < n; ++i) slot[i] = slot[i] == 0 ? 1 : 0;  // the unknowns: the band
+  harmonic_fill(mesh, slot, D);
+  for (int v : band) Z.row(v) += D.row(v);
+  return Z;
+}
+
+MatrixX3d fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B, const Vec3& lo,
+                                     const Vec3& hi, const std::vector<RigidProtrusion>& protrusions) {
+  if (protrusions.empty()) return B;
+  const Vec3 blo = B.colwise().minCoeff(), bhi = B.colwise().maxCoeff();
+  const Vec3 target = hi - lo, bc = 0.5 * (blo + bhi), tc = 0.5 * (lo + hi);
+  // The slope of the output's extent in each factor: the extent of what is not a protrusion.
+  std::vector<char> in(B.rows(), 0);
+  for (const RigidProtrusion& p : protrusions)
+    for (int v : p.vertices) in[v] = 1;
+  Vec3 rlo = Vec3::Constant(1e300), rhi = Vec3::Constant(-1e300);
+  for (Eigen::Index i = 0; i < B.rows(); ++i)
+    if (!in[i] && !mesh.is_isolated(mesh.vertex_handle(static_cast<int>(i))))
+      rlo = rlo.cwiseMin(B.row(i).transpose()), rhi = rhi.cwiseMax(B.row(i).transpose());
+  const Vec3 rest = rhi - rlo;
+  auto map = [&](const Vec3& l) {
+    MatrixX3d M = (B.rowwise() - bc.transpose()) * l.asDiagonal();
+    return MatrixX3d(M.rowwise() + tc.transpose());
+  };
+  Vec3 l = Vec3::Ones();
+  bool settled = false;
+  for (int step = 0; step < 20 && !settled; ++step) {
+    const MatrixX3d Z = place_protrusions(mesh, X, map(l), protrusions, 0);
+    const Vec3 extent = Z.colwise().maxCoeff() - Z.colwise().minCoeff();
+    settled = true;
+    for (int a = 0; a < 3; ++a) {
+      if (!(target[a] > 0) || !(rest[a] > 1e-9 * (bhi - blo).maxCoeff())) continue;
+      settled = settled && std::abs(extent[a] / target[a] - 1) < 1e-7;
+      l[a] += (target[a] - extent[a]) / rest[a];
+      if (!(l[a] > 0.2 && l[a] < 5)) return B;  // no room: leave it as it is
+    }
+  }
+  if (!settled) return B;
+  MatrixX3d M = map(l);
+  const MatrixX3d Z = place_protrusions(mesh, X, M, protrusions, 0);
+  const Vec3 shift = lo - Z.colwise().minCoeff().transpose();  // the box where it is asked
+  return M.rowwise() + shift.transpose();
+}
+
+}  // namespace geotex
