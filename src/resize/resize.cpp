@@ -137,8 +137,9 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
       .choice("laplacian", &O::laplacian, laplacian_names(), "Laplacian of the feature terms (Eq. 9.1: umbrella)",
               "Eq. (9.1)")
       .add("rigid_protrusions", &O::rigid_protrusions,
-           "similarity: protrusions (tentacles, ears, horns) placed as rigid pieces at their size on where their foot "
-           "went, the rest of the model stretched to hold them in the box (opt-in); false: per-vertex similarities only")
+           "similarity, axis-similarity: protrusions (tentacles, ears, horns) placed as rigid pieces at their size on "
+           "where their foot went, the rest of the model stretched to hold them in the box (opt-in); false: per-vertex "
+           "similarities only")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1361,6 +1362,12 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     if (!box_scale_of(X, C, stretch, lo))
       throw InvalidInput("method axis: the deformation must be a box scale (scale); bends, twists, arcs and deformed "
                          "copies need another method (similarity)");
+    // Rigid protrusions: found and scaled on the input, put back after the similarity stage (below).
+    std::vector<RigidProtrusion> protrusions;
+    if (o.method == ResizeMethod::AxisSimilarity && o.rigid_protrusions) {
+      protrusions = find_protrusions(mesh, X, features);
+      set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
+    }
     const MatrixX3d W = axis_warp(mesh, stretch, lo, features, o.axis).apply(X);
     // The similarity stage follows the warp's edges (β = the follow weight) and counts a face as turned
     // against the warp or the plain stretch (the reference; the two differ by the warp's slivers).
@@ -1371,6 +1378,14 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
+    if (!protrusions.empty()) {
+      // As for the similarity method: the rest scaled per axis so that the box holds them at their size.
+      // (Giving their slabs full importance in the warp changed nothing measurable: bench/resize.md.)
+      const Vec3 clo = C.colwise().minCoeff(), chi = C.colwise().maxCoeff();
+      out = place_protrusions(mesh, X, fit_box_around_protrusions(mesh, X, out, clo, chi, protrusions), protrusions);
+      relax_turned_faces(mesh, C, protrusions, out);
+      fit_box(out, C);
+    }
     report(o.progress, 1.0, "done");
     return out;
   }

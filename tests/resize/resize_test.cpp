@@ -933,20 +933,23 @@ TEST(ResizeSimilarity, RigidProtrusionsKeepEveryTentaclesLengthAndLeanOnEveryAxi
       }
       return w;
     };
-    ResizeOptions rigid;
-    rigid.rigid_protrusions = true;
+    for (ResizeMethod method : {ResizeMethod::Similarity, ResizeMethod::AxisSimilarity})
     for (int a = 0; a < 3; ++a) {
+      ResizeOptions rigid, without;
+      rigid.method = without.method = method;
+      rigid.rigid_protrusions = true;
+      without.rigid_protrusions = false;
       Vec3 scale = Vec3::Ones();
       scale[a] = 2;
       const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
-      const MatrixX3d Y = feature_aware_resize(m, C, f, rigid), Y0 = feature_aware_resize(m, C, f);
+      const MatrixX3d Y = feature_aware_resize(m, C, f, rigid), Y0 = feature_aware_resize(m, C, f, without);
       const auto r = worst(Y), r0 = worst(Y0);
       const Vec3 box = (Y.colwise().maxCoeff() - Y.colwise().minCoeff()).transpose();
       const Vec3 want = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
-      std::printf("  stick level %d x2 %c, worst tentacle length / lean change: rigid protrusions %.2f%% / %.2f deg, "
-                  "without %.1f%% / %.1f deg; turned %d, box error %.1e\n",
-                  level, "xyz"[a], 100 * r[0], r[1], 100 * r0[0], r0[1], turned_over(m, Y, C),
-                  (box - want).cwiseAbs().maxCoeff());
+      std::printf("  %s, stick level %d x2 %c, worst tentacle length / lean change: rigid protrusions %.2f%% / %.2f "
+                  "deg, without %.1f%% / %.1f deg; turned %d, box error %.1e\n",
+                  method == ResizeMethod::Similarity ? "similarity" : "axis-similarity", level, "xyz"[a], 100 * r[0],
+                  r[1], 100 * r0[0], r0[1], turned_over(m, Y, C), (box - want).cwiseAbs().maxCoeff());
       EXPECT_LT(r[0], 0.03);
       EXPECT_LT(r[1], 3.0);
       EXPECT_EQ(turned_over(m, Y, C), 0);

@@ -170,11 +170,12 @@ struct ResizeOptions {
   int flip_rounds = 8;
   int flip_rings = 2;
   LaplacianType laplacian = LaplacianType::Umbrella;  //!< Eq. (9.1) uses the umbrella operator
-  //! Similarity: protrusions (tentacles, ears, horns: protrusion_placement.h) are put back as rigid pieces
-  //! where their foot went, at their size (as keep_feature_size), the seam blended; the rest of the model is
-  //! stretched per axis to hold them in the asked box. Opt-in: the tentacle stick ×2 keeps every tentacle's
-  //! length within 0.5% and lean within 0.8° on x, y and z (off: up to 79% / 17°), but cheburashka ×2 y,
-  //! whose ears it places, measures worse (detail ratio 0.44 against 0.41; bench/resize.md, eleventh session).
+  //! Similarity and AxisSimilarity: protrusions (tentacles, ears, horns: protrusion_placement.h) are put back
+  //! as rigid pieces where their foot went, at their size (as keep_feature_size), the seam blended; the rest of
+  //! the model is stretched per axis to hold them in the asked box. Opt-in: the tentacle stick ×2 keeps every
+  //! tentacle's length within 0.6% and lean within 1.3° on x, y and z under both methods (off: up to 162% /
+  //! 22°), but cheburashka ×2, whose ears it places, measures worse (axis-similarity: detail ratio 0.99 against
+  //! 0.23 on x; bench/resize.md, eleventh session, protrusions with room).
   bool rigid_protrusions = false;
   //! Axis and AxisSimilarity: the separable warp's grid and weights (options axis_cells, axis_smoothness, …).
   AxisWarpOptions axis;
