@@ -74,8 +74,8 @@ SpaceMap space_map(const SpaceMapOptions& o, const BoundingBox& box) {
 
 const EnumNames<ResizeMethod>& resize_method_names() {
   static const EnumNames<ResizeMethod> names = {
-      {"auto", ResizeMethod::Auto}, {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis},
-      {"axis", ResizeMethod::Axis}, {"axis-similarity", ResizeMethod::AxisSimilarity}};
+      {"auto", ResizeMethod::Auto}, {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding},
+      {"thesis", ResizeMethod::Thesis}, {"axis", ResizeMethod::Axis}, {"axis-similarity", ResizeMethod::AxisSimilarity}};
   return names;
 }
 

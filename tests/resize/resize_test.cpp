@@ -879,7 +879,8 @@ TEST(ResizeAxis, FullSlabsKeepTheirScaleAndTheTentaclesTheirLength) {
       EXPECT_LT(off, 0.05);
       EXPECT_GT(off_without, 0.5);
     }
-    ResizeOptions per_vertex = with(ResizeMethod::Similarity);  // its own per-vertex similarities (no rigid protrusions)
+    // The similarity method's own per-vertex similarities (no rigid protrusions).
+    ResizeOptions per_vertex = with(ResizeMethod::Similarity);
     per_vertex.rigid_protrusions = false;
     const MatrixX3d Ys = feature_aware_resize(m, C, f, per_vertex), Ya = feature_aware_resize(m, C, f, slab);
     const auto p = worst(C), rs = worst(Ys), ra = worst(Ya);
@@ -898,7 +899,8 @@ TEST(ResizeAxis, FullSlabsKeepTheirScaleAndTheTentaclesTheirLength) {
 // keeps its length within 3% and its lean to its foot ring within 3° (measured on the true foot ring, as in
 // FeatureMap.TentaclesKeepLengthAndAngleOnTheStretchedArc), no face turns over against the plain stretch,
 // and the box is the asked one (the default method with rigid_protrusions runs similarity). The similarity
-// method's per-vertex similarities alone miss this on every axis (level 1: 2.1% / 4.1°, 79.4% / 16.4°, 66.0% / 16.7°).
+// method's per-vertex similarities alone miss this on every axis (level 1: 2.1% / 4.1°, 79.4% / 16.4°,
+// 66.0% / 16.7°).
 TEST(ResizeSimilarity, RigidProtrusionsKeepEveryTentaclesLengthAndLeanOnEveryAxis) {
   for (int level : {0, 1}) {
     std::vector<Tentacle> info;
@@ -983,7 +985,8 @@ TEST(Resize, AutoRunsAxisSimilarityOnABoxScaleAndSimilarityOnAnyOtherDeformation
     EXPECT_EQ(resolved_resize_method(ResizeOptions{}, X, c.C), c.runs) << c.name;
     const MatrixX3d Y = feature_aware_resize(b.mesh, c.C, f);
     EXPECT_EQ(Y, feature_aware_resize(b.mesh, c.C, f, with(c.runs))) << c.name;
-    const ResizeMethod other = c.runs == ResizeMethod::Similarity ? ResizeMethod::AxisSimilarity : ResizeMethod::Similarity;
+    const ResizeMethod other =
+        c.runs == ResizeMethod::Similarity ? ResizeMethod::AxisSimilarity : ResizeMethod::Similarity;
     if (other == ResizeMethod::AxisSimilarity)
       EXPECT_THROW(feature_aware_resize(b.mesh, c.C, f, with(other)), InvalidInput) << c.name;
     else  // the two methods differ here: the test above could fail
