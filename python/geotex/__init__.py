@@ -605,7 +605,9 @@ def resize(mesh: MeshLike, F: Any = None, deformed: Any = None, *, features: Any
     feature file (text, or PLY with vertex 'feature' or 'height'). A UserWarning says when the map marks
     more than half or less than 0.5% of the surface. Returns a ResizeResult (a mesh): V (the resized #V×3
     positions), F, parameters, and the fields of `geotex resize --report` (help(geotex.ResizeResult)):
-    detector, marked_fraction, marked_vertices, regions, warning, seconds; features (the weights used)."""
+    method (the one run: the default 'auto' runs 'axis-similarity' for a box scale, 'similarity' for any
+    other deformation), detector, marked_fraction, marked_vertices, regions, warning, seconds; features
+    (the weights used)."""
     V, F = _arrays(mesh, F)
     weights = path = None
     if isinstance(features, str) and features in _FEATURE_MAPS:

@@ -74,8 +74,8 @@ SpaceMap space_map(const SpaceMapOptions& o, const BoundingBox& box) {
 
 const EnumNames<ResizeMethod>& resize_method_names() {
   static const EnumNames<ResizeMethod> names = {
-      {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding}, {"thesis", ResizeMethod::Thesis},
-      {"axis", ResizeMethod::Axis}, {"axis-similarity", ResizeMethod::AxisSimilarity}};
+      {"auto", ResizeMethod::Auto}, {"similarity", ResizeMethod::Similarity}, {"sliding", ResizeMethod::Sliding},
+      {"thesis", ResizeMethod::Thesis}, {"axis", ResizeMethod::Axis}, {"axis-similarity", ResizeMethod::AxisSimilarity}};
   return names;
 }
 
@@ -88,10 +88,11 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
   using O = ResizeOptions;
   static const auto t = OptionTable<O>()
       .choice("method", &O::method, resize_method_names(),
-              "similarity (continuous weights: near-similarities where important, default), sliding (binary "
-              "features rigid, background slides along the surface), thesis (Eq. 9.2-9.3), axis (box scales: a "
-              "separable axis-aligned warp, Kraevoy et al. 2008) or axis-similarity (the axis warp, then "
-              "similarity from it)", "Sec. 9.4")
+              "auto (default: axis-similarity for a box scale, similarity for a bend, twist, arc or deformed copy), "
+              "similarity (continuous weights: near-similarities where important), "
+              "sliding (binary features rigid, background slides along the surface), thesis (Eq. 9.2-9.3), axis "
+              "(box scales: a separable axis-aligned warp, Kraevoy et al. 2008) or axis-similarity (the axis warp, "
+              "then similarity from it)", "Sec. 9.4")
       .add("position_weight", &O::position_weight, "w: weight of the position terms against the feature terms",
            positive(), "Eq. (9.2)")
       .alias("weight")
@@ -1344,10 +1345,17 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
 
 }  // namespace
 
+ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, const MatrixX3d& C) {
+  if (o.method != ResizeMethod::Auto) return o.method;
+  Vec3 stretch, lo;
+  return box_scale_of(X, C, stretch, lo) && stretch.minCoeff() > 0 ? ResizeMethod::AxisSimilarity
+                                                                    : ResizeMethod::Similarity;
+}
+
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
-                               const ResizeOptions& o) {
+                               const ResizeOptions& options) {
   require_valid(mesh, "resize input");
-  check_options(o);
+  check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
   if (C.rows() != n) throw InvalidInput(fmt::format("deformed positions: {} rows for {} vertices", C.rows(), n));
   if (features.size() != n)
@@ -1355,8 +1363,10 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   if (!C.allFinite()) throw InvalidInput("deformed positions must be finite");
   if (!features.allFinite() || features.minCoeff() < 0 || features.maxCoeff() > 1)
     throw InvalidInput("feature weights must lie in [0, 1]");
-  report(o.progress, 0.0, "transforms");
   const MatrixX3d X = positions(mesh);
+  ResizeOptions o = options;
+  o.method = resolved_resize_method(options, X, C);
+  report(o.progress, 0.0, "transforms");
   if (o.method == ResizeMethod::Axis || o.method == ResizeMethod::AxisSimilarity) {
     Vec3 stretch, lo;
     if (!box_scale_of(X, C, stretch, lo))
@@ -1481,6 +1491,7 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
   }
   ResizeOptions ro = options.resize;
   ro.progress = part(split, 1.0);
+  r.method = resolved_resize_method(ro, positions(mesh), r.mapped);
   r.V = feature_aware_resize(mesh, r.mapped, r.features, ro);
   return r;
 }

@@ -20,6 +20,8 @@ const ResultTable<FeatureSummary>& feature_summary_results() {
 const ResultTable<ResizeResult>& resize_results() {
   using R = ResizeResult;
   static const auto t = ResultTable<R>()
+      .add("method", [](const R& r) { return std::string(enum_name(resize_method_names(), r.method)); },
+           "the resize method run (for auto, the one chosen: axis-similarity for a box scale, else similarity)")
       .add("detector", [](const R& r) { return std::string(enum_name(feature_map_names(), r.detector)); },
            "the detector that made the map (for auto, the one chosen; none: weights given or no features)")
       .part(feature_summary_results(), [](const R& r) -> const FeatureSummary& { return r.summary; })

@@ -80,8 +80,9 @@ void run(const MeshIo& io, const Args& a, ResizeRunOptions o) {
   const std::string source = a.feature_file.empty() ? enum_name(feature_map_names(), r.detector) : a.feature_file;
   info(fmt::format("{} (from {})", r.summary.describe(), source));
   if (!r.summary.warning.empty()) info("geotex: warning: " + r.summary.warning);
-  info(fmt::format("resized {} vertices ({}) in {:.2f} s", mesh.n_vertices(),
-                   enum_name(resize_method_names(), o.resize.method), sec));
+  const std::string method(enum_name(resize_method_names(), r.method));  // for auto, the one chosen
+  info(fmt::format("resized {} vertices ({}{}) in {:.2f} s", mesh.n_vertices(), method,
+                   o.resize.method == ResizeMethod::Auto ? ", auto" : "", sec));
   if (!a.save_features.empty()) write_features(mesh, r.features, a.save_features, !io.ascii);
   set_positions(mesh, r.V);
   save_mesh(mesh, io.output, !io.ascii);
@@ -102,7 +103,7 @@ Registrar reg{80, "resize", "Feature-aware resizing and deformation (ch. 9): fea
   app.add_option("--save-features", a->save_features,
                  "write the feature weights used: PLY (the input with vertex property 'feature') or text (one "
                  "weight per line); --features reads either back");
-  app.add_option("--report", a->report, "write a JSON report (marked fraction, detector, parameters, time)");
+  app.add_option("--report", a->report, "write a JSON report (method, marked fraction, detector, parameters, time)");
   auto flags = std::make_shared<FlagSet>(app);
   flags->add("resize", ResizeRunOptions::table());
   app.get_option("--features")->description(app.get_option("--features")->get_description() +

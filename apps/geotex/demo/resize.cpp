@@ -1,7 +1,7 @@
 // Demo step for feature-aware resizing (thesis ch. 9): a plate with round bumps and a ridge, scaled by
 // (2, 1, 1), bent and twisted, and the tentacle stick scaled ×2 along its axis and bent into an arc;
 // automatic features (feature_map(), "auto"); plain map, the thesis' method (preset "thesis") and the
-// default (similarity) method; and spot.obj (shipped, CC0) ×2 along x.
+// default (auto) method; and spot.obj (shipped, CC0) ×2 along x.
 
 #include <fmt/format.h>
 
@@ -52,7 +52,8 @@ nlohmann::json record(const Measures& m, std::initializer_list<std::string_view>
   return j;
 }
 
-// The three results of one deformation: plain space map, thesis preset, the default (similarity).
+// The three results of one deformation: plain space map, thesis preset, the default (auto: axis-similarity
+// for a box scale, similarity otherwise).
 std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& f) {
   ResizeOptions thesis;
   ResizeOptions::table().apply_preset(thesis, "thesis");
@@ -60,7 +61,9 @@ std::vector<std::pair<std::string, MatrixX3d>> results(const Mesh& mesh, const M
 }
 
 const char* method_label(const std::string& name) {
-  return name == "plain" ? "plain space map" : name == "thesis" ? "preset thesis (Eq. 9.2&ndash;9.3)" : "default (similarity)";
+  return name == "plain"    ? "plain space map"
+         : name == "thesis" ? "preset thesis (Eq. 9.2&ndash;9.3)"
+                            : "default (auto: axis-similarity on a box scale, else similarity)";
 }
 
 DemoRegistrar step{85, "feature-aware resizing", [](const DemoContext& ctx) {

@@ -3,8 +3,10 @@
 //! map or an edited mesh) is applied while the features, given by per-vertex weights f_i ∈ [0, 1]
 //! (feature_map.h), keep their shape and size.
 //!
-//! Three formulations, and a separable warp for box scales.
-//!  - ResizeMethod::Similarity (default): for continuous weights f_i ∈ [0, 1] (the importance map of
+//! Three formulations, and a separable warp for box scales. The default, ResizeMethod::Auto, runs
+//! AxisSimilarity on a box scale and Similarity on any other deformation (bend, twist, arc, deformed copy);
+//! resolved_resize_method() says which, and ResizeResult::method reports it.
+//!  - ResizeMethod::Similarity: for continuous weights f_i ∈ [0, 1] (the importance map of
 //!    feature_map.h). Every edge is pulled towards T_ij (x_i − x_j), T_i = s_i R_i the nearest
 //!    similarity to the space map's local linear part (polar rotation; s_i its smallest singular value
 //!    in the tangent plane, so a (2, 1, 1) stretch keeps sizes and a uniform scale scales), with
@@ -93,13 +95,16 @@ SpaceMap space_map(const SpaceMapOptions& options, const BoundingBox& box);
 enum class ResizeMethod {
   Sliding,  //!< binary features rigid, background slides along the deformed surface; frame pinned
   Thesis,   //!< Eq. (9.2–9.3): weighted Laplacian least squares with p_i = 1 − f_i
-  Similarity,  //!< continuous weights: near-similarities where important (default)
+  Similarity,  //!< continuous weights: near-similarities where important
   //! An axis-aligned separable warp (axis_warp.h, after Kraevoy et al. 2008); box scales only.
   Axis,
   //! The axis warp, then Similarity with the warp in place of the plain map; box scales only.
-  AxisSimilarity
+  AxisSimilarity,
+  //! AxisSimilarity on a box scale, Similarity on any other deformation (default): axis-similarity was better
+  //! than similarity on 28 of 29 ×2 x/y/z runs and turned no face (bench/resize.md, eleventh session).
+  Auto
 };
-//! "similarity", "sliding", "thesis", "axis", "axis-similarity".
+//! "auto", "similarity", "sliding", "thesis", "axis", "axis-similarity".
 const EnumNames<ResizeMethod>& resize_method_names();
 
 //! How the similarity method minimizes its energy.
@@ -113,7 +118,7 @@ enum class SimilaritySolver {
 const EnumNames<SimilaritySolver>& similarity_solver_names();
 
 struct ResizeOptions {
-  ResizeMethod method = ResizeMethod::Similarity;
+  ResizeMethod method = ResizeMethod::Auto;
   //! w of Eq. (9.2): weight of the position terms against the feature terms.
   double position_weight = 1.0;
   //! Features keep their size (T_i a rotation, default), or scale with the map (T_i a similarity,
@@ -189,6 +194,11 @@ struct ResizeOptions {
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& deformed, const Eigen::VectorXd& features,
                                const ResizeOptions& options = {});
 
+//! The method feature_aware_resize() runs for \p options on the deformation X ↦ C (#V by 3 each): options.method,
+//! or for Auto, AxisSimilarity when C is a box scale of X (box_scale_of(), every stretch positive) and Similarity
+//! otherwise.
+ResizeMethod resolved_resize_method(const ResizeOptions& options, const MatrixX3d& X, const MatrixX3d& C);
+
 //! Convenience: apply \p map to every vertex and call the function above.
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
                                const ResizeOptions& options = {});
@@ -213,6 +223,8 @@ struct ResizeResult {
   //! were given or the method is none.
   FeatureMapMethod detector = FeatureMapMethod::None;
   FeatureSummary summary;      //!< share of the surface marked, and the warning when it is implausible
+  //! The method run (for Auto, the one chosen: resolved_resize_method()).
+  ResizeMethod method = ResizeMethod::Similarity;
 };
 
 //! One feature-aware resize as the front ends run it: the deformation is options.map (about the

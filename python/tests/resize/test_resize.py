@@ -169,12 +169,29 @@ def test_cli_and_python_give_the_same_result(tmp_path):
     expected = geotex.resize(V, F, scale=(2, 1, 1.5), features="auto", transition=0.2, method="sliding").V
     got, _ = geotex.read_mesh(out)
     assert np.abs(got - expected).max() < 1e-9
-    # And the default (importance map, similarity method).
+    # And the default (importance map, method auto: axis-similarity for this box scale).
     r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "2,1,1.5"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     expected = geotex.resize(V, F, scale=(2, 1, 1.5)).V
     got, _ = geotex.read_mesh(out)
     assert np.abs(got - expected).max() < 1e-9
+
+
+def test_default_method_is_auto_and_the_result_says_which_it_ran(plate):
+    V, F = plate
+    params = inspect.signature(geotex.resize).parameters
+    assert params["method"].default == "auto"
+    # A box scale runs axis-similarity, a bend or a deformed copy similarity: the same vertices as asking for it.
+    bent = geotex.resize(V, F, bend=0.5, features="none").mapped  # the plain bend, as a deformed copy
+    for kw, runs, other in (({"scale": (2, 1, 1)}, "axis-similarity", "similarity"),
+                            ({"bend": 0.5}, "similarity", "sliding"),
+                            ({"deformed": bent}, "similarity", "sliding")):
+        r = geotex.resize(V, F, **kw)
+        assert r.method == runs and r.parameters["method"] == "auto", kw
+        asked = geotex.resize(V, F, method=runs, **kw)
+        assert asked.method == runs and np.array_equal(r.V, asked.V), kw
+        assert not np.array_equal(r.V, geotex.resize(V, F, method=other, **kw).V), kw  # the methods differ here
+    assert geotex.resize(V, F, scale=(2, 1, 1), preset="thesis").method == "thesis"  # the preset as it was
 
 
 def test_axis_method_honours_a_painted_map_and_keeps_the_box(plate, tmp_path):
