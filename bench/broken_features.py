@@ -3,8 +3,10 @@
 
 Usage: broken_features.py OUT.ply BASE.ply EXEMPLAR.ply EXEMPLAR_BASE.ply SCALE
 The connected regions of vertices displaced (OUT − BASE) by over 5 % of the exemplar's largest displacement
-× SCALE (the report's scale: height_factor with height_scale 1), each by its peak; a region is broken when its
-peak is under half the exemplar's lowest whole feature (off the plate's rim) × SCALE. Prints JSON.
+× SCALE (the report's scale: height_factor with height_scale 1), each by its peak and footprint (the sum of its
+vertex areas); a region is broken when its peak is under half the exemplar's lowest whole feature (off the
+plate's rim) × SCALE, or its footprint under half their smallest × SCALE² (as Synthesis.NoBrokenFeaturesOnASphere
+asks; the synthesis removes under 3/4 of the raster's footprint). Prints JSON.
 """
 import json
 import sys
@@ -24,10 +26,13 @@ def regions(V, F, D, tau):
     A = sp.coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n))
     _, lab = connected_components(A, directed=False)
     h = np.linalg.norm(D, axis=1)
+    V, F = np.asarray(V), np.asarray(F)
+    fa = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
+    va = np.bincount(F.ravel(), np.repeat(fa / 3, 3), minlength=n)
     out = {}
     for v in np.flatnonzero(up):
         out.setdefault(lab[v], []).append(v)
-    return [(np.array(vs), h[vs].max()) for vs in out.values()], e
+    return [(np.array(vs), h[vs].max(), va[vs].sum()) for vs in out.values()], e
 
 
 def main():
@@ -44,14 +49,14 @@ def main():
     rim = np.zeros(len(ED), bool)
     rim[u[c == 1].ravel()] = True
     own, _ = regions(EBV, EF, ED, 0.05 * elargest)
-    peaks = [p for vs, p in own if len(vs) >= 4 and not rim[vs].any()]
-    lowest = min(peaks)
+    whole = [(p, a) for vs, p, a in own if len(vs) >= 4 and not rim[vs].any()]
+    lowest, smallest = min(p for p, _ in whole), min(a for _, a in whole)
     D = np.asarray(MV) - np.asarray(BV)
     regs, _ = regions(BV, np.asarray(BF), D, 0.05 * elargest * scale)
-    regs = [(vs, p) for vs, p in regs if len(vs) >= 4]
-    broken = [(vs, p) for vs, p in regs if p < 0.5 * lowest * scale]
+    regs = [r for r in regs if len(r[0]) >= 4]
+    broken = [r for r in regs if r[1] < 0.5 * lowest * scale or r[2] < 0.5 * smallest * scale**2]
     print(json.dumps({"regions": len(regs), "broken": len(broken),
-                      "broken_vertices": int(sum(len(vs) for vs, _ in broken)),
+                      "broken_vertices": int(sum(len(r[0]) for r in broken)),
                       "exemplar_lowest_over_largest": round(lowest / elargest, 3)}))
 
 

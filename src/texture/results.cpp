@@ -135,7 +135,8 @@ const ResultTable<SynthesisResult>& synthesis_results() {
       .add("filled_patches", [](const R& r) { return r.filled_patches; },
            "patches placed where a whole feature had room after the front (fill_holes)")
       .add("fragments_removed", [](const R& r) { return r.fragments_removed; },
-           "broken features (lower than half the exemplar's lowest whole feature) zeroed after unfolding")
+           "broken features (lower than half the exemplar's lowest whole feature, or under 3/4 of its smallest "
+           "footprint) zeroed after unfolding")
       .add("fragment_vertices", [](const R& r) { return r.fragment_vertices; },
            "vertices zeroed with the broken features")
       .add("bare_share", [](const R& r) { return r.bare_share; },
