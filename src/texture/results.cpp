@@ -134,6 +134,11 @@ const ResultTable<SynthesisResult>& synthesis_results() {
            "vertices zeroed after encoding, where the textured surface still crossed itself")
       .add("filled_patches", [](const R& r) { return r.filled_patches; },
            "patches placed where a whole feature had room after the front (fill_holes)")
+      .add("fragments_removed", [](const R& r) { return r.fragments_removed; },
+           "broken features (lower than half the exemplar's lowest whole feature, or under 3/4 of its smallest "
+           "footprint) zeroed after unfolding")
+      .add("fragment_vertices", [](const R& r) { return r.fragment_vertices; },
+           "vertices zeroed with the broken features")
       .add("bare_share", [](const R& r) { return r.bare_share; },
            "area share of the growth region where a whole feature would fit between the displaced vertices")
       .add("inward_share", [](const R& r) { return r.inward_share; },

@@ -82,6 +82,9 @@ const OptionTable<SynthesisOptions>& SynthesisOptions::table() {
       .add("repair_crossings", &O::repair_crossings,
            "where the textured surface still crosses itself, zero the features there, unfold and encode again "
            "(at most 4 times)")
+      .add("remove_fragments", &O::remove_fragments,
+           "seams=cut: zero (feathered) the displaced regions lower than half the exemplar's lowest whole feature "
+           "or smaller than 3/4 of its smallest footprint (broken features) after unfolding")
       .add("drop_folds", &O::drop_folds,
            "seams=cut: zero the features of a kept placement that still folds faces too (not left to unfold)")
       .add("unfold", &O::unfold, "shrink the displacements around faces they fold (by 0.75 a round) until none folds")
@@ -1067,6 +1070,8 @@ struct ExemplarFeatures {
   std::vector<Eigen::Vector2d> roots;
   double closest = 0;    // unit-disk length
   double footprint = 0;  // unit-disk length
+  double lowest = 0;     // the lowest peak |d| of the features off the rim (exemplar units)
+  double smallest = 0;   // the smallest footprint area of those (unit-disk area)
 };
 
 ExemplarFeatures exemplar_features(const Exemplar& ex) {
@@ -1100,6 +1105,11 @@ ExemplarFeatures exemplar_features(const Exemplar& ex) {
     out.roots.push_back(sum / static_cast<double>(queue.size()));
     if (rim) continue;
     inside.push_back(out.roots.back());
+    double peak = 0;
+    for (int c : queue) peak = std::max(peak, ex.grid[c].norm());
+    out.lowest = inside.size() == 1 ? peak : std::min(out.lowest, peak);
+    const double area = static_cast<double>(queue.size()) * std::pow(2.0 / (s - 1), 2);
+    out.smallest = inside.size() == 1 ? area : std::min(out.smallest, area);
     for (int c : queue) out.footprint = std::max(out.footprint, (at(c) - out.roots.back()).norm());
   }
   if (inside.size() < 2) return {};
@@ -1107,6 +1117,38 @@ ExemplarFeatures exemplar_features(const Exemplar& ex) {
   for (size_t a = 0; a < inside.size(); ++a)
     for (size_t b = a + 1; b < inside.size(); ++b) out.closest = std::min(out.closest, (inside[a] - inside[b]).norm());
   return out;
+}
+
+// Broken features (issue 27): the connected regions of vertices displaced (\p D, #V by 3) by over \p tau whose
+// peak |d| is under \p below or whose footprint (the sum of their vertex areas) is under \p smaller — what a
+// drop, a seam or a patch's rim left of a feature — zeroed and feathered as drop_collisions does
+// (zero_features()). \return the regions removed; \p zeroed += their vertices.
+size_t remove_fragments(const Mesh& T, const MatrixX3i& Fi, double tau, double below, double smaller, int feather,
+                        MatrixX3d& D, size_t& zeroed) {
+  const Eigen::Index n = D.rows();
+  const Eigen::VectorXd va = vertex_areas(T);
+  std::vector<char> seen(n, 0), mark(n, 0);
+  std::vector<int> queue, seeds;
+  for (Eigen::Index v0 = 0; v0 < n; ++v0) {
+    if (seen[v0] || !(D.row(v0).norm() > tau)) continue;
+    queue.assign({static_cast<int>(v0)});
+    seen[v0] = 1;
+    double peak = 0, area = 0;
+    for (size_t i = 0; i < queue.size(); ++i) {
+      peak = std::max(peak, D.row(queue[i]).norm());
+      area += va[queue[i]];
+      for (auto w : T.vv_range(T.vertex_handle(queue[i])))
+        if (!seen[w.idx()] && D.row(w.idx()).norm() > tau) seen[w.idx()] = 1, queue.push_back(w.idx());
+    }
+    if (peak < below || area < smaller)
+      for (auto f : T.vf_range(T.vertex_handle(queue[0]))) {
+        seeds.push_back(f.idx());
+        break;
+      }
+  }
+  // Zeroed after the search, so that feathering one region does not split another.
+  for (int f : seeds) zeroed += zero_features(T, Fi, {f}, tau, feather, [](int) { return true; }, D, mark);
+  return seeds.size();
 }
 
 // The placement of a patch that overlaps what is written: o.candidates random placements (\p t the
@@ -1532,6 +1574,16 @@ SynthesisResult synthesize_texture(const Mesh& exemplar_base, const Texture& exe
     if (res.unfolded_vertices)
       res.warnings.push_back(fmt::format("displacements shrunk at {} vertices where they folded the surface",
                                          res.unfolded_vertices));
+  }
+  if (o.remove_fragments && o.seams == SeamMethod::Cut) {
+    const ExemplarFeatures features = exemplar_features(ex);
+    // A whole feature's footprint on the target measured 0.91–2.2 × the exemplar's (igea, tentacle plate); the
+    // pieces cut off by a seam or a drop 0.2–0.73 (bench/synthesis.md, eleventh session, fragments).
+    const double unit = ex.extent * res.scale;  // target length per unit-disk length
+    if (features.lowest > 0)
+      res.fragments_removed =
+          remove_fragments(T, faces(T), 0.05 * largest, 0.5 * res.height_factor * features.lowest,
+                           0.75 * features.smallest * unit * unit, o.feather, res.local, res.fragment_vertices);
   }
   stage_done("unfold");
   encode_and_count(T, X, N, F, 0.05 * largest, placing, res, stage_done);

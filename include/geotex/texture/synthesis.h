@@ -120,6 +120,11 @@ struct SynthesisOptions {
   //! Where the textured surface still crosses itself after encoding (beyond the base), zero the features
   //! there as drop_collisions does, unfold, and encode again (at most 4 times).
   bool repair_crossings = true;
+  //! seams = cut: after unfolding, remove broken features (issue 27): a connected region displaced by over 5 %
+  //! of the largest displacement whose peak is under half the lowest of the exemplar's whole features, or whose
+  //! footprint is under 3/4 of their smallest (a stub, a feature cut by a seam, a rim or a drop), is zeroed and
+  //! feathered, before crossings are counted.
+  bool remove_fragments = true;
   //! seams = cut: drop the features of a kept placement that still folds faces too (rather than leaving
   //! the folds to unfold).
   bool drop_folds = false;
@@ -220,6 +225,8 @@ struct SynthesisResult {
   size_t repaired_vertices = 0;
   //! Patches placed by fill_holes (in \ref centers too).
   size_t filled_patches = 0;
+  //! Broken features removed (remove_fragments) and the vertices they zeroed.
+  size_t fragments_removed = 0, fragment_vertices = 0;
   //! Area share of the growth region (weight ≥ 0.5) left bare: where a whole feature would fit (no vertex displaced
   //! by over 5 % of the largest displacement within the exemplar's largest footprint radius). The exemplar's own
   //! is about 0 (the tentacle plate's: 0); 0 for an exemplar without separate features.
