@@ -825,6 +825,21 @@ TEST(ResizeAxis, RefusesMapsThatAreNotABoxScale) {
   }
 }
 
+// The worst tentacle of the stick \p s (its tentacles \p info) between X and Y: {|length / length₀ − 1|,
+// |lean − lean₀| in degrees}, measured on each tentacle's true foot ring as in
+// FeatureMap.TentaclesKeepLengthAndAngleOnTheStretchedArc.
+std::array<double, 2> worst_tentacle_change(const TexturedShape& s, const std::vector<Tentacle>& info,
+                                            const MatrixX3d& X, const MatrixX3d& Y) {
+  std::array<double, 2> w{0, 0};
+  for (const Tentacle& t : info) {
+    const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, TentacleOptions{}.radius);
+    const ProtrusionPose a = measure_protrusion(s.textured, X, t.foot, foot), b = measure_protrusion(s.textured, Y, t.foot, foot);
+    w[0] = std::max(w[0], std::abs(b.length / a.length - 1));
+    w[1] = std::max(w[1], std::abs(b.angle_deg - a.angle_deg));
+  }
+  return w;
+}
+
 // The tentacle stick (issue 25) ×2 along x, y and z with its automatic importance map. With the slab term
 // (axis_slab_weight), the slabs beyond the stick's body, which hold only tentacles, keep the scale 1
 // (without it they take 2–7: little area, so cheap), and axis-similarity keeps the tentacles' lengths
@@ -837,17 +852,7 @@ TEST(ResizeAxis, FullSlabsKeepTheirScaleAndTheTentaclesTheirLength) {
   const Mesh& m = s.textured;
   const MatrixX3d X = positions(m);
   const Eigen::VectorXd f = feature_map(m).weights;
-  const double radius = TentacleOptions{}.radius;
-  auto worst = [&](const MatrixX3d& Y) {
-    std::array<double, 2> w{0, 0};  // |length / length_0 − 1|, |lean − lean_0| (degrees)
-    for (const Tentacle& t : info) {
-      const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, radius);
-      const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
-      w[0] = std::max(w[0], std::abs(b.length / a.length - 1));
-      w[1] = std::max(w[1], std::abs(b.angle_deg - a.angle_deg));
-    }
-    return w;
-  };
+  auto worst = [&](const MatrixX3d& Y) { return worst_tentacle_change(s, info, X, Y); };
   ResizeOptions slab = with(ResizeMethod::AxisSimilarity);
   slab.axis.slab_weight = 1;
   // The slab term as tuned in the tenth session, with the similarity stage's β of then (0.002): at the
@@ -925,16 +930,7 @@ TEST(ResizeSimilarity, RigidProtrusionsKeepEveryTentaclesLengthAndLeanOnEveryAxi
                 covered, info.size());
     EXPECT_EQ(found.size(), info.size());
     EXPECT_EQ(covered, static_cast<int>(info.size()));
-    auto worst = [&](const MatrixX3d& Y) {
-      std::array<double, 2> w{0, 0};  // |length / length_0 − 1|, |lean − lean_0| (degrees)
-      for (const Tentacle& t : info) {
-        const Eigen::VectorXd foot = tentacle_truth(s.base, {t}, radius);
-        const ProtrusionPose a = measure_protrusion(m, X, t.foot, foot), b = measure_protrusion(m, Y, t.foot, foot);
-        w[0] = std::max(w[0], std::abs(b.length / a.length - 1));
-        w[1] = std::max(w[1], std::abs(b.angle_deg - a.angle_deg));
-      }
-      return w;
-    };
+    auto worst = [&](const MatrixX3d& Y) { return worst_tentacle_change(s, info, X, Y); };
     for (ResizeMethod method : {ResizeMethod::Similarity, ResizeMethod::AxisSimilarity})
     for (int a = 0; a < 3; ++a) {
       ResizeOptions rigid, without;
