@@ -5,10 +5,10 @@
 #include <cmath>
 
 #include <Eigen/SVD>
-#include <Eigen/SparseCholesky>
 
 #include "geotex/core/error.h"
 #include "geotex/toolkit/editing.h"
+#include "geotex/toolkit/simplify.h"
 
 namespace geotex {
 
@@ -63,6 +63,26 @@ Similarity foot_similarity(const MatrixX3d& X, const MatrixX3d& Y, const RigidPr
   return s;
 }
 
+// The centre of the vertices \p ring (rows of X) and their mean distance from it.
+std::pair<Vec3, double> ring_circle(const MatrixX3d& X, const std::vector<int>& ring) {
+  Vec3 c = Vec3::Zero();
+  for (int v : ring) c += X.row(v).transpose();
+  c /= std::max<double>(1, static_cast<double>(ring.size()));
+  double radius = 0;
+  for (int v : ring) radius += (X.row(v).transpose() - c).norm();
+  return {c, radius / std::max<double>(1, static_cast<double>(ring.size()))};
+}
+
+// D (#V by 3) made harmonic (umbrella weights, Eq. 5.8) on the vertices with \p unknown[i] ≠ 0, its other rows
+// fixed: extend_harmonic() from the others.
+void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D) {
+  std::vector<int> known;
+  for (Eigen::Index i = 0; i < D.rows(); ++i)
+    if (!unknown[i]) known.push_back(static_cast<int>(i));
+  if (known.size() == static_cast<size_t>(D.rows())) return;
+  D = extend_harmonic(mesh, known, D(known, Eigen::all));
+}
+
 // Does region p stand out of its foot ring like a protrusion: at most kExtent of the model's largest
 // extent \p largest along every axis, and reaching kReach ring radii from the ring's centroid?
 bool protrusion_shape(const MatrixX3d& X, const RigidProtrusion& p, double largest) {
@@ -70,45 +90,13 @@ bool protrusion_shape(const MatrixX3d& X, const RigidProtrusion& p, double large
   Vec3 rlo = X.row(p.vertices[0]).transpose(), rhi = rlo;
   for (int v : p.vertices) rlo = rlo.cwiseMin(X.row(v).transpose()), rhi = rhi.cwiseMax(X.row(v).transpose());
   if ((rhi - rlo).maxCoeff() > kExtent * largest) return false;
-  Vec3 c = Vec3::Zero();
-  for (int v : p.foot) c += X.row(v).transpose();
-  c /= static_cast<double>(p.foot.size());
-  double radius = 0, reach = 0;
-  for (int v : p.foot) radius += (X.row(v).transpose() - c).norm();
-  radius /= static_cast<double>(p.foot.size());
+  const auto [c, radius] = ring_circle(X, p.foot);
+  double reach = 0;
   for (int v : p.vertices) reach = std::max(reach, (X.row(v).transpose() - c).norm());
   return reach >= kReach * radius;
 }
 
 }  // namespace
-
-void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D) {
-  const int n = static_cast<int>(D.rows());
-  std::vector<int> slot(n, -1);
-  std::vector<int> rows;
-  for (int i = 0; i < n; ++i)
-    if (unknown[i]) slot[i] = static_cast<int>(rows.size()), rows.push_back(i);
-  if (rows.empty()) return;
-  const auto m = static_cast<Eigen::Index>(rows.size());
-  std::vector<Eigen::Triplet<double>> t;
-  Eigen::MatrixX3d b = Eigen::MatrixX3d::Zero(m, 3);
-  for (Eigen::Index r = 0; r < m; ++r) {
-    double degree = 0;
-    for (auto u : mesh.vv_range(mesh.vertex_handle(rows[r]))) {
-      const int j = u.idx();
-      degree += 1;
-      if (slot[j] >= 0) t.emplace_back(r, slot[j], -1.0);
-      else b.row(r) += D.row(j);
-    }
-    t.emplace_back(r, r, std::max(degree, 1.0));
-  }
-  Eigen::SparseMatrix<double> A(m, m);
-  A.setFromTriplets(t.begin(), t.end());
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-  if (solver.info() != Eigen::Success) throw SolverError("harmonic_fill: the system failed");
-  const Eigen::MatrixX3d d = solver.solve(b);
-  for (Eigen::Index r = 0; r < m; ++r) D.row(rows[r]) = d.row(r);
-}
 
 int relax_turned_faces(const Mesh& mesh, const MatrixX3d& C, const std::vector<RigidProtrusion>& protrusions,
                        MatrixX3d& Y, int rounds) {
@@ -197,10 +185,8 @@ std::vector<RigidProtrusion> find_protrusions(const Mesh& mesh, const MatrixX3d&
       for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
         if (id[u.idx()] < 0 && std::find(front[k].begin(), front[k].end(), u.idx()) == front[k].end())
           front[k].push_back(u.idx());
-    for (int v : front[k]) centre[k] += X.row(v).transpose();
-    centre[k] /= std::max<double>(1, static_cast<double>(front[k].size()));
-    for (int v : front[k]) reach[k] += (X.row(v).transpose() - centre[k]).norm();
-    reach[k] = kGrow * reach[k] / std::max<double>(1, static_cast<double>(front[k].size()));
+    const auto [c, radius] = ring_circle(X, front[k]);
+    centre[k] = c, reach[k] = kGrow * radius;
     front[k] = regions[k];
   }
   for (int ring = 0; ring < kMaxGrowRings; ++ring) {
@@ -273,12 +259,8 @@ MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   // foot ring's centre.
   std::vector<int> band;
   for (const RigidProtrusion& p : protrusions) {
-    Vec3 c = Vec3::Zero();
-    for (int v : p.foot) c += X.row(v).transpose();
-    c /= static_cast<double>(p.foot.size());
-    double radius = 0;
-    for (int v : p.foot) radius += (X.row(v).transpose() - c).norm();
-    radius *= blend / static_cast<double>(p.foot.size());
+    const auto [c, mean_radius] = ring_circle(X, p.foot);
+    const double radius = blend * mean_radius;
     std::vector<int> wave = p.vertices;
     while (!wave.empty()) {
       std::vector<int> next;
@@ -289,7 +271,6 @@ MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
       wave.swap(next);
     }
   }
-  for (int v : band) slot[v] = 0;
   for (int i = 0; i < n; ++i) slot[i] = slot[i] == 0 ? 1 : 0;  // the unknowns: the band
   harmonic_fill(mesh, slot, D);
   for (int v : band) Z.row(v) += D.row(v);

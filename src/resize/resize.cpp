@@ -1343,6 +1343,18 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   return out;
 }
 
+// Rigid protrusions (protrusion_placement.h) put back into a method's result \p out for the map \p C: the rest
+// stretched a little more per axis so that the box holds them at their size, each put back as one piece where its
+// foot went, faces the seams turned relaxed the map's way round, and the box fitted.
+MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const MatrixX3d& out,
+                               const std::vector<RigidProtrusion>& protrusions) {
+  const Vec3 lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
+  MatrixX3d Y = place_protrusions(mesh, X, fit_box_around_protrusions(mesh, X, out, lo, hi, protrusions), protrusions);
+  relax_turned_faces(mesh, C, protrusions, Y);
+  fit_box(Y, C);
+  return Y;
+}
+
 }  // namespace
 
 ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, const MatrixX3d& C) {
@@ -1388,14 +1400,8 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
-    if (!protrusions.empty()) {
-      // As for the similarity method: the rest scaled per axis so that the box holds them at their size.
-      // (Giving their slabs full importance in the warp changed nothing measurable: bench/resize.md.)
-      const Vec3 clo = C.colwise().minCoeff(), chi = C.colwise().maxCoeff();
-      out = place_protrusions(mesh, X, fit_box_around_protrusions(mesh, X, out, clo, chi, protrusions), protrusions);
-      relax_turned_faces(mesh, C, protrusions, out);
-      fit_box(out, C);
-    }
+    // (Giving the protrusions' slabs full importance in the warp changed nothing measurable: bench/resize.md.)
+    if (!protrusions.empty()) out = put_back_protrusions(mesh, X, C, out, protrusions);
     report(o.progress, 1.0, "done");
     return out;
   }
@@ -1407,16 +1413,11 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   if (o.method == ResizeMethod::Similarity && o.rigid_protrusions) {
     std::vector<RigidProtrusion> protrusions = find_protrusions(mesh, X, features);
     if (!protrusions.empty()) {
-      // The similarity method, then the rest stretched a little more per axis so that the box holds the
-      // protrusions at their size, and each put back as one piece where its foot went. (Running the
-      // similarity method on a map with that room already made and the pieces in place dented the stick's
-      // body: its important caps resisted the larger stretch; bench/resize.md, eleventh session.)
+      // The similarity method, then the protrusions put back. (Running the similarity method on a map with the
+      // room already made and the pieces in place dented the stick's body: its important caps resisted the
+      // larger stretch; bench/resize.md, eleventh session.)
       set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
-      const Vec3 lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
-      MatrixX3d out = place_protrusions(mesh, X, fit_box_around_protrusions(mesh, X, similarity(C), lo, hi, protrusions),
-                                        protrusions);
-      relax_turned_faces(mesh, C, protrusions, out);  // a face the seams turned takes the map's way round
-      fit_box(out, C);
+      MatrixX3d out = put_back_protrusions(mesh, X, C, similarity(C), protrusions);
       report(o.progress, 1.0, "done");
       return out;
     }

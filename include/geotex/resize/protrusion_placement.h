@@ -48,10 +48,6 @@ void set_protrusion_scales(const MatrixX3d& X, const MatrixX3d& C, std::vector<R
 MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y,
                             const std::vector<RigidProtrusion>& protrusions, double blend = 1.2);
 
-//! \p D (#V by 3) made harmonic (umbrella weights) on the vertices with \p unknown[i] ≠ 0, its other rows fixed.
-//! \throw SolverError.
-void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D);
-
 //! Faces of \p Y turned over against the map \p C (#V by 3 both): their vertices and 2, 4, … rings around
 //! them (not the protrusions') take the displacement Y − C harmonically interpolated from around them, for up
 //! to \p rounds rounds. \return the faces still turned.
