@@ -433,7 +433,7 @@ std::vector<std::pair<double, double>> feature_peaks(const Mesh& m, const Matrix
 }  // namespace
 
 // Tentacles on a sphere: after the run no displaced region is lower than half the exemplar's lowest whole
-// tentacle or has a footprint under half its smallest (a stub or a piece left by a drop, a seam or a rim; both
+// tentacle or has a footprint under half its smallest (a short broken piece left by a drop, a seam or a rim; both
 // measured on the exemplar's mesh, not its raster), nothing crosses beyond the base, nothing more folds; the
 // same run without remove_fragments leaves some (the test can fail).
 TEST(Synthesis, NoBrokenFeaturesOnASphere) {

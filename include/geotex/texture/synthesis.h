@@ -122,8 +122,8 @@ struct SynthesisOptions {
   bool repair_crossings = true;
   //! seams = cut: after unfolding, remove broken features (issue 27): a connected region displaced by over 5 %
   //! of the largest displacement whose peak is under half the lowest of the exemplar's whole features, or whose
-  //! footprint is under 3/4 of their smallest (a stub, a feature cut by a seam, a rim or a drop), is zeroed and
-  //! feathered, before crossings are counted.
+  //! footprint is under 3/4 of their smallest (a short broken piece of a feature cut by a seam, a rim or a
+  //! drop), is zeroed and feathered, before crossings are counted.
   bool remove_fragments = true;
   //! seams = cut: drop the features of a kept placement that still folds faces too (rather than leaving
   //! the folds to unfold).
