@@ -164,7 +164,10 @@ def test_class1_exceptions_from_progress_callbacks_while_the_gil_is_released():
 def test_class1_ctrl_c_stops_a_long_computation_within_seconds(call):
     # Issue 30 item 7: a SIGINT sent to the process (as Ctrl-C is: to any of its threads) one second into a
     # long call raised KeyboardInterrupt only at the call's next progress report, 7-19 s later. The call
-    # must end with KeyboardInterrupt soon after the signal; 3 s is generous (a check is every few ms).
+    # must end with KeyboardInterrupt soon after the signal. "Soon" is counted in the process's CPU time
+    # (every thread's), not on the wall clock: on a loaded machine the wall clock runs on while the call
+    # waits for a core, but the work it does after the signal is what a late check would show. 3 s of
+    # CPU is generous (a check is every few ms; the old code did 7-19 s of work first).
     p = run_child(f"""
         import os, signal, threading, time
         import geotex
@@ -173,14 +176,14 @@ def test_class1_ctrl_c_stops_a_long_computation_within_seconds(call):
         Vn = geotex.add_noise(V, F, sigma=0.3)
         sent = []
         def interrupt():
-            sent.append(time.monotonic())
+            sent.append(time.process_time())
             os.kill(os.getpid(), signal.SIGINT)
         threading.Timer(1.0, interrupt).start()
         try:
             {call}
             print("finished", "after the signal" if sent else "before the signal")
         except KeyboardInterrupt:
-            print(f"interrupted after {{time.monotonic() - sent[0]:.2f}} s")
+            print(f"interrupted after {{time.process_time() - sent[0]:.2f}} s of CPU")
     """, timeout=600)
     assert_clean_exit(p)
     assert p.stdout.startswith("interrupted after"), p.stdout + p.stderr
