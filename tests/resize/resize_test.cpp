@@ -862,6 +862,7 @@ TEST(ResizeAxis, FullSlabsKeepTheirScaleAndTheTentaclesTheirLength) {
   // The slab term as tuned in the tenth session, with the similarity stage's β of then (0.002): at the
   // follow weight's default 0.03 the stick ×2 x measures 5.9% / 6.7 deg (bench/resize.md, eleventh session).
   slab.axis.follow_weight = 0.002;
+  slab.rigid_protrusions = false;  // the warp's slabs alone (rigid protrusions: the test below)
   for (int a = 0; a < 3; ++a) {
     Vec3 scale = Vec3::Ones();
     scale[a] = 2;
