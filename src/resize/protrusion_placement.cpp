@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include <Eigen/SVD>
 
@@ -277,8 +278,29 @@ MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   return Z;
 }
 
-MatrixX3d fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B, const Vec3& lo,
-                                     const Vec3& hi, const std::vector<RigidProtrusion>& protrusions) {
+double important_share_of_rest(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& f,
+                               const std::vector<RigidProtrusion>& protrusions) {
+  if (f.size() != X.rows()) throw InvalidInput("important_share_of_rest: one weight per vertex");
+  std::vector<char> in(X.rows(), 0);
+  for (const RigidProtrusion& p : protrusions)
+    for (int v : p.vertices) in[v] = 1;
+  double important = 0, area = 0;
+  for (auto fh : mesh.faces()) {
+    std::array<int, 3> v{};
+    int k = 0;
+    for (auto vh : mesh.fv_range(fh)) v[k++] = vh.idx();
+    if (in[v[0]] && in[v[1]] && in[v[2]]) continue;
+    const double a =
+        0.5 * (X.row(v[1]) - X.row(v[0])).transpose().cross((X.row(v[2]) - X.row(v[0])).transpose()).norm();
+    area += a;
+    if ((f[v[0]] + f[v[1]] + f[v[2]]) / 3 >= 0.5) important += a;
+  }
+  return area > 0 ? important / area : 0;
+}
+
+std::optional<MatrixX3d> fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B,
+                                                    const Vec3& lo, const Vec3& hi,
+                                                    const std::vector<RigidProtrusion>& protrusions) {
   if (protrusions.empty()) return B;
   const Vec3 blo = B.colwise().minCoeff(), bhi = B.colwise().maxCoeff();
   const Vec3 target = hi - lo, bc = 0.5 * (blo + bhi), tc = 0.5 * (lo + hi);
@@ -305,10 +327,10 @@ MatrixX3d fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const
       if (!(target[a] > 0) || !(rest[a] > 1e-9 * (bhi - blo).maxCoeff())) continue;
       settled = settled && std::abs(extent[a] / target[a] - 1) < 1e-7;
       l[a] += (target[a] - extent[a]) / rest[a];
-      if (!(l[a] > 0.2 && l[a] < 5)) return B;  // no room: leave it as it is
+      if (!(l[a] > 0.2 && l[a] < 5)) return std::nullopt;  // no room
     }
   }
-  if (!settled) return B;
+  if (!settled) return std::nullopt;
   MatrixX3d M = map(l);
   const MatrixX3d Z = place_protrusions(mesh, X, M, protrusions, 0);
   const Vec3 shift = lo - Z.colwise().minCoeff().transpose();  // the box where it is asked

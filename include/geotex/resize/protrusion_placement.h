@@ -13,6 +13,7 @@
 //! reach the box, the rest of the model is stretched a little more per axis so that the box holds them
 //! at their size (fit_box_around_protrusions()).
 
+#include <optional>
 #include <vector>
 
 #include "geotex/core/mesh.h"
@@ -57,8 +58,18 @@ int relax_turned_faces(const Mesh& mesh, const MatrixX3d& C, const std::vector<R
 //! \p B (#V by 3, a deformation of \p X) scaled per axis about its box centre and moved so that
 //! place_protrusions() of it has the box [\p lo, \p hi]: the rest of the model takes the room the
 //! protrusions, kept at their size, do not (fixed-point steps on each axis' factor, the slope the extent of
-//! what is not a protrusion). \return B when the factors do not settle within (0.2, 5).
-MatrixX3d fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B, const Vec3& lo,
-                                     const Vec3& hi, const std::vector<RigidProtrusion>& protrusions);
+//! what is not a protrusion). \return nothing when the factors do not settle within (0.2, 5) in 20 steps
+//! (no room: the protrusions cannot be held at their size in the box; cheburashka ×2 x and ×2 y).
+std::optional<MatrixX3d> fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B,
+                                                    const Vec3& lo, const Vec3& hi,
+                                                    const std::vector<RigidProtrusion>& protrusions);
+
+//! The share of what is not a protrusion that is important: the area of the faces of \p mesh at \p X not
+//! inside a protrusion whose mean weight \p f (#V in [0, 1]) is at least 1/2, over the area of all those faces.
+//! The room fit_box_around_protrusions() makes is one factor per axis over all of them, so it is only given
+//! where at most half of them are important (the tentacle stick's body: 0.29 at level 1, 0.43 at level 0;
+//! the tentacle plane 0.01; cheburashka's head and body 0.92; bench/resize.md, twelfth session).
+double important_share_of_rest(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& f,
+                               const std::vector<RigidProtrusion>& protrusions);
 
 }  // namespace geotex

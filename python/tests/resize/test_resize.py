@@ -239,3 +239,27 @@ def test_axis_method_from_the_cli_with_a_painted_file(tmp_path):
     r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--twist", "0.5", "--method", "axis"],
                        capture_output=True, text=True)
     assert r.returncode != 0 and "box scale" in r.stderr
+
+
+@pytest.mark.skipif(not os.environ.get("GEOTEX_CLI"), reason="GEOTEX_CLI not set (ctest sets it)")
+def test_rigid_protrusions_are_the_default_and_can_be_turned_off(tmp_path):
+    # The tentacle stick x2 across it: by default its tentacles are put back at their size (the body, mostly
+    # unimportant, takes the room), so the box's y extent is no longer the tentacles' doubled reach; off gives the
+    # method's own per-vertex similarities. The CLI's --no-rigid-protrusions is Python's rigid_protrusions=False.
+    assert inspect.signature(geotex.resize).parameters["rigid_protrusions"].default is True
+    cli = os.environ["GEOTEX_CLI"]
+    mesh, out = tmp_path / "stick.ply", tmp_path / "out.ply"
+    subprocess.run([cli, "generate", "tentacle-stick", "--level", "0", "-o", str(mesh)], check=True, capture_output=True)
+    V, F = geotex.read_mesh(mesh)
+    on = geotex.resize(V, F, scale=(1, 2, 1))
+    off = geotex.resize(V, F, scale=(1, 2, 1), rigid_protrusions=False)
+    assert on.parameters["rigid_protrusions"] is True and off.parameters["rigid_protrusions"] is False
+    assert np.abs(on.V - off.V).max() > 0.1
+    for flags, expected in (([], on.V), (["--no-rigid-protrusions"], off.V)):
+        r = subprocess.run([cli, "resize", str(mesh), "-o", str(out), "--scale", "1,2,1", *flags],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        got, _ = geotex.read_mesh(out)
+        assert np.abs(got - expected).max() < 1e-9
+    for r in (on, off):  # the box as asked either way
+        assert np.ptp(r.V, axis=0) == pytest.approx(np.ptp(V, axis=0) * (1, 2, 1), rel=1e-9)
