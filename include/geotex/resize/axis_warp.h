@@ -45,7 +45,8 @@ struct AxisWarpOptions {
   double size_weight = 0.1;   //!< μ: weight of important faces keeping the asked scale's smallest factor
   //! The size term counts axis k by 1 − n_k², its share in the face's plane (the scale along a face's normal does
   //! not change the face); false: every axis fully, as before issue 25's twelfth session. True lowered the ruler's
-  //! ratio on 24 of 29 ×2 runs (igea ×2 y 0.534 → 0.469, beetle ×2 y 0.694 → 0.590; bench/resize.md).
+  //! ratio on 22 of 29 ×2 runs and raised it by at most 0.007 (igea ×2 y 0.534 → 0.469, beetle ×2 y 0.694 → 0.590;
+  //! bench/resize.md).
   bool in_plane_size = true;
   double plain_weight = 1e-3; //!< ε: weight of each node's pull to the plain stretch λ_a
   //! μ_s: weight of each slab (along each axis) keeping the asked scale's smallest factor, times v̄ / (1 − v̄),
