@@ -21,6 +21,9 @@ const OptionTable<AxisWarpOptions>& AxisWarpOptions::table() {
       .add("size_weight", &O::size_weight,
            "axis: weight of important faces keeping the asked scale's smallest factor", non_negative())
       .add("plain_weight", &O::plain_weight, "axis: weight of each grid node's pull to the plain stretch", positive())
+      .add("in_plane_size", &O::in_plane_size,
+           "axis: the size term counts each axis by its share in a face's plane (1 - n_a^2): a face across the stretch "
+           "takes it for free; false: every axis fully")
       .add("slab_weight", &O::slab_weight,
            "axis: weight of each slab keeping the asked scale's smallest factor by its mean importance v as v / (1 - v) "
            "(a slab holding only a protrusion's end does not stretch; opt-in: lowers other models' ratios)",
@@ -108,7 +111,7 @@ struct AxisQp {
 
 // One face's terms: s(p) = B σ + c, B picking the two nodes around p on each axis (c: flat axes' λ_a).
 void add_face_terms(AxisQp& qp, const AxisWarp& w, const std::array<int, 3>& offset, const std::array<int, 3>& cells,
-                    const Vec3& p, const Vec3& n, double weight, double size_weight, double s_bar) {
+                    const Vec3& p, const Vec3& n, double weight, double size_weight, bool in_plane, double s_bar) {
   int idx[6];
   double coef[6], c[3];
   for (int a = 0; a < 3; ++a) {
@@ -126,11 +129,16 @@ void add_face_terms(AxisQp& qp, const AxisWarp& w, const std::array<int, 3>& off
     c[a] = 0;
   }
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
-  Eigen::Matrix3d M;  // |dev(P diag(s) P)|² = sᵀ M s, plus the size term's μ |s − s̄|²
+  // The size term μ Σ_k c_k (s_k − s̄)²: c_k = P_kk = 1 − n_k², the share of axis k in the face's plane (in_plane),
+  // since the scale along a face's normal does not change the face (a face across the stretch takes it for
+  // free); else c_k = 1.
+  Eigen::Vector3d size;
+  for (int k = 0; k < 3; ++k) size[k] = size_weight * (in_plane ? std::max(P(k, k), 0.0) : 1.0);
+  Eigen::Matrix3d M;  // |dev(P diag(s) P)|² = sᵀ M s, plus the size term
   for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) M(k, l) = weight * (P(k, l) * P(k, l) - 0.5 * P(k, k) * P(l, l) + (k == l ? size_weight : 0));
+    for (int l = 0; l < 3; ++l) M(k, l) = weight * (P(k, l) * P(k, l) - 0.5 * P(k, k) * P(l, l) + (k == l ? size[k] : 0));
   Eigen::Vector3d cs(c[0], c[1], c[2]);
-  const Eigen::Vector3d lin = M * cs - weight * size_weight * s_bar * Eigen::Vector3d::Ones();
+  const Eigen::Vector3d lin = M * cs - weight * s_bar * size;
   for (int r = 0; r < 6; ++r) {
     if (idx[r] < 0) continue;
     qp.g[idx[r]] += coef[r] * lin[r / 2];
@@ -252,7 +260,8 @@ AxisWarp axis_warp(const Mesh& mesh, const Vec3& stretch, const Vec3& out_lo, co
     const Vec3 nrm = (p1 - p0).cross(p2 - p0);
     const double weight = 0.5 * nrm.norm() * (f[F(k, 0)] + f[F(k, 1)] + f[F(k, 2)]) / 3;
     if (!(weight > 0)) continue;
-    add_face_terms(qp, w, offset, cells, (p0 + p1 + p2) / 3, nrm.normalized(), weight, o.size_weight, s_bar);
+    add_face_terms(qp, w, offset, cells, (p0 + p1 + p2) / 3, nrm.normalized(), weight, o.size_weight, o.in_plane_size,
+                   s_bar);
     total += weight;
   }
   if (total > 0) qp.H /= total, qp.g /= total;

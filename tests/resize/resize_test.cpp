@@ -815,6 +815,61 @@ TEST(ResizeAxis, MaxScaleBoundsEveryCellsStretch) {
   EXPECT_EQ(turned_over(m, bounded.apply(X), C), 0);
 }
 
+// Faces across the stretch take it for free: a comb of important square plates across x (normals along x: no face
+// of them changes under any σ_x) for x in [0, 1], then an important plate lying along x (normal along z) for x in
+// [1, 2], stretched ×2 along x. The exact optimum of the anisotropy and in-plane size terms puts all of the stretch
+// into the comb (σ_x = 3 there, 1 along the plate, as the pull to the plain stretch goes to 0); the size term that
+// counts every axis fully makes the comb's plates resist σ_x by their area (50 times the plate's) and stretches the
+// plate instead.
+TEST(ResizeAxis, FacesAcrossTheStretchTakeItForFree) {
+  const int plates = 50, n = 4;
+  std::vector<Vec3> V;
+  std::vector<Eigen::Vector3i> F;
+  auto add_grid = [&](const Vec3& origin, const Vec3& u, const Vec3& v) {
+    const int base = static_cast<int>(V.size());
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) V.push_back(origin + u * (double(i) / n) + v * (double(j) / n));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int a = base + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+        F.emplace_back(a, b, d), F.emplace_back(a, d, c);
+      }
+  };
+  for (int k = 0; k < plates; ++k) add_grid(Vec3(double(k) / plates, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1));
+  add_grid(Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0));
+  MatrixX3d X(V.size(), 3);
+  MatrixX3i Fm(F.size(), 3);
+  for (std::size_t i = 0; i < V.size(); ++i) X.row(i) = V[i].transpose();
+  for (std::size_t k = 0; k < F.size(); ++k) Fm.row(k) = F[k].transpose();
+  const Mesh m = make_mesh(X, Fm);
+  const Eigen::VectorXd f = Eigen::VectorXd::Ones(m.n_vertices());
+  const Vec3 scale(2, 1, 1), lo = X.colwise().minCoeff().transpose();
+  AxisWarpOptions o;
+  o.plain_weight = 1e-5;  // the weak pull to the plain stretch (1e-3) would hold the plate at σ_x 1.14
+  AxisWarpOptions every_axis = o;
+  every_axis.in_plane_size = false;
+  const AxisWarp in_plane = axis_warp(m, scale, lo, f, o), full = axis_warp(m, scale, lo, f, every_axis);
+  // σ_x = g_x' over the middle half of each part, away from the C¹ transition at x = 1.
+  auto slope = [](const AxisWarp& w, double x0, double x1) { return (w.map(0, x1) - w.map(0, x0)) / (x1 - x0); };
+  const double comb = slope(in_plane, 0.25, 0.75), plate = slope(in_plane, 1.25, 1.75);
+  const double full_comb = slope(full, 0.25, 0.75), full_plate = slope(full, 1.25, 1.75);
+  std::printf("  comb | plate: sigma_x %.3f | %.3f in the plane, %.3f | %.3f every axis\n", comb, plate, full_comb,
+              full_plate);
+  EXPECT_NEAR(plate, 1.0, 0.05);
+  EXPECT_GT(comb, 2.9);  // the comb takes (nearly) all of the stretch: 4 − 1 over a length of 1
+  EXPECT_GT(full_plate - 1, 10 * (plate - 1));
+  // The plate keeps its shape (the plain stretch doubles it along x): every face beyond the transition (x ≥ 1.25)
+  // has singular values equal within 5%.
+  const MatrixX3d Y = in_plane.apply(X);
+  for (Eigen::Index k = plates * 2 * n * n; k < Fm.rows(); ++k) {
+    if (X(Fm(k, 0), 0) + X(Fm(k, 1), 0) + X(Fm(k, 2), 0) < 3 * 1.25) continue;
+    const Eigen::Vector2d s = face_stretch(Fm, X, Y, k);
+    EXPECT_LT(s[0] / s[1] - 1, 0.05) << "face " << k;
+  }
+  expect_warp_feasible(in_plane, m, scale, o);
+  expect_warp_feasible(full, m, scale, every_axis);
+}
+
 // A bend, twist or deformed copy that is not a box scale is refused by the axis methods.
 TEST(ResizeAxis, RefusesMapsThatAreNotABoxScale) {
   const BumpyPlate b = bumpy_plate({.n = 20});

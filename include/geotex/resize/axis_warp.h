@@ -9,7 +9,7 @@
 //! no crease at a cell's rim. The unknowns are the node values σ_{a,m}; with s(p) = (σ_x(p_x), σ_y(p_y),
 //! σ_z(p_z)) the local scales at a face's centroid p, they minimize
 //!   Σ_f a_f v_f s(p_f)ᵀ M(n_f) s(p_f) / Σ_f a_f v_f                 in-plane anisotropy (below)
-//! + μ Σ_f a_f v_f |s(p_f) − s̄ 1|² / Σ_f a_f v_f                    important faces keep their size
+//! + μ Σ_f a_f v_f Σ_k (1 − n_{f,k}²)(s_k(p_f) − s̄)² / Σ_f a_f v_f   important faces keep their size in their plane
 //! + λ Σ_a K_a Σ_m (σ_{a,m+1} − σ_{a,m})²                             smooth along each axis
 //! + ε Σ_a Σ_m (w_{a,m} / L_a) (σ_{a,m} − λ_a)²                       weakly the plain stretch
 //! + μ_s Σ_a Σ_m (w_{a,m} / L_a) v̄/(1 − v̄) (σ_{a,m} − s̄)²              opt-in: full slabs keep their size
@@ -20,7 +20,8 @@
 //! diag(s) on a face with unit normal n, to first order: with P = I − n nᵀ, |dev(P diag(s) P)|² =
 //! sᵀ M s, M_kl = P_kl² − ½ P_kk P_ll. It vanishes for s ∝ 1 (a similarity) and does not see the scale
 //! along the normal (a face perpendicular to the stretch shows none of it): Kraevoy's slippage in its
-//! simplest form. The problem is a small QP (a few hundred unknowns, dense through the faces), solved
+//! simplest form. The size term is blind to it too (1 − n_k² = P_kk, the share of axis k in the face's
+//! plane; AxisWarpOptions::in_plane_size), so such a face takes the stretch for free. The problem is a small QP (a few hundred unknowns, dense through the faces), solved
 //! by a primal active-set method: exact, milliseconds.
 //!
 //! Limits (bench/resize.md, ninth session): a slab is stretched as a whole, so where important surface
@@ -42,6 +43,11 @@ struct AxisWarpOptions {
   int cells = 64;
   double smoothness = 1e-5;   //!< λ: weight of the stretch's variation along each axis (bench/resize.md)
   double size_weight = 0.1;   //!< μ: weight of important faces keeping the asked scale's smallest factor
+  //! The size term counts axis k by 1 − n_k², its share in the face's plane (the scale along a face's normal does
+  //! not change the face); false: every axis fully, as before issue 25's twelfth session. True lowered the ruler's
+  //! ratio on 22 of 29 ×2 runs and raised it by at most 0.007 (igea ×2 y 0.534 → 0.469, beetle ×2 y 0.694 → 0.590;
+  //! bench/resize.md).
+  bool in_plane_size = true;
   double plain_weight = 1e-3; //!< ε: weight of each node's pull to the plain stretch λ_a
   //! μ_s: weight of each slab (along each axis) keeping the asked scale's smallest factor, times v̄ / (1 − v̄),
   //! v̄ its faces' mean importance: a slab holding only a protrusion's end (a tentacle's) takes no stretch.
