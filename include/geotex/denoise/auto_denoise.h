@@ -110,6 +110,11 @@ struct AutoDenoiseOptions {
   //! squared moves over a vertex's closed 1-ring, averaged over 2 rings): it flattens shape there, not noise.
   //! 0 never refuses (the previous release).
   double creased_budget = 1.0;
+  //! Step 5, scanner stripes: a CAD-looking part (look below 0.6) is read creased throughout where the gradient
+  //! of the sharp fit's residual along the normals points one way across it (the coherence of its structure
+  //! tensor, (λ1 − λ2) / (λ1 + λ2), above stripe_coherence): bands of a scanner, not relief (white noise 0-0.22,
+  //! stripes 0.44-0.80 on fandisk and the cube; bench/denoise.md). 1 never (the previous release).
+  double stripe_coherence = 0.3;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
