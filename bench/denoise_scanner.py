@@ -61,7 +61,7 @@ def main():
     args = [a for a in sys.argv[1:] if "=" not in a]
     variant = {k: value(v) for k, _, v in (a.partition("=") for a in sys.argv[1:] if "=" in a)}
     models = args[0].split(",") if args and args[0] else MODELS
-    noises = args[1].split(",") if len(args) > 1 else list(NOISES)
+    noises = args[1].split(",") if len(args) > 1 and args[1] else list(NOISES)
     print("| model | noise | input | creased (forced) | smooth (forced) | **default** | ratio to the better forced "
           "| creased share |")
     print("|---|---|---|---|---|---|---|---|")
