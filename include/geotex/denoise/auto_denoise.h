@@ -16,7 +16,8 @@
 //!     model (reading_model.h) is sure it is the better one (AutoDenoiseOptions::reading); a soft per-face map
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
 //!     the creased reading is refused where the sharp fit moves an organic-looking part by more than the noise
-//!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused);
+//!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused); a CAD-looking part whose sharp-fit residual
+//!     runs one way across it (a scanner's stripes) is read creased throughout (AutoDenoiseOptions::stripe_coherence);
 //!  5b. the smooth reading's relief per region: a light fit (1 mild sweep, 3 updates) keeps fine relief and
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
