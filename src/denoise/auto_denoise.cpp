@@ -10,6 +10,7 @@
 #include <limits>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "geotex/core/error.h"
@@ -51,6 +52,9 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("creased_budget", &O::creased_budget,
            "the creased reading is refused on organic-looking parts where the sharp fit moves the input by more than "
            "this many noise variances along the normals (median over a 1-ring); 0 never", between(0, 1e6))
+      .add("stripe_coherence", &O::stripe_coherence,
+           "a CAD-looking part is read creased throughout where the gradient of the sharp fit's residual points one "
+           "way across it (scanner stripes) with at least this coherence; 1 never", between(0, 1))
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "
            "below this × the local noise energy, and smoother normals; 0 never", between(0, 1e6))
@@ -510,6 +514,69 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
   return refused;
 }
 
+// A part of fewer vertices has too few faces for a direction of its residual to mean anything: the teapot's
+// patches of 111-450 vertices reach 0.45-0.99 under white noise.
+constexpr int kMinStripedPart = 1000;
+
+// Step 5, scanner stripes: a range scanner's bands displace a part along its normals by a wave that runs one way
+// across it. The sharp fit removes them (its residual is the wave) where the mild fit keeps them as relief, and the
+// rule reads the creases' neighbourhoods (bent by the bands) and scattered vertices smooth: the default was 1.19-1.63x
+// the forced creased reading on striped fandisk and cube (bench/denoise.md, twelfth session). Per part, the
+// area-weighted structure tensor of the gradient of the residual r = n·(X − Xs) (its median over the closed 1-ring;
+// on the sharp fit's faces, n its vertex normals): white noise has no direction (coherence (λ1 − λ2) / (λ1 + λ2)
+// 0.00-0.22 on fandisk, the cube and woody at σ 0.05-0.7 and with impulses), bands one (0.44-0.80 at wavelengths
+// 4-8, across z or an oblique axis, σ 0.2-0.3). A CAD-looking part (look below kOrganicLook) above \p threshold
+// is read creased throughout. \p largest: the largest coherence over the parts measured (-1: none). \return the
+// vertices set.
+int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
+                               const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold, Eigen::VectorXd& sharp,
+                               double* largest) {
+  *largest = -1;  // no part measured
+  if (!(threshold < 1)) return 0;
+  Mesh fit = mesh;
+  set_positions(fit, Xs);
+  const MatrixX3d Ns = vertex_normals(fit);
+  Eigen::VectorXd r0(X.rows()), r(X.rows());
+  for (Eigen::Index v = 0; v < X.rows(); ++v) r0[v] = Ns.row(v).dot(X.row(v) - Xs.row(v));
+  // The median over the closed 1-ring: impulses (a few vertices far out, each with a gradient of its own
+  // direction) would otherwise make a part look banded by chance (fandisk with 10 % impulses: 0.19).
+  std::vector<double> ring;
+  for (Eigen::Index v = 0; v < X.rows(); ++v) {
+    ring.assign(1, r0[v]);
+    for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(r0[N.indices[k]]);
+    const auto mid = ring.begin() + static_cast<std::ptrdiff_t>(ring.size() / 2);
+    std::nth_element(ring.begin(), mid, ring.end());
+    r[v] = *mid;
+  }
+  int n_parts = 0;
+  const Eigen::VectorXi part = connected_components(mesh, &n_parts);
+  std::vector<Eigen::Matrix3d> T(n_parts, Eigen::Matrix3d::Zero());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Vec3 a = Xs.row(F(f, 0)), b = Xs.row(F(f, 1)), c = Xs.row(F(f, 2));
+    const Vec3 n = (b - a).cross(c - a);
+    const double n2 = n.squaredNorm();
+    if (!(n2 > 0)) continue;
+    // The gradient of the linear interpolant of r over the face, weighted by its area.
+    const Vec3 g = (n.cross(c - b) * r[F(f, 0)] + n.cross(a - c) * r[F(f, 1)] + n.cross(b - a) * r[F(f, 2)]) / n2;
+    T[part[F(f, 0)]] += 0.5 * std::sqrt(n2) * g * g.transpose();
+  }
+  std::vector<int> size(n_parts, 0);
+  for (Eigen::Index v = 0; v < X.rows(); ++v) ++size[part[v]];
+  std::vector<char> striped(n_parts, 0);
+  for (int p = 0; p < n_parts; ++p) {
+    if (size[p] < kMinStripedPart) continue;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(T[p], Eigen::EigenvaluesOnly);
+    const double l1 = es.eigenvalues()[2], l2 = es.eigenvalues()[1];
+    striped[p] = l1 + l2 > 0 && (l1 - l2) / (l1 + l2) > threshold;
+    if (l1 + l2 > 0) *largest = std::max(*largest, (l1 - l2) / (l1 + l2));
+  }
+  int set = 0;
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    if (sharp[v] == 0 && striped[part[v]] && features(v, 4) < std::log(kOrganicLook)) sharp[v] = 1, ++set;
+  return set;
+}
+
 // Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
 // above the noise; \p relief: per face, how much of it was kept.
 void add_light_relief(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, const Neighborhoods& N,
@@ -707,6 +774,14 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
+    double coherence = -1;
+    const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, o.stripe_coherence, sharp_here, &coherence);
+    if (coherence >= 0)
+      r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
+                                      "over the parts of {}+ vertices; striped above {}){}", coherence, kMinStripedPart,
+                                      o.stripe_coherence,
+                                      striped > 0 ? fmt::format(": {} vertices of a striped CAD-looking part read creased", striped)
+                                                  : std::string()));
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, o.creased_budget, noise_var, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
   }

@@ -2,6 +2,7 @@
 // orientation, no invented creases, and the shared noisy/clean pairs as a test of the defaults (which
 // were chosen on synthetic noise over the clean models only).
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -410,4 +411,62 @@ TEST(AutoDenoise, ACreasedReadingThatMovesAnOrganicPartBeyondTheNoiseIsRefused) 
   EXPECT_NEAR(part_error(F, V, r.positions, ns, nf), part_error(F, V, before.positions, ns, nf), 1e-9);
   EXPECT_GT(r.refused_share, 0.0);
   EXPECT_LT(r.refused_share, 0.5);
+}
+
+namespace {
+// A generated CAD part, the level-3 cube (40 x 40 quads a side), with a range
+// scanner's striped noise (issue 24): bands 8 edges apart across z, 30 % white beside them, σ 0.3.
+struct StripedCube {
+  Mesh clean = subdivided_cube(40), noisy = clean;
+  StripedCube() {
+    NoiseOptions o;
+    o.sigma = 0.3;
+    o.pattern = NoisePattern::Striped;
+    o.seed = 7;
+    set_positions(noisy, add_noise(clean, o));
+  }
+  double error(const MatrixX3d& X) const {
+    Mesh m = clean;
+    set_positions(m, X);
+    return compare_meshes(m, clean).mean_normal_error_deg;
+  }
+  double forced(bool creased) const {
+    AutoDenoiseOptions o;
+    o.creased = creased;
+    return error(auto_denoise(noisy, o).positions);
+  }
+};
+}  // namespace
+
+// Striped scanner noise on a CAD part: the bands raise the sharp fit's residual as relief does, yet the part
+// reads creased and the default removes most of the stripes, far nearer the truth than the smooth reading,
+// without turning faces over.
+TEST(AutoDenoise, StripedScannerNoiseOnACadPartIsReadCreased) {
+  const StripedCube c;
+  const AutoDenoiseResult r = auto_denoise(c.noisy);
+  EXPECT_GT(r.creased_share, 0.9);
+  const double e = c.error(r.positions), smooth = c.forced(false);
+  EXPECT_LT(e, 0.5 * smooth) << "forced smooth " << smooth;
+  EXPECT_LT(e, 0.5 * compare_meshes(c.noisy, c.clean).mean_normal_error_deg) << "the stripes are mostly removed";
+  Mesh out = c.clean;
+  set_positions(out, r.positions);
+  EXPECT_EQ(turned_over(out, c.clean), 0);
+}
+
+// The issue's goal on striped noise (issue 24): the default within 2 % of the better forced reading. The bands
+// bend the creases and the rule read their neighbourhoods and scattered vertices smooth (the previous release,
+// stripe_coherence 1, is more than 10 % above it here); the part's residual runs one way across it and it is read
+// creased throughout (read_striped_parts_creased()).
+TEST(AutoDenoise, StripedScannerNoiseOnACadPartWithinTwoPercentOfTheBetterForcedReading) {
+  const StripedCube c;
+  const AutoDenoiseResult r = auto_denoise(c.noisy);
+  const double e = c.error(r.positions), best = std::min(c.forced(true), c.forced(false));
+  EXPECT_LE(e, 1.02 * best);
+  AutoDenoiseOptions previous;
+  previous.stripe_coherence = 1;
+  EXPECT_GT(c.error(auto_denoise(c.noisy, previous).positions), 1.1 * best) << "so the test can fail";
+  // White noise of the same level on the same part is not read as bands.
+  const Mesh white = with_noise(c.clean, 0.3, true, 7);
+  const AutoDenoiseResult w = auto_denoise(white), w_previous = auto_denoise(white, previous);
+  EXPECT_NEAR(c.error(w.positions), c.error(w_previous.positions), 1e-12);
 }

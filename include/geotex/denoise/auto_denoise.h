@@ -16,7 +16,8 @@
 //!     model (reading_model.h) is sure it is the better one (AutoDenoiseOptions::reading); a soft per-face map
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
 //!     the creased reading is refused where the sharp fit moves an organic-looking part by more than the noise
-//!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused);
+//!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused); a CAD-looking part whose sharp-fit residual
+//!     runs one way across it (a scanner's stripes) is read creased throughout (AutoDenoiseOptions::stripe_coherence);
 //!  5b. the smooth reading's relief per region: a light fit (1 mild sweep, 3 updates) keeps fine relief and
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
@@ -110,6 +111,11 @@ struct AutoDenoiseOptions {
   //! squared moves over a vertex's closed 1-ring, averaged over 2 rings): it flattens shape there, not noise.
   //! 0 never refuses (the previous release).
   double creased_budget = 1.0;
+  //! Step 5, scanner stripes: a CAD-looking part (look below 0.6) is read creased throughout where the gradient
+  //! of the sharp fit's residual along the normals points one way across it (the coherence of its structure
+  //! tensor, (λ1 − λ2) / (λ1 + λ2), above stripe_coherence): bands of a scanner, not relief (white noise 0-0.22,
+  //! stripes 0.44-0.80 on fandisk and the cube; bench/denoise.md). 1 never (the previous release).
+  double stripe_coherence = 0.3;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.

@@ -206,6 +206,28 @@ def test_creased_reading_beyond_the_noise_is_refused_in_python_and_the_cli(tmp_p
         assert max(report["refused"]) == 0
 
 
+def test_striped_cad_part_is_read_creased_in_python_and_the_cli(tmp_path):
+    # Step 5 (auto_denoise.h, stripe_coherence): a generated cube with a scanner's striped noise reads creased
+    # throughout, as near the truth as the forced creased reading; stripe_coherence=1 is the previous release.
+    # --stripe-coherence reaches the CLI.
+    V, F = geotex.generate("cube", level=3)
+    Vn = geotex.add_noise(V, F, sigma=0.3, pattern="striped", seed=7)
+    r, before = geotex.denoise(Vn, F), geotex.denoise(Vn, F, stripe_coherence=1)
+    assert any(line.startswith("stripes") and "read creased" in line for line in r["choices"])
+    assert r["creased_share"] > before["creased_share"]
+    err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
+    forced = err(geotex.denoise(Vn, F, creased=True)["V"])
+    assert err(r["V"]) <= 1.02 * forced < err(before["V"]), (err(r["V"]), forced, err(before["V"]))
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        for extra, share in (([], r["creased_share"]), (["--stripe-coherence", "1"], before["creased_share"])):
+            subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *extra,
+                            "--report", str(tmp_path / "r.json")], check=True)
+            report = json.loads((tmp_path / "r.json").read_text())
+            assert abs(report["creased_share"] - share) < 1e-9
+
+
 def test_surfel_primal_denoising(noisy_cube):
     V, F, Vn = noisy_cube
     r = geotex.denoise(Vn, F, method="surfel", retrieval="primal")
