@@ -597,15 +597,17 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
 // read partly smooth, the mild fit can fold at high noise beside a flat panel, and the reading's blend with it
 // (keep_unfolded()'s test: a face turned more than 60° from the sharp fit's) takes the sharp fit around that
 // face instead (woody at σ 0.7: three faces 35-76° from the truth, against 4-6° in the sharp fit). Organic parts
-// are left to the reading: there a fold of the sharp fit is the likelier one. \return the vertices changed.
+// are left to the reading: there a fold of the sharp fit is the likelier one. \p creased, the per-face map, is
+// updated where \p cv changed. \return the vertices changed.
 int keep_transitions_unfolded(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& Xs, const MatrixX3d& Xm,
-                              const Eigen::VectorXd& cad, Eigen::VectorXd& cv) {
+                              const Eigen::VectorXd& cad, Eigen::VectorXd& cv, Eigen::VectorXd& creased) {
   Eigen::VectorXd mild_share = (1 - cv.array()).matrix();
   if (!((cad.array() > 0) && (cv.array() > 0) && (cv.array() < 1)).any()) return 0;  // no such transition
   const Eigen::VectorXd kept = keep_unfolded(N, F, Xs, Xm, mild_share);
   int changed = 0;
   for (Eigen::Index v = 0; v < cv.size(); ++v)
     if (cad[v] > 0 && cv[v] > 0 && kept[v] < mild_share[v]) cv[v] = 1 - kept[v], ++changed;
+  if (changed > 0) creased = face_means(F, cv);
   return changed;
 }
 
@@ -638,7 +640,8 @@ void give_back_coherent(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F
 }
 
 // The choices that say how the surfel passes ran (a pass not run is null) and how much relief was kept.
-void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool want_light, AutoDenoiseResult& r) {
+void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool want_light, int unfolded,
+                     AutoDenoiseResult& r) {
   const AutoDenoiseOptions& o = r.resolved;
   if (sharp && r.creased_share > 0)
     r.choices.push_back(fmt::format("sharp surfel pass: thresholds {:.1f} -> {:.0f} deg over {} steps", sharp->t_start_deg,
@@ -653,6 +656,18 @@ void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool
   if (r.strong_share > 0.005)
     r.choices.push_back(fmt::format("strong smoothing (smooth regions): {:.0f}% take the sharp fit (departure below {} x "
                                     "the local noise energy, smoother normals)", 100 * r.strong_share, o.strong_floor));
+  if (unfolded > 0)
+    r.choices.push_back(fmt::format("transitions kept unfolded: {} vertices of CAD-looking parts take the sharp fit "
+                                    "where the mild one folds", unfolded));
+}
+
+// A surfel pass's options: \p iterations threshold steps from \p factor × the median neighbour angle \p m0
+// (at most 60°, at least \p end_deg) down to \p end_deg.
+SurfelOptions pass_options(SurfelOptions p, int iterations, double factor, double end_deg, double m0) {
+  p.iterations = iterations;
+  p.t_end_deg = end_deg;
+  p.t_start_deg = std::clamp(factor * m0, end_deg, 60.0);
+  return p;
 }
 
 // auto_denoise(); with \p truth (the clean positions), stops after the two fits and fills \p samples instead.
@@ -688,20 +703,14 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   base.irls_weights = true;
   base.local_sweeps = 3;        // ICM visits every surfel again: a few block minimisations per visit suffice
   base.record_energy = false;
-  SurfelOptions mild = base;
-  mild.iterations = o.mild_iterations;
-  mild.t_end_deg = kMildEnd;
-  mild.t_start_deg = std::clamp(kMildFactor * m0, kMildEnd, 60.0);
+  SurfelOptions mild = pass_options(base, o.mild_iterations, kMildFactor, kMildEnd, m0);
   mild.progress = [&](double f, std::string_view) { report(o.progress, 0.1 * f, "auto: mild pass"); };
   SurfelResult sr;
   if (want_mild) sr = optimize_surfels(X, N, S0, mild);
   stage("mild surfel pass");
   // 3. The sharp pass: the creased reading. It flattens the faces of a creased surface until neighbouring
   // surfels are parallel, where on a smooth one they keep the angle of its curvature.
-  SurfelOptions sharp = base;
-  sharp.iterations = o.sharp_iterations;
-  sharp.t_end_deg = kSharpEnd;
-  sharp.t_start_deg = std::clamp(kSharpFactor * m0, kSharpEnd, 60.0);
+  SurfelOptions sharp = pass_options(base, o.sharp_iterations, kSharpFactor, kSharpEnd, m0);
   sharp.cluster_moves = true;
   sharp.progress = [&](double f, std::string_view) { report(o.progress, 0.1 + 0.8 * f, "auto: sharp pass"); };
   SurfelResult sharp_result;
@@ -753,23 +762,20 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     add_light_relief(mesh, X, F, N, S0, mild, o, Xm, FNm, r.relief);
     stage("relief");
   }
-  // 5c. Plain, smoothly curved regions read smooth take the sharp fit's stronger smoothing.
+  // 5c. Plain, smoothly curved regions read smooth take the sharp fit's stronger smoothing; 5d. no fold of the
+  // mild fit left in the transitions of a CAD-looking part.
   Eigen::VectorXd strong = Eigen::VectorXd::Zero(X.rows());
+  int unfolded = 0;
   if (want_mild && want_sharp && cv.minCoeff() < 1) {
     strong = add_strong_smoothing(N, X, F, Xs, FNs, cv, o.strong_floor, noise_var, Xm, FNm);
+    unfolded = keep_transitions_unfolded(N, F, Xs, Xm, cad, cv, r.creased);
     stage("strong smoothing");
   }
   r.strong = face_means(F, strong);
-  // 5d. No fold of the mild fit left in the transitions of a CAD-looking part.
-  const int unfolded = want_mild && want_sharp ? keep_transitions_unfolded(N, F, Xs, Xm, cad, cv) : 0;
-  if (unfolded > 0) r.creased = face_means(F, cv);
   r.positions = !want_mild ? Xs : !want_sharp ? Xm : MatrixX3d(cv.asDiagonal() * Xs + (1 - cv.array()).matrix().asDiagonal() * Xm);
   const MatrixX3d FN = blended_face_normals(r.creased, want_sharp ? &FNs : nullptr, want_mild ? &FNm : nullptr);
   describe_reading(mesh, F, look, r);
-  describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, r);
-  if (unfolded > 0)
-    r.choices.push_back(fmt::format("transitions kept unfolded: {} vertices of CAD-looking parts take the sharp fit "
-                                    "where the mild one folds", unfolded));
+  describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, unfolded, r);
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
   give_back_coherent(mesh, X, F, N, cv, strong, noise_var, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
