@@ -1,6 +1,7 @@
 """Issue 24's grid: the default denoiser against both forced readings on synthetic noise of the nine shared models.
 
 Usage: PYTHONPATH=build/python python3 bench/denoise_grid63.py [models,comma,separated] [--default-only]
+       [--data=DIR] (the shared models; default ../shared/data, as bench/denoise_reading.py)
 Prints one JSON line per case (model, noise, creased, smooth, default, ratio to the better forced reading).
 Noise: geotex.add_noise(seed=7), Gaussian σ 0.05-0.7 (mean edge lengths) and impulsive (σ 0.6 on 10 %).
 """
@@ -18,7 +19,7 @@ NOISES = [("g0.05", dict(sigma=0.05)), ("g0.1", dict(sigma=0.1)), ("g0.2", dict(
           ("g0.5", dict(sigma=0.5)), ("g0.7", dict(sigma=0.7)), ("imp", dict(sigma=0.6, impulsive_fraction=0.1))]
 args = [a for a in sys.argv[1:] if not a.startswith("--")]
 default_only = "--default-only" in sys.argv
-data = Path(__file__).resolve().parents[1] / "data" if not Path("/work/shared/data").exists() else Path("/work/shared/data")
+data = Path(next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--data=")), "../shared/data"))
 for m in (args[0].split(",") if args and args[0] else MODELS):
     V, F = load(data, m)
     for name, kw in NOISES:
