@@ -102,6 +102,12 @@ constexpr int kReadingRings = 3;
 // light fit's relief (5b) over 2: the shared models' synthetic noise 0.5-2 % nearer the truth on 32 of 63 cases,
 // one 1.6 % farther (the beetle at σ 0.05); over 4 a noisy bunny kept a face turned over (bench/denoise.md).
 constexpr int kStrongBlendRings = 4, kReliefBlendRings = 2;
+// Step 5c takes a region whole where at least this share of its vertices (averaged over kStrongBlendRings
+// rings) pass the roughness gate. The gate passes 79 % of a level-4 torus at σ 0.5, 42 % of a level-3 capsule at
+// σ 0.2 and 2 % of a level-3 sphere at σ 0.05 (where the sharp fit facets): with the share as it was (1) the torus
+// took 0.73 of the sharp fit, 1.37° against its 1.15°. 0.7 / 0.5: torus 1.32 / 1.31°, capsule 0.55 / 0.53°
+// (0.57°; sharp fit 0.49°), the 63-case grid -0.01 / +0.00 % on average (bench/denoise.md, twelfth session).
+constexpr double kStrongGatePass = 0.7;
 // ReadingRule::Combined: the learned model overrides the rule where it is this sure the sharp fit is better
 // (0.9 and 0.97 measured on 28 cases of synthetic noise on the shared clean models: mean ratio to the better
 // forced reading 1.010 and 1.037, the rule alone 1.043; bench/denoise.md).
@@ -402,7 +408,7 @@ void describe_reading(const Mesh& mesh, const MatrixX3i& F, std::pair<double, do
     if (r.creased[f] > 0.1 && r.creased[f] < 0.9) blend_area += A[f];
   }
   const double total = A.sum() > 0 ? A.sum() : 1.0;
-  r.creased_share = creased_area / total;
+  r.creased_share = std::min(creased_area / total, 1.0);  // not above 1 by rounding ("-0% smooth")
   double refused_area = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (r.refused[f] >= 0.5) refused_area += A[f];
@@ -633,10 +639,18 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
   const Eigen::VectorXd w = relief_weights(N, F, X, Xm, Xs, floor, noise_var);
   const Eigen::VectorXd rough_m = ring_average(N, normal_spread(F, Xm), kReliefRings);
   const Eigen::VectorXd rough_s = ring_average(N, normal_spread(F, Xs), kReliefRings);
+  // The gate and the Wiener complement averaged over the rings apart: the gate's share taken whole from
+  // kStrongGatePass up (a plain region whose gate fails at scattered vertices, the sharp fit's few facets, is
+  // plain all the same), the complement as it is (relief keeps the mild fit).
+  Eigen::VectorXd gate(w.size()), plain(w.size());
+  for (Eigen::Index v = 0; v < w.size(); ++v) {
+    gate[v] = cv[v] < 1 && rough_s[v] < rough_m[v] ? 1.0 : 0.0;
+    plain[v] = cv[v] < 1 ? 1 - w[v] : 0.0;
+  }
+  gate = ring_average(N, gate, kStrongBlendRings), plain = ring_average(N, plain, kStrongBlendRings);
   Eigen::VectorXd t(w.size());
-  for (Eigen::Index v = 0; v < t.size(); ++v)
-    t[v] = cv[v] < 1 && rough_s[v] < rough_m[v] ? 1 - w[v] : 0.0;
-  t = keep_unfolded(N, F, Xm, Xs, ring_average(N, t, kStrongBlendRings));
+  for (Eigen::Index v = 0; v < t.size(); ++v) t[v] = std::min(1.0, gate[v] / kStrongGatePass) * plain[v];
+  t = keep_unfolded(N, F, Xm, Xs, t);
   Xm += t.asDiagonal() * (Xs - Xm);
   const Eigen::VectorXd tf = face_means(F, t);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -644,6 +658,24 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
     if (b.norm() > 0) FNm.row(f) = b.normalized().transpose();
   }
   return t;
+}
+
+// Step 5d: the reading's transitions kept unfolded. Where a CAD-looking part (\p cad: 1 at its vertices) is
+// read partly smooth, the mild fit can fold at high noise beside a flat panel, and the reading's blend with it
+// (keep_unfolded()'s test: a face turned more than 60° from the sharp fit's) takes the sharp fit around that
+// face instead (woody at σ 0.7: three faces 35-76° from the truth, against 4-6° in the sharp fit). Organic parts
+// are left to the reading: there a fold of the sharp fit is the likelier one. \p creased, the per-face map, is
+// updated where \p cv changed. \return the vertices changed.
+int keep_transitions_unfolded(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& Xs, const MatrixX3d& Xm,
+                              const Eigen::VectorXd& cad, Eigen::VectorXd& cv, Eigen::VectorXd& creased) {
+  Eigen::VectorXd mild_share = (1 - cv.array()).matrix();
+  if (!((cad.array() > 0) && (cv.array() > 0) && (cv.array() < 1)).any()) return 0;  // no such transition
+  const Eigen::VectorXd kept = keep_unfolded(N, F, Xs, Xm, mild_share);
+  int changed = 0;
+  for (Eigen::Index v = 0; v < cv.size(); ++v)
+    if (cad[v] > 0 && cv[v] > 0 && kept[v] < mild_share[v]) cv[v] = 1 - kept[v], ++changed;
+  if (changed > 0) creased = face_means(F, cv);
+  return changed;
 }
 
 // Step 6a: the change of the regions read smooth (1 - \p cv) given back where it is coherent beyond the
@@ -675,7 +707,8 @@ void give_back_coherent(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F
 }
 
 // The choices that say how the surfel passes ran (a pass not run is null) and how much relief was kept.
-void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool want_light, AutoDenoiseResult& r) {
+void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool want_light, int unfolded,
+                     AutoDenoiseResult& r) {
   const AutoDenoiseOptions& o = r.resolved;
   if (sharp && r.creased_share > 0)
     r.choices.push_back(fmt::format("sharp surfel pass: thresholds {:.1f} -> {:.0f} deg over {} steps", sharp->t_start_deg,
@@ -690,6 +723,18 @@ void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool
   if (r.strong_share > 0.005)
     r.choices.push_back(fmt::format("strong smoothing (smooth regions): {:.0f}% take the sharp fit (departure below {} x "
                                     "the local noise energy, smoother normals)", 100 * r.strong_share, o.strong_floor));
+  if (unfolded > 0)
+    r.choices.push_back(fmt::format("transitions kept unfolded: {} vertices of CAD-looking parts take the sharp fit "
+                                    "where the mild one folds", unfolded));
+}
+
+// A surfel pass's options: \p iterations threshold steps from \p factor × the median neighbour angle \p m0
+// (at most 60°, at least \p end_deg) down to \p end_deg.
+SurfelOptions pass_options(SurfelOptions p, int iterations, double factor, double end_deg, double m0) {
+  p.iterations = iterations;
+  p.t_end_deg = end_deg;
+  p.t_start_deg = std::clamp(factor * m0, end_deg, 60.0);
+  return p;
 }
 
 // auto_denoise(); with \p truth (the clean positions), stops after the two fits and fills \p samples instead.
@@ -725,20 +770,14 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   base.irls_weights = true;
   base.local_sweeps = 3;        // ICM visits every surfel again: a few block minimisations per visit suffice
   base.record_energy = false;
-  SurfelOptions mild = base;
-  mild.iterations = o.mild_iterations;
-  mild.t_end_deg = kMildEnd;
-  mild.t_start_deg = std::clamp(kMildFactor * m0, kMildEnd, 60.0);
+  SurfelOptions mild = pass_options(base, o.mild_iterations, kMildFactor, kMildEnd, m0);
   mild.progress = [&](double f, std::string_view) { report(o.progress, 0.1 * f, "auto: mild pass"); };
   SurfelResult sr;
   if (want_mild) sr = optimize_surfels(X, N, S0, mild);
   stage("mild surfel pass");
   // 3. The sharp pass: the creased reading. It flattens the faces of a creased surface until neighbouring
   // surfels are parallel, where on a smooth one they keep the angle of its curvature.
-  SurfelOptions sharp = base;
-  sharp.iterations = o.sharp_iterations;
-  sharp.t_end_deg = kSharpEnd;
-  sharp.t_start_deg = std::clamp(kSharpFactor * m0, kSharpEnd, 60.0);
+  SurfelOptions sharp = pass_options(base, o.sharp_iterations, kSharpFactor, kSharpEnd, m0);
   sharp.cluster_moves = true;
   sharp.progress = [&](double f, std::string_view) { report(o.progress, 0.1 + 0.8 * f, "auto: sharp pass"); };
   SurfelResult sharp_result;
@@ -763,7 +802,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   // 5. The reading, per region (reading_model.h); --creased / --no-creased force one everywhere.
   std::pair<double, double> look{0, 0};
   const double noise_var = std::pow(normal_noise * base.unit_length, 2);
-  Eigen::VectorXd cv, refused = Eigen::VectorXd::Zero(X.rows());
+  Eigen::VectorXd cv, cad = Eigen::VectorXd::Zero(X.rows()), refused = Eigen::VectorXd::Zero(X.rows());
   if (o.creased) {
     cv = Eigen::VectorXd::Constant(N.size(), *o.creased ? 1.0 : 0.0);
   } else {
@@ -784,6 +823,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
                                                   : std::string()));
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, o.creased_budget, noise_var, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
+    cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
   }
   r.creased = face_means(F, cv);
   r.refused = face_means(F, refused);
@@ -797,17 +837,20 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     add_light_relief(mesh, X, F, N, S0, mild, o, Xm, FNm, r.relief);
     stage("relief");
   }
-  // 5c. Plain, smoothly curved regions read smooth take the sharp fit's stronger smoothing.
+  // 5c. Plain, smoothly curved regions read smooth take the sharp fit's stronger smoothing; 5d. no fold of the
+  // mild fit left in the transitions of a CAD-looking part.
   Eigen::VectorXd strong = Eigen::VectorXd::Zero(X.rows());
+  int unfolded = 0;
   if (want_mild && want_sharp && cv.minCoeff() < 1) {
     strong = add_strong_smoothing(N, X, F, Xs, FNs, cv, o.strong_floor, noise_var, Xm, FNm);
+    unfolded = keep_transitions_unfolded(N, F, Xs, Xm, cad, cv, r.creased);
     stage("strong smoothing");
   }
   r.strong = face_means(F, strong);
   r.positions = !want_mild ? Xs : !want_sharp ? Xm : MatrixX3d(cv.asDiagonal() * Xs + (1 - cv.array()).matrix().asDiagonal() * Xm);
   const MatrixX3d FN = blended_face_normals(r.creased, want_sharp ? &FNs : nullptr, want_mild ? &FNm : nullptr);
   describe_reading(mesh, F, look, r);
-  describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, r);
+  describe_passes(want_sharp ? &sharp : nullptr, want_mild ? &mild : nullptr, want_light, unfolded, r);
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
   give_back_coherent(mesh, X, F, N, cv, strong, noise_var, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
