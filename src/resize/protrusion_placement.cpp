@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
 
 #include "geotex/core/error.h"
 #include "geotex/toolkit/editing.h"
@@ -82,6 +83,49 @@ void harmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d&
     if (!unknown[i]) known.push_back(static_cast<int>(i));
   if (known.size() == static_cast<size_t>(D.rows())) return;
   D = extend_harmonic(mesh, known, D(known, Eigen::all));
+}
+
+// D (#V by 3) made biharmonic on the vertices with \p unknown[i] ≠ 0, its other rows fixed: the unknowns
+// minimise Σ_v |(L D)_v|² / deg(v), L the umbrella Laplacian (Eq. 5.8 times the valence), so the band meets the
+// placed protrusion and the body with matching slope, not with the kink of a harmonic fill (whose shading showed
+// as streaks around the feet under a large stretch; bench/resize.md, issue 25, twelfth session).
+void biharmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3d& D) {
+  const int n = static_cast<int>(D.rows());
+  std::vector<int> index(n, -1);
+  int u = 0;
+  for (int v = 0; v < n; ++v)
+    if (unknown[v]) index[v] = u++;
+  if (u == 0) return;
+  std::vector<Eigen::Triplet<double>> t;
+  Eigen::VectorXd inv_degree = Eigen::VectorXd::Zero(n);
+  for (int v = 0; v < n; ++v) {
+    int degree = 0;
+    for (auto w : mesh.vv_range(mesh.vertex_handle(v))) ++degree, t.emplace_back(v, w.idx(), -1.0);
+    t.emplace_back(v, v, degree);
+    inv_degree[v] = degree > 0 ? 1.0 / degree : 0;
+  }
+  Eigen::SparseMatrix<double> L(n, n);
+  L.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> Q = L.transpose() * inv_degree.asDiagonal() * L;
+  std::vector<Eigen::Triplet<double>> a;
+  MatrixX3d b = MatrixX3d::Zero(u, 3);
+  for (int k = 0; k < Q.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(Q, k); it; ++it) {
+      const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
+      if (index[r] < 0) continue;
+      if (index[c] >= 0) a.emplace_back(index[r], index[c], it.value());
+      else b.row(index[r]) -= it.value() * D.row(c);
+    }
+  Eigen::SparseMatrix<double> A(u, u);
+  A.setFromTriplets(a.begin(), a.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success) {  // a band piece touching nothing fixed: the harmonic fill's error
+    harmonic_fill(mesh, unknown, D);
+    return;
+  }
+  const MatrixX3d x = solver.solve(b);
+  for (int v = 0; v < n; ++v)
+    if (index[v] >= 0) D.row(v) = x.row(index[v]);
 }
 
 // Does region p stand out of its foot ring like a protrusion: at most kExtent of the model's largest
@@ -273,7 +317,7 @@ MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     }
   }
   for (int i = 0; i < n; ++i) slot[i] = slot[i] == 0 ? 1 : 0;  // the unknowns: the band
-  harmonic_fill(mesh, slot, D);
+  biharmonic_fill(mesh, slot, D);
   for (int v : band) Z.row(v) += D.row(v);
   return Z;
 }

@@ -44,10 +44,11 @@ void set_protrusion_scales(const MatrixX3d& X, const MatrixX3d& C, std::vector<R
 //! \p Y (#V by 3, a deformation of \p X) with every protrusion replaced by its original shape scaled by
 //! its σ, turned and moved onto where \p Y put its foot ring (Umeyama's rotation of the ring, the ring's
 //! centroid onto its centroid). The vertices reached from a protrusion within \p blend times its foot
-//! ring's mean radius of the ring's centre take the protrusion's displacement, fading out harmonically
-//! to nothing at the band's rim (0: no blend). \return #V by 3 positions.
+//! ring's mean radius of the ring's centre take the protrusion's displacement, fading out biharmonically
+//! (matching slope at both ends: no crease, no streaks) to nothing at the band's rim (0: no blend).
+//! \return #V by 3 positions.
 MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y,
-                            const std::vector<RigidProtrusion>& protrusions, double blend = 1.2);
+                            const std::vector<RigidProtrusion>& protrusions, double blend = 1.5);
 
 //! Faces of \p Y turned over against the map \p C (#V by 3 both): their vertices and 2, 4, … rings around
 //! them (not the protrusions') take the displacement Y − C harmonically interpolated from around them, for up
