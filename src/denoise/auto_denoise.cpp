@@ -583,6 +583,20 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
   return set;
 }
 
+// Step 5's scanner stripes (read_striped_parts_creased() with the resolved threshold), said in the choices.
+void read_stripes(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xs,
+                  const Eigen::MatrixXd& features, Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
+  const double threshold = r.resolved.stripe_coherence;
+  double coherence = -1;
+  const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, threshold, sharp, &coherence);
+  if (coherence >= 0)
+    r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
+                                    "over the parts of {}+ vertices; striped above {}){}", coherence, kMinStripedPart,
+                                    threshold,
+                                    striped > 0 ? fmt::format(": {} vertices of a striped CAD-looking part read creased", striped)
+                                                : std::string()));
+}
+
 // Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
 // above the noise; \p relief: per face, how much of it was kept.
 void add_light_relief(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, const Neighborhoods& N,
@@ -813,14 +827,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
-    double coherence = -1;
-    const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, o.stripe_coherence, sharp_here, &coherence);
-    if (coherence >= 0)
-      r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
-                                      "over the parts of {}+ vertices; striped above {}){}", coherence, kMinStripedPart,
-                                      o.stripe_coherence,
-                                      striped > 0 ? fmt::format(": {} vertices of a striped CAD-looking part read creased", striped)
-                                                  : std::string()));
+    read_stripes(mesh, N, F, X, Xs, features, sharp_here, r);
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, o.creased_budget, noise_var, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
