@@ -47,6 +47,9 @@ const OptionTable<FeatureMapOptions>& FeatureMapOptions::table() {
       .add("protrusions", &O::protrusions, "importance: protrusions (significant height basins) get weight 1")
       .add("importance_adf", &O::importance_adf,
            "importance: find the protrusions with the ADF instead of the height (slower)")
+      .add("importance_outline", &O::importance_outline,
+           "importance: the outline of an open or flat model counts as relief (a boundary vertex's distance from "
+           "its boundary loop smoothed along itself)")
       .add("smoothing_scale", &O::smoothing_scale,
            "height: smoothing time of the base is (s R)^2, R the radius of a sphere of the same area", positive())
       .add("adf_t", &O::adf_t, "adf: diffusion time in units of 1/lambda_1", positive(), "Sec. 9.4 (Gebal et al. 2009)")
@@ -425,6 +428,33 @@ Eigen::VectorXd diffuse(const Mesh& mesh, Eigen::VectorXd f, int steps) {
   return f;
 }
 
+// Each boundary vertex's two neighbours along its boundary loop, {-1, -1} off the boundary (empty: a closed
+// mesh, or a vertex on two loops' corner, which the loops then skip).
+std::vector<std::array<int, 2>> boundary_neighbours(const Mesh& mesh) {
+  std::vector<std::array<int, 2>> nb(mesh.n_vertices(), {-1, -1});
+  bool any = false;
+  for (auto he : mesh.halfedges())
+    if (mesh.is_boundary(he)) {
+      const int a = mesh.from_vertex_handle(he).idx(), b = mesh.to_vertex_handle(he).idx();
+      nb[a][1] = b, nb[b][0] = a, any = true;
+    }
+  for (auto& v : nb)
+    if (v[0] < 0 || v[1] < 0) v = {-1, -1};
+  return any ? nb : std::vector<std::array<int, 2>>{};
+}
+
+// \p X with its boundary loops (\p loop, boundary_neighbours()) smoothed along themselves: \p steps lazy steps
+// of ½ x + ¼ (previous + next).
+MatrixX3d smooth_along_loops(const MatrixX3d& X, const std::vector<std::array<int, 2>>& loop, int steps) {
+  MatrixX3d B = X, next = X;
+  for (int s = 0; s < steps; ++s) {
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+      if (loop[i][0] >= 0) next.row(i) = 0.5 * B.row(i) + 0.25 * (B.row(loop[i][0]) + B.row(loop[i][1]));
+    B.swap(next);
+  }
+  return B;
+}
+
 }  // namespace
 
 Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eigen::VectorXd* raw_out) {
@@ -447,10 +477,17 @@ Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eig
   if (height) lambdas.push_back(height_lambda);
   const std::vector<MatrixX3d> smoothed = implicit_cotan_steps(mesh, lambdas);
   Eigen::MatrixXd Z(n, 3);
+  const std::vector<std::array<int, 2>> loop = o.importance_outline ? boundary_neighbours(mesh) : std::vector<std::array<int, 2>>{};
   for (int k = 0; k < 3; ++k) {
     const Eigen::VectorXd r = (X - smoothed[k]).rowwise().norm();
     const double q = weighted_quantile(r, area, 0.9);
     Z.col(k) = q > 0 ? Eigen::VectorXd(r / q) : Eigen::VectorXd::Zero(n);
+    if (!loop.empty() && q > 0) {
+      // The outline: 2 s² lazy steps along the loop (about the surface's smoothing radius s).
+      const MatrixX3d B = smooth_along_loops(X, loop, static_cast<int>(std::ceil(2 * scales[k] * scales[k])));
+      for (int i = 0; i < n; ++i)
+        if (loop[i][0] >= 0) Z(i, k) = std::max(Z(i, k), (X.row(i) - B.row(i)).norm() / q);
+    }
   }
   const Eigen::VectorXd detail = Z.rowwise().mean();
   // Its variation: the relief minus its own smoothed copy (constant relief, on a sphere, a cylinder or a

@@ -321,3 +321,61 @@ TEST(FeatureMap, ClosingFillsThinGapsAndKeepsWideUnimportantRegions) {
   EXPECT_GT(wide, 200);
   EXPECT_EQ(FeatureMapOptions{}.close_gaps, 0);  // off by default
 }
+
+namespace {
+// A flat cut-out, like a gingerbread figure: a plus of four arms 0.2 wide on a 40 × 40 grid over [0, 1]².
+Mesh flat_plus() {
+  const int n = 40;
+  MatrixX3d V((n + 1) * (n + 1), 3);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) V.row(i * (n + 1) + j) << double(i) / n, double(j) / n, 0.0;
+  std::vector<Eigen::Vector3i> F;
+  auto id = [&](int i, int j) { return i * (n + 1) + j; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = (i + 0.5) / n, y = (j + 0.5) / n;
+      if (std::abs(x - 0.5) > 0.1 && std::abs(y - 0.5) > 0.1) continue;
+      F.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      F.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  // Only the vertices the faces use, renumbered.
+  std::vector<int> used(V.rows(), -1);
+  int k = 0;
+  for (const auto& f : F)
+    for (int c = 0; c < 3; ++c)
+      if (used[f[c]] < 0) used[f[c]] = k++;
+  MatrixX3d U(k, 3);
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
+    if (used[v] >= 0) U.row(used[v]) = V.row(v);
+  MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
+  for (size_t f = 0; f < F.size(); ++f)
+    for (int c = 0; c < 3; ++c) G(static_cast<Eigen::Index>(f), c) = used[F[f][c]];
+  return make_mesh(U, G);
+}
+}  // namespace
+
+// Issue 25: the outline of a flat or open model is relief (importance_outline): on a flat cut-out the surface's
+// smoothing hardly sees the arms' ends, the outline term gives them weight (0.84 against 0.10 without; an
+// arm's straight side between two corners 0.73 against 0.39: the loop's smoothing reaches 2 s² steps); a closed
+// mesh has no outline, and its map is the same with the term on or off.
+TEST(FeatureMap, TheOutlineOfAFlatCutOutIsRelief) {
+  const Mesh m = flat_plus();
+  FeatureMapOptions on, off;
+  off.importance_outline = false;
+  const Eigen::VectorXd f_on = feature_map(m, on).weights, f_off = feature_map(m, off).weights;
+  const MatrixX3d X = positions(m);
+  double corner_on = 1, corner_off = 1, side_on = 0, side_off = 0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double x = X(i, 0), y = X(i, 1);
+    const bool tip_corner = (std::abs(x) < 1e-9 || std::abs(x - 1) < 1e-9) && std::abs(std::abs(y - 0.5) - 0.1) < 1e-9;
+    const bool mid_side = std::abs(std::abs(y - 0.5) - 0.1) < 1e-9 && std::abs(x - 0.2) < 1e-9;  // an arm's side
+    if (tip_corner) corner_on = std::min(corner_on, f_on[i]), corner_off = std::min(corner_off, f_off[i]);
+    if (mid_side) side_on = std::max(side_on, f_on[i]), side_off = std::max(side_off, f_off[i]);
+  }
+  std::printf("  flat plus: arm-end corners %.3f (without the outline term %.3f), an arm's straight side %.3f (%.3f)\n",
+              corner_on, corner_off, side_on, side_off);
+  EXPECT_GT(corner_on, 0.75);
+  EXPECT_GT(corner_on, corner_off + 0.5);
+  const Mesh closed = stick().shape.textured;
+  EXPECT_EQ(feature_map(closed, on).weights, feature_map(closed, off).weights);
+}

@@ -65,6 +65,10 @@ struct FeatureMapOptions {
   //! max_extent) count as fully important; "adf" uses the ADF map instead (seconds on large meshes).
   bool protrusions = true;
   bool importance_adf = false;
+  //! Importance: a boundary vertex's relief is at least its distance from its boundary loop smoothed along
+  //! itself (at the same three scales): the outline of an open or flat model (a cut-out figure's hands and
+  //! feet, a shell's rims), which the surface's smoothing does not see.
+  bool importance_outline = true;
   //! Height: the base is one implicit cotangent smoothing step of time (s R)², R = √(area / 4π) the
   //! radius of the sphere of the same area, s this scale; closed bases are rescaled to the input's
   //! volume. Features narrower than about s R are flattened away, so they stand out as height.
