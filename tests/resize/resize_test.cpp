@@ -432,7 +432,11 @@ TEST(ResizeSimilarity, ImportanceIsContinuousAndMarksTheBumps) {
     double d = 1e9;
     for (const Vec3& c : b.centres) d = std::min(d, (X.row(i).head<2>() - c.head<2>().transpose()).norm());
     if (d < 0.5 * b.radius) inside += f[i], ++n_in;
-    if (d > 2.0 * b.radius && X.row(i).head<2>().cwiseAbs().maxCoeff() < 0.9) far_max = std::max(far_max, f[i]), far += f[i], ++n_far;
+    // The flat plate away from the bumps, its rim and its corners (the corners of its square outline are relief
+    // too: importance_outline; FeatureMap.TheOutlineOfAFlatCutOutIsRelief).
+    const double corner = (X.row(i).head<2>().cwiseAbs() - Eigen::RowVector2d(1, 1)).norm();
+    if (d > 2.0 * b.radius && X.row(i).head<2>().cwiseAbs().maxCoeff() < 0.9 && corner > 0.35)
+      far_max = std::max(far_max, f[i]), far += f[i], ++n_far;
     if (f[i] > 0.05 && f[i] < 0.95) ++fractional;
   }
   std::printf("  importance: mean %.3f on the bumps' cores, mean %.3f (max %.3f) on the flat plate, %d fractional weights\n",
