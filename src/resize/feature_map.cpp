@@ -428,19 +428,18 @@ Eigen::VectorXd diffuse(const Mesh& mesh, Eigen::VectorXd f, int steps) {
   return f;
 }
 
-// Each boundary vertex's two neighbours along its boundary loop, {-1, -1} off the boundary (empty: a closed
-// mesh, or a vertex on two loops' corner, which the loops then skip).
+// Each boundary vertex's two neighbours along its boundary loop (boundary_loops()), {-1, -1} off the boundary
+// (empty: a closed mesh).
 std::vector<std::array<int, 2>> boundary_neighbours(const Mesh& mesh) {
+  const std::vector<std::vector<int>> loops = boundary_loops(mesh);
+  if (loops.empty()) return {};
   std::vector<std::array<int, 2>> nb(mesh.n_vertices(), {-1, -1});
-  bool any = false;
-  for (auto he : mesh.halfedges())
-    if (mesh.is_boundary(he)) {
-      const int a = mesh.from_vertex_handle(he).idx(), b = mesh.to_vertex_handle(he).idx();
-      nb[a][1] = b, nb[b][0] = a, any = true;
+  for (const std::vector<int>& loop : loops)
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];  // a boundary halfedge a -> b
+      nb[a][1] = b, nb[b][0] = a;
     }
-  for (auto& v : nb)
-    if (v[0] < 0 || v[1] < 0) v = {-1, -1};
-  return any ? nb : std::vector<std::array<int, 2>>{};
+  return nb;
 }
 
 // \p X with its boundary loops (\p loop, boundary_neighbours()) smoothed along themselves: \p steps lazy steps
