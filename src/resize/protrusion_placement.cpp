@@ -10,6 +10,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/toolkit/editing.h"
+#include "geotex/toolkit/laplace.h"
 #include "geotex/toolkit/simplify.h"
 
 namespace geotex {
@@ -96,21 +97,15 @@ void biharmonic_fill(const Mesh& mesh, const std::vector<int>& unknown, MatrixX3
   for (int v = 0; v < n; ++v)
     if (unknown[v]) index[v] = u++;
   if (u == 0) return;
-  std::vector<Eigen::Triplet<double>> t;
-  Eigen::VectorXd inv_degree = Eigen::VectorXd::Zero(n);
-  for (int v = 0; v < n; ++v) {
-    int degree = 0;
-    for (auto w : mesh.vv_range(mesh.vertex_handle(v))) ++degree, t.emplace_back(v, w.idx(), -1.0);
-    t.emplace_back(v, v, degree);
-    inv_degree[v] = degree > 0 ? 1.0 / degree : 0;
-  }
-  Eigen::SparseMatrix<double> L(n, n);
-  L.setFromTriplets(t.begin(), t.end());
-  const Eigen::SparseMatrix<double> Q = L.transpose() * inv_degree.asDiagonal() * L;
+  // Σ_v |(L D)_v|² / deg(v) with L = −deg · (the umbrella operator U of Eq. 5.8) is Σ_v deg(v) |(U D)_v|².
+  Eigen::VectorXd degree(n);
+  for (int v = 0; v < n; ++v) degree[v] = mesh.valence(mesh.vertex_handle(v));
+  const SparseMatrix U = umbrella_laplacian(mesh);
+  const SparseMatrix Q = U.transpose() * degree.asDiagonal() * U;
   std::vector<Eigen::Triplet<double>> a;
   MatrixX3d b = MatrixX3d::Zero(u, 3);
   for (int k = 0; k < Q.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(Q, k); it; ++it) {
+    for (SparseMatrix::InnerIterator it(Q, k); it; ++it) {
       const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
       if (index[r] < 0) continue;
       if (index[c] >= 0) a.emplace_back(index[r], index[c], it.value());
