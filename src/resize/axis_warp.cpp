@@ -35,7 +35,11 @@ const OptionTable<AxisWarpOptions>& AxisWarpOptions::table() {
            non_negative())
       .add("follow_weight", &O::follow_weight,
            "axis-similarity: weight of every edge following the warp in the similarity stage (its background "
-           "smoothness)", positive());
+           "smoothness)", positive())
+      .add("follow_falloff", &O::follow_falloff,
+           "axis-similarity: an edge follows the warp with the follow weight times (1 - f)^p, p this value and f its "
+           "importance: important regions follow only their similarity (0: every edge the follow weight)",
+           between(0, 8));
   return t;
 }
 

@@ -938,10 +938,12 @@ std::vector<int> turned_faces(const MatrixX3i& F, const MatrixX3d& Fn, const Mat
 }
 
 // What the similarity method takes besides the map C: the weight β of the edges following C
-// (ResizeOptions::background_smoothness; AxisWarpOptions::follow_weight when C is the axis warp) and, when C
-// is not the plain stretch, the plain stretch's face normals (a face is then turned against either).
+// (ResizeOptions::background_smoothness; AxisWarpOptions::follow_weight when C is the axis warp), its falloff
+// with importance (AxisWarpOptions::follow_falloff after the warp; 0, every edge β, for the plain map) and,
+// when C is not the plain stretch, the plain stretch's face normals (a face is then turned against either).
 struct SimilarityBase {
   double beta;
+  double follow_falloff = 0;
   const MatrixX3d* plain_normals = nullptr;
 };
 
@@ -969,17 +971,25 @@ void fit_box(MatrixX3d& out, const MatrixX3d& C) {
       out.col(a) = ((out.col(a).array() - olo[a]) * ((chi[a] - clo[a]) / (ohi[a] - olo[a])) + clo[a]).matrix();
 }
 
-// The similarity method's edge weights as an #V by #V Laplacian: f_ij² + β, or + \p relaxed_weight
-// at a relaxed vertex, f_ij = (f_i + f_j) / 2.
+// The weight of an edge following the map C: β (1 − f_ij)^p, p = \p falloff (SimilarityBase::follow_falloff;
+// 0: β on every edge), or \p relaxed_weight at a relaxed vertex.
+double follow_weight(double fe, bool relaxed, double beta, double falloff, double relaxed_weight) {
+  if (relaxed) return relaxed_weight;
+  return falloff > 0 ? beta * std::pow(1 - fe, falloff) : beta;
+}
+
+// The similarity method's edge weights as an #V by #V Laplacian: f_ij² + the follow weight (follow_weight()),
+// f_ij = (f_i + f_j) / 2.
 SparseMatrix similarity_edge_weights(const std::vector<std::array<int, 2>>& edges, const Eigen::VectorXd& f,
-                                     const std::vector<char>& relaxed, double beta, double relaxed_weight) {
+                                     const std::vector<char>& relaxed, double beta, double falloff,
+                                     double relaxed_weight) {
   const int n = static_cast<int>(f.size());
   SparseMatrix G(n, n);
   std::vector<Triplet> g;
   g.reserve(4 * edges.size());
   for (const auto& [a, b] : edges) {
     const double fe = 0.5 * (f[a] + f[b]);
-    const double we = fe * fe + ((relaxed[a] || relaxed[b]) ? relaxed_weight : beta);
+    const double we = fe * fe + follow_weight(fe, relaxed[a] || relaxed[b], beta, falloff, relaxed_weight);
     g.emplace_back(a, a, we);
     g.emplace_back(b, b, we);
     g.emplace_back(a, b, -we);
@@ -995,11 +1005,12 @@ MatrixX3d similarity_rhs(const std::vector<std::array<int, 2>>& edges, const Mat
                          const std::vector<Eigen::Matrix3d>& T, const Eigen::VectorXd& f,
                          const std::vector<char>& relaxed, const Eigen::VectorXd& pull,
                          const std::vector<std::array<int, 2>>& pins, const MatrixX3d& target, double beta,
-                         double relaxed_weight, double pin_weight) {
+                         double falloff, double relaxed_weight, double pin_weight) {
   const Eigen::Index n = X.rows();
   MatrixX3d R = MatrixX3d::Zero(n, 3);
   for (const auto& [a, b] : edges) {
-    const double fe = 0.5 * (f[a] + f[b]), ke = fe * fe, be = (relaxed[a] || relaxed[b]) ? relaxed_weight : beta;
+    const double fe = 0.5 * (f[a] + f[b]), ke = fe * fe;
+    const double be = follow_weight(fe, relaxed[a] || relaxed[b], beta, falloff, relaxed_weight);
     const Vec3 dx = (X.row(a) - X.row(b)).transpose();
     const Eigen::RowVector3d r =
         (ke * (0.5 * (T[a] + T[b]) * dx) + be * Vec3((C.row(a) - C.row(b)).transpose())).transpose();
@@ -1023,7 +1034,8 @@ Eigen::VectorXd similarity_pull(const std::vector<char>& boundary, const Eigen::
 
 // Similarity (see resize.h). Unknowns stacked [x; y; z]. Energy:
 //   Σ_edges k_ij |(x'_i − x'_j) − T_ij (x_i − x_j)|²   k_ij = f_ij², T_i = s_i R_i, T_ij = (T_i + T_j)/2
-// + β Σ_edges |(x'_i − x'_j) − (c_i − c_j)|²            the rest follows the map, weakly
+// + β Σ_edges b_ij |(x'_i − x'_j) − (c_i − c_j)|²       the rest follows the map, weakly (b_ij = (1 − f_ij)^p
+//                                                        after the axis warp, p = follow_falloff; 1 otherwise)
 // + w Σ_i (1 − f_i) (n_iᵀ (x'_i − q_i))²                 held to the stretched surface, free to slide
 // + w_F Σ_boundary (1 − f_i)² |x'_i − c_i|²              a plate's rim follows the map
 // + w_F Σ_extremes (x'_i − c_i)_a²                       the box
@@ -1066,7 +1078,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   auto assemble = [&] {
     std::vector<Triplet> t;
     t.reserve(12 * edges.size() + 12 * n);
-    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, kRelaxed), n);
+    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), n);
     const Eigen::VectorXd pull = similarity_pull(boundary, f, eps, o.frame_weight);
     for (int i = 0; i < n; ++i) {
       const double wi = w * (1 - f[i]);
@@ -1082,7 +1094,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   };
   auto solve = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, similarity_pull(boundary, f, eps, o.frame_weight),
-                                 extremes, target, beta, kRelaxed, o.frame_weight);
+                                 extremes, target, beta, base.follow_falloff, kRelaxed, o.frame_weight);
     for (int i = 0; i < n; ++i) R.row(i) += w * (1 - f[i]) * Nrm.row(i).dot(Q.row(i)) * Nrm.row(i);
     return unstack(solver.solve(stack(R)).col(0));
   };
@@ -1302,12 +1314,14 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   auto factor = [&] {
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
-    system.factor(similarity_edge_weights(edges, f, relaxed, beta, kRelaxed), pull + hold, pins, o.frame_weight);
+    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), pull + hold, pins,
+                  o.frame_weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
   auto step = [&] {
-    MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, kRelaxed, o.frame_weight);
+    MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, base.follow_falloff, kRelaxed,
+                                 o.frame_weight);
     R += hold.asDiagonal() * P;
     const MatrixX3d Y = system.solve(R);
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
@@ -1409,7 +1423,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     Mesh plain = mesh;
     set_positions(plain, C);
     const MatrixX3d plain_normals = face_normals(plain);
-    const SimilarityBase base{o.axis.follow_weight, &plain_normals};
+    const SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
@@ -1418,7 +1432,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     report(o.progress, 1.0, "done");
     return out;
   }
-  const SimilarityBase base{o.background_smoothness, nullptr};
+  const SimilarityBase base{o.background_smoothness, 0.0, nullptr};
   auto similarity = [&](const MatrixX3d& map) {
     return o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, map, features, o, base)
                                                : similarity_resize(mesh, X, map, features, o, base);

@@ -875,6 +875,65 @@ TEST(ResizeAxis, FacesAcrossTheStretchTakeItForFree) {
   expect_warp_feasible(full, m, scale, every_axis);
 }
 
+// Stretch hidden off the axes: a flat plate over [−1, 1]² with a band of half importance along its diagonal (0.5
+// within 0.15 of the line y = x and 1 of the plate's centre, falling smoothly to 0 over 0.2), stretched ×2 along x.
+// Nearly every x slab holds a part of the band, so the axis warp cannot spare it; it can only stay similar if it
+// turns and scales as a whole while the unimportant triangles beside it take the stretch across the axes. An edge of
+// half importance weighs its similarity (f² = 0.25) against its pull to the warp's stretch (β): with that pull
+// falling off with importance (follow_falloff), the band's core is nearer a similarity (lower mean and largest
+// log(s1 / s2)) than with every edge following the warp (follow_falloff 0, the stage before), the rest takes more
+// anisotropy than with every edge following and than the plain stretch, the box is exact and no face turns.
+TEST(ResizeAxis, AHalfImportantDiagonalBandFollowsItsSimilarityNotTheWarp) {
+  const BumpyPlate b = bumpy_plate({.n = 40, .bumps = 0});
+  const Mesh& m = b.mesh;
+  const MatrixX3d X = positions(m);
+  const MatrixX3i F = faces(m);
+  auto smooth = [](double t) {
+    t = std::clamp(t, 0.0, 1.0);
+    return t * t * (3 - 2 * t);
+  };
+  Eigen::VectorXd f(X.rows());
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double across = std::abs(X(i, 0) - X(i, 1)) / std::sqrt(2.0), along = std::abs(X(i, 0) + X(i, 1)) / std::sqrt(2.0);
+    f[i] = 0.5 * smooth((0.35 - across) / 0.2) * smooth((1.2 - along) / 0.2);
+  }
+  const MatrixX3d C = apply_map(scale_map({2, 1, 1}), X);
+  ResizeOptions falloff = with(ResizeMethod::AxisSimilarity), every_edge = falloff;
+  ASSERT_GT(falloff.axis.follow_falloff, 0);
+  every_edge.axis.follow_falloff = 0;
+  const MatrixX3d Y = feature_aware_resize(m, C, f, falloff), Y0 = feature_aware_resize(m, C, f, every_edge);
+  // Area-weighted mean and largest log(s1 / s2) of \p P over the faces whose corners' weights all pass \p keep.
+  auto anisotropy = [&](const MatrixX3d& P, auto keep) {
+    double sum = 0, area = 0, worst = 0;
+    for (Eigen::Index k = 0; k < F.rows(); ++k) {
+      if (!keep(f[F(k, 0)]) || !keep(f[F(k, 1)]) || !keep(f[F(k, 2)])) continue;
+      const double a = 0.5 * (X.row(F(k, 1)) - X.row(F(k, 0))).cross(X.row(F(k, 2)) - X.row(F(k, 0))).norm();
+      const Eigen::Vector2d s = face_stretch(F, X, P, k);
+      sum += a * std::log(s[0] / s[1]), area += a, worst = std::max(worst, std::log(s[0] / s[1]));
+    }
+    return std::array<double, 3>{sum / area, worst, area};
+  };
+  auto core = [](double w) { return w >= 0.5 - 1e-12; };
+  auto rest = [](double w) { return w <= 0; };
+  const auto band = anisotropy(Y, core), band0 = anisotropy(Y0, core), plain = anisotropy(C, core);
+  const double rest1 = anisotropy(Y, rest)[0], rest0 = anisotropy(Y0, rest)[0], rest_plain = anisotropy(C, rest)[0];
+  std::printf("  band core log(s1/s2): mean %.4f / largest %.4f with the falloff, %.4f / %.4f every edge (plain "
+              "%.3f); rest: mean %.3f, %.3f every edge, plain %.3f\n",
+              band[0], band[1], band0[0], band0[1], plain[0], rest1, rest0, rest_plain);
+  ASSERT_GT(band[2], 0.2);  // the core covers a fair share of the plate (area 4)
+  EXPECT_LT(band[0], band0[0]);
+  EXPECT_LT(band[1], band0[1]);
+  EXPECT_LT(band[0], 0.25 * plain[0]);
+  EXPECT_GT(rest1, rest0);
+  EXPECT_GT(rest1, rest_plain);
+  for (const MatrixX3d* P : {&Y, &Y0}) {
+    EXPECT_EQ(turned_over(m, *P, C), 0);
+    const Vec3 box = (P->colwise().maxCoeff() - P->colwise().minCoeff()).transpose();
+    const Vec3 asked = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
+    EXPECT_LT((box - asked).head<2>().cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
 // A bend, twist or deformed copy that is not a box scale is refused by the axis methods.
 TEST(ResizeAxis, RefusesMapsThatAreNotABoxScale) {
   const BumpyPlate b = bumpy_plate({.n = 20});

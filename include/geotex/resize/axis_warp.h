@@ -64,6 +64,11 @@ struct AxisWarpOptions {
   //! into creases and turned 989 faces before its relaxation rounds (8 left); with 0.03 none are left and no
   //! crease (bench/resize.md, eleventh session).
   double follow_weight = 0.03;
+  //! AxisSimilarity: p of the follow weight's falloff with importance, β (1 − f_ij)^p on an edge: an important
+  //! region follows only its similarity, not the warp's stretch of its slabs, and may turn, shear off the axes
+  //! or scale as a whole while the unimportant rest takes the stretch in whatever direction it goes. 0: β on
+  //! every edge (the stage before; fandisk ×2 x 0.601 -> 0.570 with 2, bench/resize.md, thirteenth session).
+  double follow_falloff = 2.0;
   static const OptionTable<AxisWarpOptions>& table();
 };
 

@@ -46,7 +46,9 @@
 //!    slabs of the box that hold little of importance. A bend, twist, arc or deformed copy is refused
 //!    (InvalidInput): a separable warp cannot follow it. ResizeMethod::AxisSimilarity runs Similarity
 //!    with the warp's output in place of the plain map, its edges following the warp's with
-//!    AxisWarpOptions::follow_weight, and relaxes faces turned against the warp or the plain stretch.
+//!    AxisWarpOptions::follow_weight times (1 − f_ij)^p (AxisWarpOptions::follow_falloff: important
+//!    regions follow their similarity, not the warp), and relaxes faces turned against the warp or the
+//!    plain stretch.
 
 #include <functional>
 #include <string>
