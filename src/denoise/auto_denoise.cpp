@@ -246,17 +246,13 @@ MatrixX3d mild_face_normals(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   return FN;
 }
 
-// Step 5b, the smooth reading's relief per region. The light fit keeps fine relief and some noise, the mild
-// fit neither; their difference along the normals, d, is noise where the surface is plain and relief plus
-// noise where it has detail. Each vertex keeps the light fit in the Wiener proportion w = max(0, E - c R') / E,
-// E the mean of d^2 over kReliefRings rings, R' the local noise energy: the mean of r^2 for the input's
-// departure r from the mild fit, less E (what the mild fit removed of the relief). A local floor follows
-// noise that differs by region (scanner depth noise, impulses), where one global level kept noise as relief
-// on primitives (sphere, impulsive: 0.50° -> 0.74°, depth: 0.95° -> 1.77°; bench/denoise.md). On pure
-// noise E / R' is 0.03-0.11 whatever its level.
-Eigen::VectorXd relief_weights(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xm,
-                               const MatrixX3d& Xl, double floor,
-                               double max_noise_energy = std::numeric_limits<double>::infinity()) {
+// The energies of relief_weights() (below), per vertex: E, the mean of d^2 over kReliefRings rings for the
+// departure d of \p Xl from \p Xm along the normals, and R', the local noise energy (at most \p max_noise_energy).
+struct DepartureEnergy {
+  Eigen::VectorXd departure, noise;  // E and R' per vertex
+};
+DepartureEnergy departure_energy(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xm,
+                                 const MatrixX3d& Xl, double max_noise_energy) {
   MatrixX3d VN = MatrixX3d::Zero(Xm.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Vec3 a = Xm.row(F(f, 0)), b = Xm.row(F(f, 1)), c = Xm.row(F(f, 2));
@@ -270,13 +266,35 @@ Eigen::VectorXd relief_weights(const Neighborhoods& N, const MatrixX3i& F, const
     const double r = len > 0 ? (X.row(v) - Xm.row(v)).dot(VN.row(v)) / len : 0.0;
     d2[v] = d * d, r2[v] = r * r;
   }
-  const Eigen::VectorXd E = ring_average(N, d2, kReliefRings), R = ring_average(N, r2, kReliefRings);
+  DepartureEnergy e{ring_average(N, d2, kReliefRings), ring_average(N, r2, kReliefRings)};
+  for (Eigen::Index v = 0; v < e.noise.size(); ++v)
+    e.noise[v] = std::min(std::max(e.noise[v] - e.departure[v], 0.0), max_noise_energy);
+  return e;
+}
+
+// The Wiener share w = max(0, E - floor R') / E of departure_energy()'s \p e, per vertex.
+Eigen::VectorXd wiener_share(const DepartureEnergy& e, double floor) {
+  const Eigen::VectorXd& E = e.departure;
   Eigen::VectorXd w(E.size());
   for (Eigen::Index v = 0; v < E.size(); ++v) {
-    const double noise_floor = floor * std::min(std::max(R[v] - E[v], 0.0), max_noise_energy);
+    const double noise_floor = floor * e.noise[v];
     w[v] = E[v] > noise_floor ? (E[v] - noise_floor) / E[v] : 0.0;
   }
   return w;
+}
+
+// Step 5b, the smooth reading's relief per region. The light fit keeps fine relief and some noise, the mild
+// fit neither; their difference along the normals, d, is noise where the surface is plain and relief plus
+// noise where it has detail. Each vertex keeps the light fit in the Wiener proportion w = max(0, E - c R') / E,
+// E the mean of d^2 over kReliefRings rings, R' the local noise energy: the mean of r^2 for the input's
+// departure r from the mild fit, less E (what the mild fit removed of the relief). A local floor follows
+// noise that differs by region (scanner depth noise, impulses), where one global level kept noise as relief
+// on primitives (sphere, impulsive: 0.50° -> 0.74°, depth: 0.95° -> 1.77°; bench/denoise.md). On pure
+// noise E / R' is 0.03-0.11 whatever its level.
+Eigen::VectorXd relief_weights(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xm,
+                               const MatrixX3d& Xl, double floor,
+                               double max_noise_energy = std::numeric_limits<double>::infinity()) {
+  return wiener_share(departure_energy(N, F, X, Xm, Xl, max_noise_energy), floor);
 }
 
 // The relief kept without folds: where a face of the blend turns more than 60° away from the mild fit's
@@ -650,7 +668,8 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
                                      const MatrixX3d& Xs, const MatrixX3d& FNs, const Eigen::VectorXd& cv,
                                      double floor, double noise_var, MatrixX3d& Xm, MatrixX3d& FNm) {
   if (floor <= 0) return Eigen::VectorXd::Zero(X.rows());
-  const Eigen::VectorXd w = relief_weights(N, F, X, Xm, Xs, floor, noise_var);
+  const DepartureEnergy energy = departure_energy(N, F, X, Xm, Xs, noise_var);
+  const Eigen::VectorXd w = wiener_share(energy, floor);
   const Eigen::VectorXd rough_m = ring_average(N, normal_spread(F, Xm), kReliefRings);
   const Eigen::VectorXd rough_s = ring_average(N, normal_spread(F, Xs), kReliefRings);
   // The gate and the Wiener complement averaged over the rings apart: the gate's share taken whole from
