@@ -813,7 +813,8 @@ void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool
                                     100 * r.relief_share, o.light_iterations, o.light_fit_iterations, o.relief_floor));
   if (r.strong_share > 0.005)
     r.choices.push_back(fmt::format("strong smoothing (smooth regions): {:.0f}% take the sharp fit (departure below {} x "
-                                    "the local noise energy, smoother normals)", 100 * r.strong_share, o.strong_floor));
+                                    "the local noise energy, smoother normals; a part whole where its median departure "
+                                    "is below {} x it)", 100 * r.strong_share, o.strong_floor, o.plain_departure));
   if (unfolded > 0)
     r.choices.push_back(fmt::format("transitions kept unfolded: {} vertices of CAD-looking parts take the sharp fit "
                                     "where the mild one folds", unfolded));
