@@ -58,6 +58,10 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "
            "below this × the local noise energy, and smoother normals; 0 never", between(0, 1e6))
+      .add("plain_departure", &O::plain_departure,
+           "step 5c takes a part read smooth whole where its median departure of the sharp fit from the mild one is "
+           "below this × the local noise energy (wholly below 0.6 × it: the mild fit's wobble, no relief) and the "
+           "noise is well above its curvature; 0 never", between(0, 1e6))
       .add("keep_below", &O::keep_below,
            "normal noise (mean edge lengths) at which half of the change is kept; much less noisy inputs stay as they are",
            positive())
@@ -108,6 +112,18 @@ constexpr int kStrongBlendRings = 4, kReliefBlendRings = 2;
 // took 0.73 of the sharp fit, 1.37° against its 1.15°. 0.7 / 0.5: torus 1.32 / 1.31°, capsule 0.55 / 0.53°
 // (0.57°; sharp fit 0.49°), the issue's 63-case grid -0.01 / +0.00 % on average (bench/denoise.md, twelfth session).
 constexpr double kStrongGatePass = 0.7;
+// Step 5c's plain parts (plain_part_share()): a part whose median departure share E / R' is at most
+// kPlainPartSpan × plain_departure is plain throughout, above plain_departure not at all (log-linear between). On pure noise the share is about
+// 0.01 at every level (its median 0.007-0.010 on generated spheres, tori and capsules at σ 0.1-0.7: the mild fit's
+// low-frequency wobble), on organic relief 0.07-0.7 (igea, the bunny, cheburashka, spot at σ 0.3-0.7; the
+// beetle and the teapot 0.15); and the sharp fit is taken there where the normal noise is at least
+// kNoiseOverCurvature[0] (wholly from [1]) times the root of the sharp fit's own normal spread (its facets, of
+// the order of the curvature per edge, are then below the mild fit's wobble): median over the vertices, level-4
+// torus at σ 0.1 2.9, at σ 0.2 5.4, at σ 0.5 12, where the sharp fit is 1.25×, 0.95× and 0.51× the mild one; level-3
+// sphere at σ 0.05 / 0.1 / 0.2 2.1 / 4.1 / 7.9 (4 / 6: sphere σ 0.1 +1.1 %; 4.5 / 6.5: -0.4 %; bench/denoise.md,
+// thirteenth session).
+constexpr double kPlainPartSpan = 0.6;
+constexpr double kNoiseOverCurvature[2] = {4.5, 6.5};
 // ReadingRule::Combined: the learned model overrides the rule where it is this sure the sharp fit is better
 // (0.9 and 0.97 measured on 28 cases of synthetic noise on the shared clean models: mean ratio to the better
 // forced reading 1.010 and 1.037, the rule alone 1.043; bench/denoise.md).
@@ -246,17 +262,13 @@ MatrixX3d mild_face_normals(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   return FN;
 }
 
-// Step 5b, the smooth reading's relief per region. The light fit keeps fine relief and some noise, the mild
-// fit neither; their difference along the normals, d, is noise where the surface is plain and relief plus
-// noise where it has detail. Each vertex keeps the light fit in the Wiener proportion w = max(0, E - c R') / E,
-// E the mean of d^2 over kReliefRings rings, R' the local noise energy: the mean of r^2 for the input's
-// departure r from the mild fit, less E (what the mild fit removed of the relief). A local floor follows
-// noise that differs by region (scanner depth noise, impulses), where one global level kept noise as relief
-// on primitives (sphere, impulsive: 0.50° -> 0.74°, depth: 0.95° -> 1.77°; bench/denoise.md). On pure
-// noise E / R' is 0.03-0.11 whatever its level.
-Eigen::VectorXd relief_weights(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xm,
-                               const MatrixX3d& Xl, double floor,
-                               double max_noise_energy = std::numeric_limits<double>::infinity()) {
+// The energies of relief_weights() (below), per vertex: E, the mean of d^2 over kReliefRings rings for the
+// departure d of \p Xl from \p Xm along the normals, and R', the local noise energy (at most \p max_noise_energy).
+struct DepartureEnergy {
+  Eigen::VectorXd departure, noise;  // E and R' per vertex
+};
+DepartureEnergy departure_energy(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xm,
+                                 const MatrixX3d& Xl, double max_noise_energy) {
   MatrixX3d VN = MatrixX3d::Zero(Xm.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Vec3 a = Xm.row(F(f, 0)), b = Xm.row(F(f, 1)), c = Xm.row(F(f, 2));
@@ -270,13 +282,35 @@ Eigen::VectorXd relief_weights(const Neighborhoods& N, const MatrixX3i& F, const
     const double r = len > 0 ? (X.row(v) - Xm.row(v)).dot(VN.row(v)) / len : 0.0;
     d2[v] = d * d, r2[v] = r * r;
   }
-  const Eigen::VectorXd E = ring_average(N, d2, kReliefRings), R = ring_average(N, r2, kReliefRings);
+  DepartureEnergy e{ring_average(N, d2, kReliefRings), ring_average(N, r2, kReliefRings)};
+  for (Eigen::Index v = 0; v < e.noise.size(); ++v)
+    e.noise[v] = std::min(std::max(e.noise[v] - e.departure[v], 0.0), max_noise_energy);
+  return e;
+}
+
+// The Wiener share w = max(0, E - floor R') / E of departure_energy()'s \p e, per vertex.
+Eigen::VectorXd wiener_share(const DepartureEnergy& e, double floor) {
+  const Eigen::VectorXd& E = e.departure;
   Eigen::VectorXd w(E.size());
   for (Eigen::Index v = 0; v < E.size(); ++v) {
-    const double noise_floor = floor * std::min(std::max(R[v] - E[v], 0.0), max_noise_energy);
+    const double noise_floor = floor * e.noise[v];
     w[v] = E[v] > noise_floor ? (E[v] - noise_floor) / E[v] : 0.0;
   }
   return w;
+}
+
+// Step 5b, the smooth reading's relief per region. The light fit keeps fine relief and some noise, the mild
+// fit neither; their difference along the normals, d, is noise where the surface is plain and relief plus
+// noise where it has detail. Each vertex keeps the light fit in the Wiener proportion w = max(0, E - c R') / E,
+// E the mean of d^2 over kReliefRings rings, R' the local noise energy: the mean of r^2 for the input's
+// departure r from the mild fit, less E (what the mild fit removed of the relief). A local floor follows
+// noise that differs by region (scanner depth noise, impulses), where one global level kept noise as relief
+// on primitives (sphere, impulsive: 0.50° -> 0.74°, depth: 0.95° -> 1.77°; bench/denoise.md). On pure
+// noise E / R' is 0.03-0.11 whatever its level.
+Eigen::VectorXd relief_weights(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xm,
+                               const MatrixX3d& Xl, double floor,
+                               double max_noise_energy = std::numeric_limits<double>::infinity()) {
+  return wiener_share(departure_energy(N, F, X, Xm, Xl, max_noise_energy), floor);
 }
 
 // The relief kept without folds: where a face of the blend turns more than 60° away from the mild fit's
@@ -634,6 +668,43 @@ Eigen::VectorXd normal_spread(const MatrixX3i& F, const MatrixX3d& P) {
   return spread;
 }
 
+// Step 5c on a plain part (issue 24, thirteenth session): the Wiener share (per vertex) counts the mild fit's
+// low-frequency wobble as relief where it stands above strong_floor at scattered vertices, and the roughness
+// gate fails at scattered vertices where the sharp fit's normals spread as much as the mild fit's, so a dense
+// primitive at high noise took 0.7-0.9 of the sharp fit (level-4 torus at σ 0.5 1.32° against 1.15°). Over a whole
+// part the wobble is told from relief by its size: a part whose median departure share E / R'
+// (departure_energy() of the sharp fit from the mild one) is below \\p plain_departure, the wobble's own size
+// on pure noise, has no relief the mild fit could keep, and its vertices take the sharp fit where the normal noise
+// is well above the sharp fit's own normal spread \p rough_s (kNoiseOverCurvature: at low noise the sharp fit's
+// facets cost more than the wobble; the mild fit's spread would count its wobble as curvature). \p normal_noise
+// in mean edge lengths. \return per vertex, the share so taken.
+Eigen::VectorXd plain_part_share(const Mesh& mesh, const Neighborhoods& N, const DepartureEnergy& e,
+                                 const Eigen::VectorXd& rough_s, double normal_noise, double plain_departure) {
+  if (!(plain_departure > 0)) return Eigen::VectorXd::Zero(rough_s.size());
+  int n_parts = 0;
+  const Eigen::VectorXi part = connected_components(mesh, &n_parts);
+  std::vector<std::vector<double>> shares(n_parts);
+  for (Eigen::Index v = 0; v < part.size(); ++v)
+    shares[part[v]].push_back(e.noise[v] > 0 ? e.departure[v] / e.noise[v] : std::numeric_limits<double>::infinity());
+  std::vector<double> plain(n_parts, 0.0);
+  const double lo = kPlainPartSpan * plain_departure, hi = plain_departure;
+  for (int p = 0; p < n_parts; ++p) {
+    auto& x = shares[p];
+    if (x.size() < 2) continue;  // an isolated vertex
+    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+    std::nth_element(x.begin(), mid, x.end());
+    plain[p] = *mid <= lo ? 1.0 : *mid >= hi ? 0.0 : std::log(hi / *mid) / std::log(hi / lo);
+  }
+  Eigen::VectorXd above(part.size());
+  for (Eigen::Index v = 0; v < above.size(); ++v) {
+    const double ratio = rough_s[v] > 0 ? normal_noise / std::sqrt(rough_s[v]) : std::numeric_limits<double>::infinity();
+    above[v] = std::clamp((ratio - kNoiseOverCurvature[0]) / (kNoiseOverCurvature[1] - kNoiseOverCurvature[0]), 0.0, 1.0);
+  }
+  above = ring_average(N, above, kStrongBlendRings);
+  for (Eigen::Index v = 0; v < above.size(); ++v) above[v] *= plain[part[v]];
+  return above;
+}
+
 // Step 5c, the smooth reading smoothed as strongly as the sharp pass where that is safe. On a dense, plainly
 // curved surface at moderate to high noise the sharp pass (more steps, cluster moves) removes noise the mild
 // pass leaves (level-4 sphere at σ 0.2: 0.39° against 0.73°; torus at σ 0.5: 1.15° against 2.30°), where on
@@ -646,11 +717,14 @@ Eigen::VectorXd normal_spread(const MatrixX3i& F, const MatrixX3d& P) {
 // sharp fit's normals vary less around the vertices than the mild fit's over kReliefRings rings (smoother,
 // not faceted). Chosen on generated spheres, tori and capsules at levels 3-5, spot and cheburashka.
 // \p noise_var: the normal noise's variance (absolute). \return the share taken, per vertex.
-Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X, const MatrixX3i& F,
+Eigen::VectorXd add_strong_smoothing(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X, const MatrixX3i& F,
                                      const MatrixX3d& Xs, const MatrixX3d& FNs, const Eigen::VectorXd& cv,
-                                     double floor, double noise_var, MatrixX3d& Xm, MatrixX3d& FNm) {
+                                     const AutoDenoiseOptions& o, double normal_noise, double noise_var, MatrixX3d& Xm,
+                                     MatrixX3d& FNm) {
+  const double floor = o.strong_floor;
   if (floor <= 0) return Eigen::VectorXd::Zero(X.rows());
-  const Eigen::VectorXd w = relief_weights(N, F, X, Xm, Xs, floor, noise_var);
+  const DepartureEnergy energy = departure_energy(N, F, X, Xm, Xs, noise_var);
+  const Eigen::VectorXd w = wiener_share(energy, floor);
   const Eigen::VectorXd rough_m = ring_average(N, normal_spread(F, Xm), kReliefRings);
   const Eigen::VectorXd rough_s = ring_average(N, normal_spread(F, Xs), kReliefRings);
   // The gate and the Wiener complement averaged over the rings apart: the gate's share taken whole from
@@ -663,7 +737,10 @@ Eigen::VectorXd add_strong_smoothing(const Neighborhoods& N, const MatrixX3d& X,
   }
   gate = ring_average(N, gate, kStrongBlendRings), plain = ring_average(N, plain, kStrongBlendRings);
   Eigen::VectorXd t(w.size());
-  for (Eigen::Index v = 0; v < t.size(); ++v) t[v] = std::min(1.0, gate[v] / kStrongGatePass) * plain[v];
+  // A plain part (plain_part_share()) takes the sharp fit whatever the gate and the Wiener share say.
+  const Eigen::VectorXd whole = plain_part_share(mesh, N, energy, rough_s, normal_noise, o.plain_departure);
+  for (Eigen::Index v = 0; v < t.size(); ++v)
+    t[v] = std::max(std::min(1.0, gate[v] / kStrongGatePass) * plain[v], cv[v] < 1 ? whole[v] : 0.0);
   t = keep_unfolded(N, F, Xm, Xs, t);
   Xm += t.asDiagonal() * (Xs - Xm);
   const Eigen::VectorXd tf = face_means(F, t);
@@ -736,7 +813,8 @@ void describe_passes(const SurfelOptions* sharp, const SurfelOptions* mild, bool
                                     100 * r.relief_share, o.light_iterations, o.light_fit_iterations, o.relief_floor));
   if (r.strong_share > 0.005)
     r.choices.push_back(fmt::format("strong smoothing (smooth regions): {:.0f}% take the sharp fit (departure below {} x "
-                                    "the local noise energy, smoother normals)", 100 * r.strong_share, o.strong_floor));
+                                    "the local noise energy, smoother normals; a part whole where its median departure "
+                                    "is below {} x it)", 100 * r.strong_share, o.strong_floor, o.plain_departure));
   if (unfolded > 0)
     r.choices.push_back(fmt::format("transitions kept unfolded: {} vertices of CAD-looking parts take the sharp fit "
                                     "where the mild one folds", unfolded));
@@ -849,7 +927,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   Eigen::VectorXd strong = Eigen::VectorXd::Zero(X.rows());
   int unfolded = 0;
   if (want_mild && want_sharp && cv.minCoeff() < 1) {
-    strong = add_strong_smoothing(N, X, F, Xs, FNs, cv, o.strong_floor, noise_var, Xm, FNm);
+    strong = add_strong_smoothing(mesh, N, X, F, Xs, FNs, cv, o, normal_noise, noise_var, Xm, FNm);
     unfolded = keep_transitions_unfolded(N, F, Xs, Xm, cad, cv, r.creased);
     stage("strong smoothing");
   }

@@ -120,6 +120,12 @@ struct AutoDenoiseOptions {
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
   double strong_floor = 0.02;
+  //! Step 5c on a plain part: a part whose median energy of the sharp fit's departure from the mild fit is below
+  //! plain_departure × the local noise energy (wholly below 0.6 × it; the mild fit's low-frequency wobble on pure
+  //! noise is about 0.01, organic relief 0.07-0.7) has no relief to keep, and takes the sharp fit wherever the
+  //! normal noise is well above its curvature per edge, whatever strong_floor's share and the roughness test say
+  //! (dense primitives at high noise, where these fail at scattered vertices). 0 never (the previous release).
+  double plain_departure = 0.018;
   //! Normal noise (mean edge lengths) at which half of the change is kept: inputs much less noisy are
   //! returned (nearly) as they are.
   double keep_below = 0.02;
