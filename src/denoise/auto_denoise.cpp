@@ -528,6 +528,12 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
 // A part of fewer vertices has too few faces for a direction of its residual to mean anything: the teapot's
 // patches of 111-450 vertices reach 0.45-0.99 under white noise.
 constexpr int kMinStripedPart = 1000;
+// An organic-looking part is read striped only where the bands stand above the noise: the part's mean squared
+// residual, after the 1-ring median, at least this × the normal noise variance. A white residual's median keeps
+// little of it (the cylinder under white noise, σ 0.05-0.7 at two seeds: 0.06-0.23, with a coherence of 0.34-0.44
+// from its shape alone, the sharp fit's facets along its axis); bands keep most (fandisk, the cube and igea under
+// stripes 3-4 edges apart: 1.18-2.96; bench/denoise.md, thirteenth session).
+constexpr double kStripeEnergy = 0.5;
 
 // Step 5, scanner stripes: a range scanner's bands displace a part along its normals by a wave that runs one way
 // across it. The sharp fit removes them (its residual is the wave) where the mild fit keeps them as relief, and the
@@ -539,13 +545,14 @@ constexpr int kMinStripedPart = 1000;
 // 4-8, across z or an oblique axis, σ 0.2-0.3). A CAD-looking part (look below kOrganicLook) above \p threshold
 // is read creased throughout, and any part above \p organic_threshold: bands 4 edges apart fool the look (fandisk
 // 0.72, the cube 1.38; coherence 0.56, 0.73), while an organic part's residual is mostly shape flattened, which
-// runs no one way (0.03-0.32 under white and striped noise; bench/denoise.md, thirteenth session). \p striped_at:
+// runs no one way (0.03-0.32 under white and striped noise; bench/denoise.md, thirteenth session), where the bands
+// stand above the noise (kStripeEnergy; \p noise_var the normal noise's variance, absolute). \p striped_at:
 // 1 at the vertices of the parts so read. \p largest: the largest coherence over the parts measured (-1: none).
 // \return the vertices set.
 int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
                                const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold,
-                               double organic_threshold, Eigen::VectorXd& sharp, Eigen::VectorXd& striped_at,
-                               double* largest) {
+                               double organic_threshold, double noise_var, Eigen::VectorXd& sharp,
+                               Eigen::VectorXd& striped_at, double* largest) {
   *largest = -1;  // no part measured
   striped_at = Eigen::VectorXd::Zero(X.rows());
   if (!(std::min(threshold, organic_threshold) < 1)) return 0;
@@ -577,7 +584,9 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
     T[part[F(f, 0)]] += 0.5 * std::sqrt(n2) * g * g.transpose();
   }
   std::vector<int> size(n_parts, 0);
-  for (Eigen::Index v = 0; v < X.rows(); ++v) ++size[part[v]];
+  std::vector<double> energy(n_parts, 0);  // the mean of r^2 over the part, in noise variances
+  for (Eigen::Index v = 0; v < X.rows(); ++v) ++size[part[v]], energy[part[v]] += r[v] * r[v];
+  for (int p = 0; p < n_parts; ++p) energy[p] /= std::max(size[p], 1) * noise_var;
   std::vector<double> coherence(n_parts, -1);
   for (int p = 0; p < n_parts; ++p) {
     if (size[p] < kMinStripedPart) continue;
@@ -589,7 +598,8 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
   int set = 0;
   for (Eigen::Index v = 0; v < X.rows(); ++v) {
     const bool cad = features(v, 4) < std::log(kOrganicLook);
-    if (!(coherence[part[v]] > (cad ? threshold : organic_threshold))) continue;
+    if (!(coherence[part[v]] > (cad ? threshold : organic_threshold)) || !(cad || energy[part[v]] >= kStripeEnergy))
+      continue;
     striped_at[v] = 1;
     if (sharp[v] == 0) sharp[v] = 1, ++set;
   }
@@ -598,13 +608,14 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
 
 // Step 5's scanner stripes (read_striped_parts_creased() with the resolved threshold), said in the choices.
 Eigen::VectorXd read_stripes(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
-                             const MatrixX3d& Xs, const Eigen::MatrixXd& features, Eigen::VectorXd& sharp,
-                             AutoDenoiseResult& r) {
+                             const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
+                             Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
   const double threshold = r.resolved.stripe_coherence;
   double coherence = -1;
   Eigen::VectorXd striped_at;
   const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, threshold,
-                                                 r.resolved.stripe_coherence_organic, sharp, striped_at, &coherence);
+                                                 r.resolved.stripe_coherence_organic, noise_var, sharp, striped_at,
+                                                 &coherence);
   if (coherence >= 0)
     r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
                                     "over the parts of {}+ vertices; striped above {}){}", coherence, kMinStripedPart,
@@ -844,7 +855,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
-    const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, sharp_here, r);
+    const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, noise_var, sharp_here, r);
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, striped, o.creased_budget, noise_var, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();

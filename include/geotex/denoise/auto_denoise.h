@@ -120,8 +120,9 @@ struct AutoDenoiseOptions {
   //! Step 5, scanner stripes on a part whatever its look: bands 4 edges apart make a CAD part look organic (fandisk
   //! 0.72, the cube 1.38), yet its residual's coherence stays high (0.56, 0.73); an organic part's residual is
   //! mostly the shape the sharp fit flattens, which runs no one way (0.03-0.32 under white and striped noise on
-  //! the shared models). Above stripe_coherence_organic any part is read creased throughout, the creased budget
-  //! not applied (bench/denoise.md, thirteenth session). 1 never (the previous release).
+  //! the shared models). Above stripe_coherence_organic any part is read creased throughout where the bands stand
+  //! above the noise (a smooth cylinder's shape alone reaches 0.44 under white noise, with a residual at the noise
+  //! level), the creased budget not applied (bench/denoise.md, thirteenth session). 1 never (the previous release).
   double stripe_coherence_organic = 0.4;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
