@@ -618,8 +618,9 @@ Eigen::VectorXd read_stripes(const Mesh& mesh, const Neighborhoods& N, const Mat
                                                  &coherence);
   if (coherence >= 0)
     r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
-                                    "over the parts of {}+ vertices; striped above {}){}", coherence, kMinStripedPart,
-                                    threshold,
+                                    "over the parts of {}+ vertices; striped above {} on CAD-looking parts, above {} "
+                                    "on others where the bands stand above the noise){}", coherence, kMinStripedPart,
+                                    threshold, r.resolved.stripe_coherence_organic,
                                     striped > 0 ? fmt::format(": {} vertices of a striped part read creased", striped)
                                                 : std::string()));
   return striped_at;
