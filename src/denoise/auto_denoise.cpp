@@ -55,6 +55,9 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("stripe_coherence", &O::stripe_coherence,
            "a CAD-looking part is read creased throughout where the gradient of the sharp fit's residual points one "
            "way across it (scanner stripes) with at least this coherence; 1 never", between(0, 1))
+      .add("stripe_coherence_organic", &O::stripe_coherence_organic,
+           "any part, organic-looking ones included (short bands fool the look), is read creased throughout where "
+           "the sharp fit's residual points one way across it with at least this coherence; 1 never", between(0, 1))
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "
            "below this × the local noise energy, and smoother normals; 0 never", between(0, 1e6))
@@ -517,7 +520,8 @@ Eigen::VectorXd sharp_vertices(const Eigen::MatrixXd& features, ReadingRule read
 // Step 5, the creased reading held to the noise: a fit that removes only noise moves each vertex along the normal
 // by about the noise (median of its squared move over a 1-ring about 0.45 σ², a χ² of one degree). Where the
 // sharp fit moves a vertex of an organic-looking part by more than \p budget σ² (the median over its closed
-// 1-ring, averaged over 2 rings: impulses, a tenth of the vertices, do not move the median), it flattens shape,
+// 1-ring, averaged over 2 rings: impulses, a tenth of the vertices, do not move the median; not on the parts read
+// striped, \p striped, whose bands the sharp fit rightly removes), it flattens shape,
 // not noise: a coarse organic mesh's curvature at low noise (cow σ 0.05: the creased reading 18.5° against 9.6°,
 // and the rule read 8 % of it creased). Such vertices are read smooth (\p sharp set to 0). On CAD-looking parts
 // the sharp fit's larger moves are creases restored or scanner stripes flattened, rightly (the striped cube:
@@ -526,7 +530,8 @@ Eigen::VectorXd sharp_vertices(const Eigen::MatrixXd& features, ReadingRule read
 // 4.43°; the beetle σ 0.05 23.5 / — / 22.9°; nothing worse by more than 0.3 %). \return 1 at the vertices refused.
 Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X,
                                             const MatrixX3d& Xs, const MatrixX3d& Xm, const Eigen::MatrixXd& features,
-                                            double budget, double noise_var, Eigen::VectorXd& sharp) {
+                                            const Eigen::VectorXd& striped, double budget, double noise_var,
+                                            Eigen::VectorXd& sharp) {
   const Eigen::Index n = X.rows();
   Eigen::VectorXd refused = Eigen::VectorXd::Zero(n);
   if (!(budget > 0)) return refused;
@@ -549,7 +554,7 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
   }
   const Eigen::VectorXd typical = ring_average(N, median, 2);
   for (Eigen::Index v = 0; v < n; ++v)  // column 4: the log of the part's look (reading_feature_names())
-    if (sharp[v] > 0 && typical[v] > budget * noise_var && features(v, 4) > std::log(kOrganicLook))
+    if (sharp[v] > 0 && striped[v] == 0 && typical[v] > budget * noise_var && features(v, 4) > std::log(kOrganicLook))
       sharp[v] = 0, refused[v] = 1;
   return refused;
 }
@@ -557,6 +562,12 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
 // A part of fewer vertices has too few faces for a direction of its residual to mean anything: the teapot's
 // patches of 111-450 vertices reach 0.45-0.99 under white noise.
 constexpr int kMinStripedPart = 1000;
+// An organic-looking part is read striped only where the bands stand above the noise: the part's mean squared
+// residual, after the 1-ring median, at least this × the normal noise variance. A white residual's median keeps
+// little of it (the cylinder under white noise, σ 0.05-0.7 at two seeds: 0.06-0.23, with a coherence of 0.34-0.44
+// from its shape alone, the sharp fit's facets along its axis); bands keep most (fandisk, the cube and igea under
+// stripes 3-4 edges apart: 1.18-2.96; bench/denoise.md, thirteenth session).
+constexpr double kStripeEnergy = 0.5;
 
 // Step 5, scanner stripes: a range scanner's bands displace a part along its normals by a wave that runs one way
 // across it. The sharp fit removes them (its residual is the wave) where the mild fit keeps them as relief, and the
@@ -566,13 +577,19 @@ constexpr int kMinStripedPart = 1000;
 // on the sharp fit's faces, n its vertex normals): white noise has no direction (coherence (λ1 − λ2) / (λ1 + λ2)
 // 0.00-0.22 on fandisk, the cube and woody at σ 0.05-0.7 and with impulses), bands one (0.44-0.80 at wavelengths
 // 4-8, across z or an oblique axis, σ 0.2-0.3). A CAD-looking part (look below kOrganicLook) above \p threshold
-// is read creased throughout. \p largest: the largest coherence over the parts measured (-1: none). \return the
-// vertices set.
+// is read creased throughout, and any part above \p organic_threshold: bands 4 edges apart fool the look (fandisk
+// 0.72, the cube 1.38; coherence 0.56, 0.73), while an organic part's residual is mostly shape flattened, which
+// runs no one way (0.03-0.32 under white and striped noise; bench/denoise.md, thirteenth session), where the bands
+// stand above the noise (kStripeEnergy; \p noise_var the normal noise's variance, absolute). \p striped_at:
+// 1 at the vertices of the parts so read. \p largest: the largest coherence over the parts measured (-1: none).
+// \return the vertices set.
 int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
-                               const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold, Eigen::VectorXd& sharp,
-                               double* largest) {
+                               const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold,
+                               double organic_threshold, double noise_var, Eigen::VectorXd& sharp,
+                               Eigen::VectorXd& striped_at, double* largest) {
   *largest = -1;  // no part measured
-  if (!(threshold < 1)) return 0;
+  striped_at = Eigen::VectorXd::Zero(X.rows());
+  if (!(std::min(threshold, organic_threshold) < 1)) return 0;
   Mesh fit = mesh;
   set_positions(fit, Xs);
   const MatrixX3d Ns = vertex_normals(fit);
@@ -601,34 +618,46 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
     T[part[F(f, 0)]] += 0.5 * std::sqrt(n2) * g * g.transpose();
   }
   std::vector<int> size(n_parts, 0);
-  for (Eigen::Index v = 0; v < X.rows(); ++v) ++size[part[v]];
-  std::vector<char> striped(n_parts, 0);
+  std::vector<double> energy(n_parts, 0);  // the mean of r^2 over the part, in noise variances
+  for (Eigen::Index v = 0; v < X.rows(); ++v) ++size[part[v]], energy[part[v]] += r[v] * r[v];
+  for (int p = 0; p < n_parts; ++p) energy[p] /= std::max(size[p], 1) * noise_var;
+  std::vector<double> coherence(n_parts, -1);
   for (int p = 0; p < n_parts; ++p) {
     if (size[p] < kMinStripedPart) continue;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
     es.computeDirect(T[p], Eigen::EigenvaluesOnly);
     const double l1 = es.eigenvalues()[2], l2 = es.eigenvalues()[1];
-    striped[p] = l1 + l2 > 0 && (l1 - l2) / (l1 + l2) > threshold;
-    if (l1 + l2 > 0) *largest = std::max(*largest, (l1 - l2) / (l1 + l2));
+    if (l1 + l2 > 0) coherence[p] = (l1 - l2) / (l1 + l2), *largest = std::max(*largest, coherence[p]);
   }
   int set = 0;
-  for (Eigen::Index v = 0; v < X.rows(); ++v)
-    if (sharp[v] == 0 && striped[part[v]] && features(v, 4) < std::log(kOrganicLook)) sharp[v] = 1, ++set;
+  for (Eigen::Index v = 0; v < X.rows(); ++v) {
+    const bool cad = features(v, 4) < std::log(kOrganicLook);
+    if (!(coherence[part[v]] > (cad ? threshold : organic_threshold)) || !(cad || energy[part[v]] >= kStripeEnergy))
+      continue;
+    striped_at[v] = 1;
+    if (sharp[v] == 0) sharp[v] = 1, ++set;
+  }
   return set;
 }
 
 // Step 5's scanner stripes (read_striped_parts_creased() with the resolved threshold), said in the choices.
-void read_stripes(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xs,
-                  const Eigen::MatrixXd& features, Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
+Eigen::VectorXd read_stripes(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
+                             const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
+                             Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
   const double threshold = r.resolved.stripe_coherence;
   double coherence = -1;
-  const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, threshold, sharp, &coherence);
+  Eigen::VectorXd striped_at;
+  const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, threshold,
+                                                 r.resolved.stripe_coherence_organic, noise_var, sharp, striped_at,
+                                                 &coherence);
   if (coherence >= 0)
     r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
-                                    "over the parts of {}+ vertices; striped above {}){}", coherence, kMinStripedPart,
-                                    threshold,
-                                    striped > 0 ? fmt::format(": {} vertices of a striped CAD-looking part read creased", striped)
+                                    "over the parts of {}+ vertices; striped above {} on CAD-looking parts, above {} "
+                                    "on others where the bands stand above the noise){}", coherence, kMinStripedPart,
+                                    threshold, r.resolved.stripe_coherence_organic,
+                                    striped > 0 ? fmt::format(": {} vertices of a striped part read creased", striped)
                                                 : std::string()));
+  return striped_at;
 }
 
 // Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
@@ -905,8 +934,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
-    read_stripes(mesh, N, F, X, Xs, features, sharp_here, r);
-    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, o.creased_budget, noise_var, sharp_here);
+    const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, noise_var, sharp_here, r);
+    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, striped, o.creased_budget, noise_var, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
   }

@@ -17,7 +17,8 @@
 //!     (AutoDenoiseResult::creased) blends the two in transitions; --creased / --no-creased force one;
 //!     the creased reading is refused where the sharp fit moves an organic-looking part by more than the noise
 //!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused); a CAD-looking part whose sharp-fit residual
-//!     runs one way across it (a scanner's stripes) is read creased throughout (AutoDenoiseOptions::stripe_coherence);
+//!     runs one way across it (a scanner's stripes) is read creased throughout (AutoDenoiseOptions::stripe_coherence),
+//!     and so is any part whose residual runs one way more strongly (stripe_coherence_organic: short bands fool the look);
 //!  5b. the smooth reading's relief per region: a light fit (1 mild sweep, 3 updates) keeps fine relief and
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
@@ -116,6 +117,13 @@ struct AutoDenoiseOptions {
   //! tensor, (λ1 − λ2) / (λ1 + λ2), above stripe_coherence): bands of a scanner, not relief (white noise 0-0.22,
   //! stripes 0.44-0.80 on fandisk and the cube; bench/denoise.md). 1 never (the previous release).
   double stripe_coherence = 0.3;
+  //! Step 5, scanner stripes on a part whatever its look: bands 4 edges apart make a CAD part look organic (fandisk
+  //! 0.72, the cube 1.38), yet its residual's coherence stays high (0.56, 0.73); an organic part's residual is
+  //! mostly the shape the sharp fit flattens, which runs no one way (0.03-0.32 under white and striped noise on
+  //! the shared models). Above stripe_coherence_organic any part is read creased throughout where the bands stand
+  //! above the noise (a smooth cylinder's shape alone reaches 0.44 under white noise, with a residual at the noise
+  //! level), the creased budget not applied (bench/denoise.md, thirteenth session). 1 never (the previous release).
+  double stripe_coherence_organic = 0.4;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
