@@ -1475,7 +1475,8 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     Mesh plain = mesh;
     set_positions(plain, C);
     const MatrixX3d plain_normals = face_normals(plain);
-    const SimilarityBase base{o.axis.follow_weight, &plain_normals, true};
+    SimilarityBase base{o.axis.follow_weight, &plain_normals};
+    base.hold_cores_in_box = true;  // a box scale: cores the box cannot hold are anchored (anchor_cores_in_box())
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
