@@ -337,13 +337,50 @@ double important_share_of_rest(const Mesh& mesh, const MatrixX3d& X, const Eigen
   return area > 0 ? important / area : 0;
 }
 
+namespace {
+
+constexpr int kRoomBins = 64;        // slabs of the room's profile along each axis
+constexpr double kRoomFloor = 0.1;   // each slab's share of the room at least this against a slab wholly across the axis
+
+// The room's profile along axis \p a: G at the kRoomBins + 1 slab edges over [\p lo, \p hi] of \p B, increasing from 0
+// to hi − lo, its slope in each slab proportional to kRoomFloor + the area share of the slab's faces of the rest (not
+// \p in a protrusion) across the axis, Σ A_f n_{f,a}² / Σ A_f (a slab with no rest: 1). A face across the stretch
+// keeps its shape under it (the ruler's anisotropy, and the warp's in-plane size term, see it as free), one along it
+// takes it fully; a uniform profile is the plain per-axis factor. (Floor 0 turned the painted head's ears' room
+// over (RigidProtrusionsGiveNoRoomFromAnImportantHead); 0.3: the stick level 0 ×2 y / z 0.482 / 0.518.)
+std::vector<double> room_profile(const MatrixX3i& F, const MatrixX3d& B, const std::vector<char>& in, int a, double lo,
+                                 double hi) {
+  std::vector<double> across(kRoomBins, 0), area(kRoomBins, 0), G(kRoomBins + 1, 0);
+  const double w = (hi - lo) / kRoomBins;
+  if (!(w > 0)) return G;
+  for (Eigen::Index k = 0; k < F.rows(); ++k) {
+    if (in[F(k, 0)] || in[F(k, 1)] || in[F(k, 2)]) continue;
+    const Vec3 p0 = B.row(F(k, 0)).transpose(), p1 = B.row(F(k, 1)).transpose(), p2 = B.row(F(k, 2)).transpose();
+    const Vec3 nk = (p1 - p0).cross(p2 - p0);
+    const double n2 = nk.squaredNorm();
+    if (!(n2 > 0)) continue;
+    const int bin = std::clamp(static_cast<int>(((p0[a] + p1[a] + p2[a]) / 3 - lo) / w), 0, kRoomBins - 1);
+    const double ar = 0.5 * std::sqrt(n2);
+    across[bin] += ar * nk[a] * nk[a] / n2;
+    area[bin] += ar;
+  }
+  double sum = 0;
+  std::vector<double> rho(kRoomBins);
+  for (int b = 0; b < kRoomBins; ++b) sum += rho[b] = area[b] > 0 ? kRoomFloor + across[b] / area[b] : 1.0;
+  for (int b = 0; b < kRoomBins; ++b) G[b + 1] = G[b] + rho[b] / sum * (hi - lo);
+  return G;
+}
+
+}  // namespace
+
 std::optional<MatrixX3d> fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B,
                                                     const Vec3& lo, const Vec3& hi,
                                                     const std::vector<RigidProtrusion>& protrusions) {
   if (protrusions.empty()) return B;
   const Vec3 blo = B.colwise().minCoeff(), bhi = B.colwise().maxCoeff();
   const Vec3 target = hi - lo, bc = 0.5 * (blo + bhi), tc = 0.5 * (lo + hi);
-  // The slope of the output's extent in each factor: the extent of what is not a protrusion.
+  // The first slope of the output's extent in each factor: the profiled extent of what is not a protrusion (then the
+  // secant of the last two steps).
   std::vector<char> in(B.rows(), 0);
   for (const RigidProtrusion& p : protrusions)
     for (int v : p.vertices) in[v] = 1;
@@ -351,12 +388,27 @@ std::optional<MatrixX3d> fit_box_around_protrusions(const Mesh& mesh, const Matr
   for (Eigen::Index i = 0; i < B.rows(); ++i)
     if (!in[i] && !mesh.is_isolated(mesh.vertex_handle(static_cast<int>(i))))
       rlo = rlo.cwiseMin(B.row(i).transpose()), rhi = rhi.cwiseMax(B.row(i).transpose());
-  const Vec3 rest = rhi - rlo;
-  auto map = [&](const Vec3& l) {
-    MatrixX3d M = (B.rowwise() - bc.transpose()) * l.asDiagonal();
-    return MatrixX3d(M.rowwise() + tc.transpose());
+  Vec3 rest = rhi - rlo;
+  // The room along each axis spread by where the rest's surface lies across that axis (room_profile()).
+  std::array<std::vector<double>, 3> G;
+  const MatrixX3i F = faces(mesh);
+  for (int a = 0; a < 3; ++a) G[a] = room_profile(F, B, in, a, blo[a], bhi[a]);
+  auto g = [&](int a, double x) {
+    const double w = (bhi[a] - blo[a]) / kRoomBins;
+    if (!(w > 0)) return x;
+    const double t = std::clamp((x - blo[a]) / w, 0.0, kRoomBins - 1e-12);
+    const int b = static_cast<int>(t);
+    return blo[a] + G[a][b] + (t - b) * (G[a][b + 1] - G[a][b]);
   };
-  Vec3 l = Vec3::Ones();
+  for (int a = 0; a < 3; ++a) rest[a] = g(a, rhi[a]) - g(a, rlo[a]);
+  auto map = [&](const Vec3& l) {
+    MatrixX3d M(B.rows(), 3);
+    for (Eigen::Index i = 0; i < B.rows(); ++i)
+      for (int a = 0; a < 3; ++a)
+        M(i, a) = tc[a] + (B(i, a) - bc[a]) + (l[a] - 1) * (g(a, B(i, a)) - g(a, bc[a]));
+    return M;
+  };
+  Vec3 l = Vec3::Ones(), l_prev = l, extent_prev = Vec3::Zero();
   bool settled = false;
   for (int step = 0; step < 20 && !settled; ++step) {
     const MatrixX3d Z = place_protrusions(mesh, X, map(l), protrusions, 0);
@@ -365,7 +417,13 @@ std::optional<MatrixX3d> fit_box_around_protrusions(const Mesh& mesh, const Matr
     for (int a = 0; a < 3; ++a) {
       if (!(target[a] > 0) || !(rest[a] > 1e-9 * (bhi - blo).maxCoeff())) continue;
       settled = settled && std::abs(extent[a] / target[a] - 1) < 1e-7;
-      l[a] += (target[a] - extent[a]) / rest[a];
+      double slope = rest[a];
+      if (step > 0 && std::abs(l[a] - l_prev[a]) > 1e-12) {  // the secant: the pieces ride on where their feet went
+        const double measured = (extent[a] - extent_prev[a]) / (l[a] - l_prev[a]);
+        if (measured > 0.1 * rest[a] && measured < 10 * rest[a]) slope = measured;
+      }
+      l_prev[a] = l[a], extent_prev[a] = extent[a];
+      l[a] += (target[a] - extent[a]) / slope;
       if (!(l[a] > 0.2 && l[a] < 5)) return std::nullopt;  // no room
     }
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <cmath>
@@ -902,6 +903,59 @@ void refit_similarities(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y
   }
 }
 
+// The connected wholly important regions (f_i ≥ 1: a painted core) of \p f, as vertex lists (single vertices left out).
+std::vector<std::vector<int>> wholly_important_regions(const Mesh& mesh, const Eigen::VectorXd& f) {
+  const Eigen::VectorXd core = (f.array() >= 1.0).cast<double>().matrix();
+  std::vector<std::vector<int>> out;
+  for (std::vector<int>& members : feature_regions(mesh, core).members)
+    if (members.size() > 1) out.push_back(std::move(members));
+  return out;
+}
+
+// The largest scale s at which the region \p members of \p X turned by \p R spans at most \p extent along each axis.
+double box_scale_limit(const MatrixX3d& X, const std::vector<int>& members, const Eigen::Matrix3d& R, const Vec3& extent) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int i : members) {
+    const Vec3 p = R * X.row(i).transpose();
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  double s = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+    if (hi[a] - lo[a] > 0) s = std::min(s, extent[a] / (hi[a] - lo[a]));
+  return s;
+}
+
+// A wholly important region of \p cores that the box cannot hold at its similarity s R x + t fitted to the solution
+// \p Y (Umeyama over the region, Eq. 5.24; s within the region's smallest s_lo and largest s_hi when \p adapt_scale,
+// else the mean of its vertices' scales): turned by R and scaled by s it spans more than the asked \p extent along
+// an axis, so the final box fit would squeeze it along that axis (the painted plate's bumps, which make its height:
+// grown ×1.15 by the rounds, squeezed back in z, 6.8 % from a similarity on a 32 × 32 plate; bench/resize.md,
+// thirteenth session). Such a region is anchored at the largest similarity the box holds (centroid where \p Y has
+// it): \p weight in \p anchor on its vertices, their places in \p place; the rest, solved again, takes up the
+// difference. Regions the box holds are left to the rounds. \return whether any region was anchored.
+bool anchor_cores_in_box(const MatrixX3d& X, const MatrixX3d& Y, const std::vector<std::vector<int>>& cores,
+                         bool adapt_scale, const Eigen::VectorXd& s_lo, const Eigen::VectorXd& s_hi,
+                         const Eigen::VectorXd& scale, const Vec3& extent, double weight, Eigen::VectorXd& anchor,
+                         MatrixX3d& place) {
+  bool any = false;
+  for (const std::vector<int>& members : cores) {
+    Similarity fit = fit_rows(X, Y, members, true);
+    double lo = std::numeric_limits<double>::infinity(), hi = 0, mean = 0;
+    for (int i : members) lo = std::min(lo, s_lo[i]), hi = std::max(hi, s_hi[i]), mean += scale[i];
+    const double s = adapt_scale ? std::clamp(fit.s, lo, hi) : mean / static_cast<double>(members.size());
+    const double s_box = box_scale_limit(X, members, fit.R, extent);
+    if (!(s_box < s)) continue;
+    Vec3 cx = Vec3::Zero(), cy = Vec3::Zero();
+    for (int i : members) cx += X.row(i).transpose(), cy += Y.row(i).transpose();
+    cx /= static_cast<double>(members.size()), cy /= static_cast<double>(members.size());
+    fit.s = s_box;
+    fit.t = cy - s_box * (fit.R * cx);
+    for (int i : members) anchor[i] = weight, place.row(i) = fit(X.row(i).transpose()).transpose();
+    any = true;
+  }
+  return any;
+}
+
 // The similarity method's constraint planes: q_i and n_i of every vertex not wholly important
 // (f_i < 1) taken at the closest point to the solution \p Y of the plainly stretched surface (\p tree
 // over its faces \p F, its vertex normals \p Nc).
@@ -945,6 +999,7 @@ struct SimilarityBase {
   double beta;
   double follow_falloff = 0;
   const MatrixX3d* plain_normals = nullptr;
+  bool hold_cores_in_box = false;  // a box scale: anchor_cores_in_box() after the rounds (the split solver)
 };
 
 // Marks in \p marked the vertices of the faces \p bad and \p rings vertex rings around them.
@@ -1292,6 +1347,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   const double w = o.surface_weight, beta = base.beta, eps = 1e-6;
   constexpr double kRelaxed = 10.0;  // as in similarity_resize
   constexpr int kSettle = 3;         // steps after each factorization (the first, each relaxation)
+  constexpr double kCoreAnchor = 100.0;  // a core held by the box: its anchors against edge weights ≤ 1 (10: 4.9 %)
   const MatrixX3i F = faces(mesh);
   std::vector<std::array<int, 2>> edges;
   edges.reserve(mesh.n_edges());
@@ -1311,24 +1367,28 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   MatrixX3d target = C, Nrm = Nc, Q = C, P = C;  // P: each vertex's point on its plane
   SplitSystem system;
   Eigen::VectorXd pull, hold;  // ε + the boundary's weight; the surface term's w (1 − f_i)
+  Eigen::VectorXd anchor = Eigen::VectorXd::Zero(n);  // wholly important regions held at their similarity
+  MatrixX3d place = C;
   auto factor = [&] {
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
-    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), pull + hold, pins,
-                  o.frame_weight);
+    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), pull + hold + anchor,
+                  pins, o.frame_weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
   auto step = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, base.follow_falloff, kRelaxed,
                                  o.frame_weight);
-    R += hold.asDiagonal() * P;
+    R += hold.asDiagonal() * P + anchor.asDiagonal() * place;
     const MatrixX3d Y = system.solve(R);
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
     for (const auto& [v, a] : pins) target(v, a) += C(v, a) - Y(v, a);
     return Y;
   };
   const TriangleTree tree(C, F);
+  const std::vector<std::vector<int>> cores =
+      base.hold_cores_in_box ? wholly_important_regions(mesh, f0) : std::vector<std::vector<int>>{};
   report(o.progress, 0.2, "factor");
   factor();
   MatrixX3d out;
@@ -1339,6 +1399,11 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
     project_planes(mesh, tree, F, Nc, f, out, Q, Nrm);
     for (int k = 0; k < o.split_steps; ++k) out = step();
   }
+  const Vec3 extent = (C.colwise().maxCoeff() - C.colwise().minCoeff()).transpose();
+  if (anchor_cores_in_box(X, out, cores, o.adapt_scale, s_lo, s_hi, scale, extent, kCoreAnchor, anchor, place)) {
+    factor();
+    for (int k = 0; k < kSettle; ++k) out = step();
+  }
   // Faces turned over against the plain map: relax them and rings around them to the map.
   for (int round = 0; round < o.flip_rounds; ++round) {
     const std::vector<int> bad = turned_faces(F, Fn_plain, out, base.plain_normals);
@@ -1348,6 +1413,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
     for (int i = 0; i < n; ++i)
       if (relaxed[i]) {
         f[i] = 0;
+        anchor[i] = 0;  // a relaxed core vertex follows the map too
         Q.row(i) = C.row(i);
         Nrm.row(i) = Nc.row(i);
       }
@@ -1423,7 +1489,8 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     Mesh plain = mesh;
     set_positions(plain, C);
     const MatrixX3d plain_normals = face_normals(plain);
-    const SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
+    SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
+    base.hold_cores_in_box = true;  // a box scale: cores the box cannot hold are anchored (anchor_cores_in_box())
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);

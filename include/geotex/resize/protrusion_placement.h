@@ -56,10 +56,12 @@ MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
 int relax_turned_faces(const Mesh& mesh, const MatrixX3d& C, const std::vector<RigidProtrusion>& protrusions,
                        MatrixX3d& Y, int rounds = 4);
 
-//! \p B (#V by 3, a deformation of \p X) scaled per axis about its box centre and moved so that
+//! \p B (#V by 3, a deformation of \p X) stretched per axis about its box centre and moved so that
 //! place_protrusions() of it has the box [\p lo, \p hi]: the rest of the model takes the room the
-//! protrusions, kept at their size, do not (fixed-point steps on each axis' factor, the slope the extent of
-//! what is not a protrusion). \return nothing when the factors do not settle within (0.2, 5) in 20 steps
+//! protrusions, kept at their size, do not. Along each axis the room goes by a piecewise-linear profile over
+//! 64 slabs, most where the rest's surface lies across the axis (its faces keep their shape under a stretch
+//! along their normal), at least a tenth of a uniform share elsewhere; one factor per axis scales it (secant
+//! steps). \return nothing when the factors do not settle within (0.2, 5) in 20 steps
 //! (no room: the protrusions cannot be held at their size in the box; cheburashka ×2 x and ×2 y).
 std::optional<MatrixX3d> fit_box_around_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& B,
                                                     const Vec3& lo, const Vec3& hi,
