@@ -92,6 +92,13 @@ constexpr double kRelaxation = 0.25;  // the fit's tangential relaxation (surfel
 // Rounds of untangling: more rounds, with the region grown further, moved whole regions of the coarse cow
 // (Ev 2.7e-3 at 10 rounds, 6.0e-3 at 50 on cow, spot and bunny at 0.2 and 0.9); 10 leave no fold in the tests.
 constexpr int kUntangleRounds = 10;
+// Normal noise (mean edge lengths) below which untangle() leaves a face that the input itself turns away from
+// its target: so little noise turns no face over (a flip needs a normal move near the face's height, several
+// times this), so the target is wrong there, the smooth reading of a coarse model's own facets, and untangling
+// dragged whole regions to their neighbours' means (beetle at σ 0.02 given: 4.0° noisy, 13.4° with, 4.3°
+// without; bench/denoise.md, issue 24 "low noise on coarse models"). Above it (teapot σ 0.7: 17.8° → 19.3°
+// if left) such faces are the noise's own flips, and are untangled.
+constexpr double kInputTurnsNoise = 0.2;
 // Rings over which the energy of the light fit's departure is averaged (step 5b).
 constexpr int kReliefRings = 3;
 
@@ -179,18 +186,25 @@ int consistent_targets(const Mesh& mesh, const MatrixX3d& X, MatrixX3d& target) 
 // Faces that face away from their target normal (n_f · t_f <= 0: turned over, or degenerate) are untangled:
 // the vertices around them move to the mean of their neighbours (Jacobi rounds, which unfold a fold-over
 // as a Tutte embedding does; the region grows by a ring every kGrow rounds where a fold persists), until
-// none is left or \p rounds ran. \return the faces still turned over.
-int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d& target, int rounds) {
+// none is left or \p rounds ran. With \p input (the noisy positions), a face the input itself turns away from
+// its target is left alone: no fold of the fit's, but the target's error (see kInputTurnsNoise). \return the
+// faces still turned over.
+int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d& target, int rounds,
+             const MatrixX3d* input = nullptr) {
   constexpr int kGrow = 5;
   // The target and the mean of the edge neighbours' targets: a face must agree with both.
   MatrixX3d around = MatrixX3d::Zero(target.rows(), 3);
   for (auto f : mesh.faces())
     for (auto g : mesh.ff_range(f)) around.row(f.idx()) += target.row(g.idx());
-  auto turned = [&](Eigen::Index f) {
-    const Vec3 a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
+  auto turned_in = [&](const MatrixX3d& P, Eigen::Index f) {
+    const Vec3 a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
     const Vec3 n = (b - a).cross(c - a);
     return n.dot(target.row(f).transpose()) <= 0 || n.dot(around.row(f).transpose()) <= 0;
   };
+  std::vector<char> inherited(F.rows(), 0);  // turned over in the input already
+  if (input)
+    for (Eigen::Index f = 0; f < F.rows(); ++f) inherited[f] = turned_in(*input, f);
+  auto turned = [&](Eigen::Index f) { return !inherited[f] && turned_in(X, f); };
   std::vector<char> move(X.rows()), grown;
   int bad = 0;
   for (int round = 0;; ++round) {
@@ -940,7 +954,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   give_back_coherent(mesh, X, F, N, cv, strong, noise_var, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
   keep_share_of_change(X, keep, r);
-  r.turned_over = untangle(mesh, F, r.positions, FN, kUntangleRounds);
+  const bool low_noise = normal_noise < kInputTurnsNoise;  // the input's own turned faces are left (untangle())
+  r.turned_over = untangle(mesh, F, r.positions, FN, kUntangleRounds, low_noise ? &X : nullptr);
   stage("untangle");
   report(o.progress, 0.95, "auto: fit");
 
