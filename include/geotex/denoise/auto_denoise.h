@@ -156,7 +156,9 @@ struct AutoDenoiseResult {
   NoiseEstimate noise;                 //!< the noise estimate
   AutoDenoiseOptions resolved;         //!< the options with every automatic value set
   std::vector<std::string> choices;    //!< what was chosen and why, one short line each
-  int turned_over = 0;                 //!< faces left turned over against their target normals (normally 0)
+  //! faces left turned over against their target normals (normally 0); not counted: those the input itself
+  //! turns away from them where Gaussian noise could not have (a coarse model's facets: the targets' error)
+  int turned_over = 0;
   //! #F: how each face was read, 1 creased (CAD-like: the sharp pass's normals), 0 smooth (organic: the
   //! mild pass's), in between a blend (transitions); constant when AutoDenoiseOptions::creased is given.
   Eigen::VectorXd creased;
