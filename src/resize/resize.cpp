@@ -142,6 +142,10 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "similarity, axis-similarity: protrusions (tentacles, ears, horns) placed as rigid pieces at their size on "
            "where their foot went, the rest of the model stretched to hold them in the box where it is mostly "
            "unimportant and that room settles (else the method's result stands); false: per-vertex similarities only")
+      .add("untangle", &O::untangle,
+           "axis-similarity, similarity: where the result crosses itself beyond the input's own, blend it back "
+           "towards the axis warp (similarity: the plain map) over a smooth bump until it does not; false: only "
+           "count them")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1382,6 +1386,18 @@ MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const Matri
   return Y;
 }
 
+// The faces \p out crosses against the input's own, into \p untangled when given; repaired towards \p safe
+// (untangle_resize()) when \p repair. Not counted at all when neither is asked (feature_aware_resize() alone).
+MatrixX3d count_and_untangle(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& out, const MatrixX3d& safe,
+                             bool repair, const ResizeOptions& o, UntangleReport* untangled) {
+  UntangleReport counts;
+  if (!repair && !untangled) return out;
+  MatrixX3d Y = untangle_resize(mesh, X, out, safe, repair, counts, o.progress);
+  if (counts.excess_before() > 0) report(o.progress, 0.99, counts.describe());
+  if (untangled) *untangled = counts;
+  return Y;
+}
+
 }  // namespace
 
 ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, const MatrixX3d& C) {
@@ -1392,7 +1408,7 @@ ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, 
 }
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
-                               const ResizeOptions& options) {
+                               const ResizeOptions& options, UntangleReport* untangled) {
   require_valid(mesh, "resize input");
   check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
@@ -1429,6 +1445,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
                                                           : similarity_resize(mesh, X, W, features, o, base);
     // (Giving the protrusions' slabs full importance in the warp changed nothing measurable: bench/resize.md.)
     out = put_back_protrusions(mesh, X, C, features, out, protrusions);
+    out = count_and_untangle(mesh, X, out, W, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled);
     report(o.progress, 1.0, "done");
     return out;
   }
@@ -1445,6 +1462,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       // larger stretch; bench/resize.md, eleventh session.)
       set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
       MatrixX3d out = put_back_protrusions(mesh, X, C, features, similarity(C), protrusions);
+      out = count_and_untangle(mesh, X, out, C, o.untangle, o, untangled);
       report(o.progress, 1.0, "done");
       return out;
     }
@@ -1452,6 +1470,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
                   : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
                                                       : similarity(C);
+  out = count_and_untangle(mesh, X, out, C, o.method == ResizeMethod::Similarity && o.untangle, o, untangled);
   report(o.progress, 1.0, "done");
   return out;
 }
@@ -1520,7 +1539,7 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
   ResizeOptions ro = options.resize;
   ro.progress = part(split, 1.0);
   r.method = resolved_resize_method(ro, positions(mesh), r.mapped);
-  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro);
+  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro, &r.untangle);
   return r;
 }
 
