@@ -1387,12 +1387,21 @@ MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const Matri
 }
 
 // The faces \p out crosses against the input's own, into \p untangled when given; repaired towards \p safe
-// (untangle_resize()) when \p repair. Not counted at all when neither is asked (feature_aware_resize() alone).
+// (untangle_resize()) when \p repair, and then towards \p plain (the plain stretch, affine, so crossing only what
+// the input does) when given and faces the safe result crosses itself are left (the axis warp crosses one beyond
+// the cow's own ×2 y and z). Not counted at all when neither is asked (feature_aware_resize() alone).
 MatrixX3d count_and_untangle(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& out, const MatrixX3d& safe,
-                             bool repair, const ResizeOptions& o, UntangleReport* untangled) {
+                             const MatrixX3d* plain, bool repair, const ResizeOptions& o, UntangleReport* untangled) {
   UntangleReport counts;
   if (!repair && !untangled) return out;
   MatrixX3d Y = untangle_resize(mesh, X, out, safe, repair, counts, o.progress);
+  if (repair && plain && counts.excess_after() > 0) {
+    UntangleReport second;
+    Y = untangle_resize(mesh, X, Y, *plain, repair, second, o.progress);
+    counts.after = second.after;
+    counts.blended = std::max(counts.blended, second.blended);
+    counts.rounds += second.rounds;
+  }
   if (counts.excess_before() > 0) report(o.progress, 0.99, counts.describe());
   if (untangled) *untangled = counts;
   return Y;
@@ -1445,7 +1454,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
                                                           : similarity_resize(mesh, X, W, features, o, base);
     // (Giving the protrusions' slabs full importance in the warp changed nothing measurable: bench/resize.md.)
     out = put_back_protrusions(mesh, X, C, features, out, protrusions);
-    out = count_and_untangle(mesh, X, out, W, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled);
+    out = count_and_untangle(mesh, X, out, W, &C, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled);
     report(o.progress, 1.0, "done");
     return out;
   }
@@ -1462,7 +1471,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       // larger stretch; bench/resize.md, eleventh session.)
       set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
       MatrixX3d out = put_back_protrusions(mesh, X, C, features, similarity(C), protrusions);
-      out = count_and_untangle(mesh, X, out, C, o.untangle, o, untangled);
+      out = count_and_untangle(mesh, X, out, C, nullptr, o.untangle, o, untangled);
       report(o.progress, 1.0, "done");
       return out;
     }
@@ -1470,7 +1479,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
                   : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
                                                       : similarity(C);
-  out = count_and_untangle(mesh, X, out, C, o.method == ResizeMethod::Similarity && o.untangle, o, untangled);
+  out = count_and_untangle(mesh, X, out, C, nullptr, o.method == ResizeMethod::Similarity && o.untangle, o, untangled);
   report(o.progress, 1.0, "done");
   return out;
 }

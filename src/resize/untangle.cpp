@@ -28,6 +28,7 @@ namespace {
 constexpr double kStartEdges = 1.0;
 constexpr double kReach = 3.0;  // the bump reaches 0 at kReach times its plateau's radius
 constexpr int kMaxRounds = 12;
+constexpr double kRaise[3] = {0.25, 0.5, 1.0};  // the bump's heights tried at each radius
 
 size_t count(const std::vector<char>& flags) { return static_cast<size_t>(std::count(flags.begin(), flags.end(), 1)); }
 
@@ -44,6 +45,22 @@ bool mark_new_crossings(const MatrixX3i& F, const std::vector<char>& hit, const 
   bool any = false;
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (hit[f] && !own[f] && !safe_hit[f]) {
+      any = true;
+      for (int k = 0; k < 3; ++k) seed[F(f, k)] = 1;
+    }
+  return any;
+}
+
+// Marks the vertices of the faces of \p Y turned over against \p safe (normals at more than 90°): a blend of two
+// results that turn none can turn one (beetle ×2 z: 2 faces). True if there is one.
+bool mark_turned(const MatrixX3i& F, const MatrixX3d& Y, const MatrixX3d& safe, std::vector<char>& seed) {
+  bool any = false;
+  const auto normal = [&F](const MatrixX3d& P, Eigen::Index f) -> Vec3 {
+    const Vec3 a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
+    return (b - a).cross(c - a);
+  };
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (normal(Y, f).dot(normal(safe, f)) < 0) {
       any = true;
       for (int k = 0; k < 3; ++k) seed[F(f, k)] = 1;
     }
@@ -104,9 +121,11 @@ MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d&
   const double diagonal = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
   double r = kStartEdges * mean_edge_length(X, F);
   MatrixX3d out = Y;
-  for (int round = 0; round < kMaxRounds && r < diagonal; ++round, r *= 2) {
+  for (int round = 0; round < kMaxRounds * 3 && r < diagonal; ++round) {
     report(progress, 0.97, fmt::format("blend back {} vertices at crossings", count(seed)));
-    const Eigen::VectorXd t = bump(X, seed, r);
+    // At each radius the bump is raised from a quarter to a half to 1; then widened.
+    const Eigen::VectorXd t = kRaise[round % 3] * bump(X, seed, r);
+    if (round % 3 == 2) r *= 2;
     out = Y + t.asDiagonal() * (safe - Y);
     fit_box_onto(out, safe);
     counts.rounds = round + 1;
@@ -116,7 +135,9 @@ MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d&
     // Done when no more faces cross than the input's own (the ruler's excess is 0), or the faces crossed beyond
     // them are all crossed in the safe result too. (Face by face, the teapot's lid, which touches its body, trades
     // a few crossed faces for others at any blend: the count is the measure.)
-    if (counts.after <= counts.base || !mark_new_crossings(F, hit, own, safe_hit, seed)) return out;
+    // Faces the blend turned over join the seeds too.
+    const bool crossing = counts.after > counts.base && mark_new_crossings(F, hit, own, safe_hit, seed);
+    if (!mark_turned(F, out, safe, seed) && !crossing) return out;
   }
   counts.rounds += 1;
   counts.blended = static_cast<size_t>(X.rows());
