@@ -143,9 +143,8 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "where their foot went, the rest of the model stretched to hold them in the box where it is mostly "
            "unimportant and that room settles (else the method's result stands); false: per-vertex similarities only")
       .add("untangle", &O::untangle,
-           "axis-similarity, similarity: where the result crosses itself beyond the input's own, blend it back "
-           "towards the axis warp (similarity: the plain map) over a smooth bump until it does not; false: only "
-           "count them")
+           "axis-similarity: where the result crosses itself beyond the input's own, blend it back towards the axis "
+           "warp over a smooth bump until it does not; false: only count them (every method counts them)")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1471,7 +1470,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       // larger stretch; bench/resize.md, eleventh session.)
       set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
       MatrixX3d out = put_back_protrusions(mesh, X, C, features, similarity(C), protrusions);
-      out = count_and_untangle(mesh, X, out, C, nullptr, o.untangle, o, untangled);
+      out = count_and_untangle(mesh, X, out, C, nullptr, false, o, untangled);  // counted (see untangle)
       report(o.progress, 1.0, "done");
       return out;
     }
@@ -1479,7 +1478,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
                   : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
                                                       : similarity(C);
-  out = count_and_untangle(mesh, X, out, C, nullptr, o.method == ResizeMethod::Similarity && o.untangle, o, untangled);
+  out = count_and_untangle(mesh, X, out, C, nullptr, false, o, untangled);  // counted only (see untangle)
   report(o.progress, 1.0, "done");
   return out;
 }
