@@ -23,8 +23,9 @@ std::string UntangleReport::describe() const {
 
 namespace {
 
-// The first bump's radius in mean edge lengths, and the rounds before t = 1 everywhere. (2, 4 and 8 edges
-// measured on the runs that cross: bench/resize.md, issue 25 thirteenth session.)
+// The first bump's plateau radius in mean edge lengths, and the radii tried before t = 1 everywhere. (A bump that
+// was 1 only at the seeds, from 4 edges, left crossings next to them at every radius on the teapot: bench/resize.md,
+// issue 25 thirteenth session.)
 constexpr double kStartEdges = 1.0;
 constexpr double kReach = 3.0;  // the bump reaches 0 at kReach times its plateau's radius
 constexpr int kMaxRounds = 12;

@@ -26,12 +26,13 @@ struct UntangleReport {
   std::string describe() const;
 };
 
-//! Counts the faces \p Y crosses (against the input's own, \p X) and, when \p repair and \p Y crosses faces that
-//! neither \p X nor \p safe cross, blends Y towards \p safe with weight t_i = s(1 − d_i / r), s the smoothstep and
-//! d_i the distance in the input from vertex i to those faces' vertices (t = 1 on them, no crease), then scales Y
-//! per axis back onto the box of \p safe (an affine map: it adds no crossing); r starts at a few mean edge lengths
-//! and doubles, the crossing faces found on the way joining the seeds, until no such face is left (at the latest
-//! with t = 1 everywhere: \p safe). \param X, Y, safe #V by 3 over \p mesh's faces. \return #V by 3 positions.
+//! Counts the faces \p Y crosses (against the input's own, \p X) and, when \p repair and \p Y crosses more faces
+//! than X, some of which neither X nor \p safe crosses, blends Y towards \p safe with weight t_i = a b(d_i): b = 1
+//! within r of those faces' vertices (d_i the distance in the input), a smoothstep down to 0 at 3r (no crease);
+//! a = 1/4, 1/2, 1 at each r, then r doubles from one mean edge length; faces crossed anew or turned over by a blend
+//! join the seeds. After each blend Y is scaled per axis back onto the box of \p safe (an affine map: it adds no
+//! crossing). Done when no more faces cross than in X, or those beyond are crossed in \p safe too; at the latest
+//! \p safe itself. \param X, Y, safe #V by 3 over \p mesh's faces. \return #V by 3 positions.
 MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, const MatrixX3d& safe, bool repair,
                           UntangleReport& counts, const ProgressFn& progress = {});
 
