@@ -6,7 +6,8 @@
 # Usage: bench/resize_table.sh [-m "similarity axis-similarity"] [-M "cow igea …"] [-a "x y z"] [-o DIR]
 #                              [-- extra geotex resize flags]
 #   GEOTEX   the CLI (default build/geotex)    DATA  the shared models (default /work/shared/data)
-# Prints one TSV row per run: model axis method ratio turned box_error cpu_s faces (and keeps the outputs
+# Prints one TSV row per run: model axis method ratio turned box_error cpu_s faces excess (faces crossed beyond
+# the input's own, geval.py self-intersections --base; keeps the outputs
 # in DIR, default /tmp/resize_table, as MODEL-AXIS-METHOD.ply for renders).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,7 +30,7 @@ while [ $# -gt 0 ]; do
 done
 extra=("$@")
 mkdir -p "$out"
-printf 'model\taxis\tmethod\tratio\tturned\tbox_error\tcpu_s\tfaces\n'
+printf 'model\taxis\tmethod\tratio\tturned\tbox_error\tcpu_s\tfaces\texcess\n'
 for m in $models; do
   orig=$out/$m.ply
   if [ ! -f "$orig" ]; then  # the ruler needs the vertices exactly as geotex reads them
@@ -46,6 +47,8 @@ for m in $models; do
       /usr/bin/time -o "$out/time" -f '%U %S' "$GEOTEX" -q resize "$orig" -o "$res" --scale $s --method "$meth" \
         "${extra[@]}" >/dev/null 2>"$out/stderr"
       cpu=$(awk '{printf "%.2f", $1 + $2}' "$out/time")
+      excess=$(/usr/bin/python3 "$GEVAL" self-intersections "$res" --base "$orig" |
+        /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["excess_faces_hit"])')
       /usr/bin/python3 "$GEVAL" detail-distortion "$orig" "$res" $s | /usr/bin/python3 -c '
 import json, sys
 d = json.load(sys.stdin)
@@ -53,7 +56,7 @@ d = json.load(sys.stdin)
 err = max((abs(b / s - 1) for b, s in zip(d["box"], d["asked"]) if b == b and b > 0), default=float("nan"))
 r = d["ratio"]
 print("\t".join([sys.argv[1], sys.argv[2], sys.argv[3], "%.3f" % r if r is not None else "-",
-                 str(d["flipped_vs_plain"]), "%.0e" % err, sys.argv[4], str(d["faces"])]))' "$m" "$a" "$meth" "$cpu"
+                 str(d["flipped_vs_plain"]), "%.0e" % err, sys.argv[4], str(d["faces"]), sys.argv[5]]))' "$m" "$a" "$meth" "$cpu" "$excess"
     done
   done
 done

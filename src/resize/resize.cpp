@@ -143,6 +143,9 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "similarity, axis-similarity: protrusions (tentacles, ears, horns) placed as rigid pieces at their size on "
            "where their foot went, the rest of the model stretched to hold them in the box where it is mostly "
            "unimportant and that room settles (else the method's result stands); false: per-vertex similarities only")
+      .add("untangle", &O::untangle,
+           "axis-similarity: where the result crosses itself beyond the input's own, blend it back towards the axis "
+           "warp over a smooth bump until it does not; false: only count them (every method counts them)")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1448,6 +1451,27 @@ MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const Matri
   return Y;
 }
 
+// The faces \p out crosses against the input's own, into \p untangled when given; repaired towards \p safe
+// (untangle_resize()) when \p repair, and then towards \p plain (the plain stretch, affine, so crossing only what
+// the input does) when given and faces the safe result crosses itself are left (the axis warp crosses one beyond
+// the cow's own ×2 y and z). Not counted at all when neither is asked (feature_aware_resize() alone).
+MatrixX3d count_and_untangle(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& out, const MatrixX3d& safe,
+                             const MatrixX3d* plain, bool repair, const ResizeOptions& o, UntangleReport* untangled) {
+  UntangleReport counts;
+  if (!repair && !untangled) return out;
+  MatrixX3d Y = untangle_resize(mesh, X, out, safe, repair, counts, o.progress);
+  if (repair && plain && counts.excess_after() > 0) {
+    UntangleReport second;
+    Y = untangle_resize(mesh, X, Y, *plain, repair, second, o.progress);
+    counts.after = second.after;
+    counts.blended = std::max(counts.blended, second.blended);
+    counts.rounds += second.rounds;
+  }
+  if (counts.excess_before() > 0) report(o.progress, 0.99, counts.describe());
+  if (untangled) *untangled = counts;
+  return Y;
+}
+
 }  // namespace
 
 ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, const MatrixX3d& C) {
@@ -1458,7 +1482,7 @@ ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, 
 }
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
-                               const ResizeOptions& options) {
+                               const ResizeOptions& options, UntangleReport* untangled) {
   require_valid(mesh, "resize input");
   check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
@@ -1496,6 +1520,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
                                                           : similarity_resize(mesh, X, W, features, o, base);
     // (Giving the protrusions' slabs full importance in the warp changed nothing measurable: bench/resize.md.)
     out = put_back_protrusions(mesh, X, C, features, out, protrusions);
+    out = count_and_untangle(mesh, X, out, W, &C, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled);
     report(o.progress, 1.0, "done");
     return out;
   }
@@ -1512,6 +1537,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       // larger stretch; bench/resize.md, eleventh session.)
       set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
       MatrixX3d out = put_back_protrusions(mesh, X, C, features, similarity(C), protrusions);
+      out = count_and_untangle(mesh, X, out, C, nullptr, false, o, untangled);  // counted (see untangle)
       report(o.progress, 1.0, "done");
       return out;
     }
@@ -1519,6 +1545,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   MatrixX3d out = o.method == ResizeMethod::Thesis    ? thesis_resize(mesh, X, C, features, o)
                   : o.method == ResizeMethod::Sliding ? sliding_resize(mesh, X, C, features, o)
                                                       : similarity(C);
+  out = count_and_untangle(mesh, X, out, C, nullptr, false, o, untangled);  // counted only (see untangle)
   report(o.progress, 1.0, "done");
   return out;
 }
@@ -1587,7 +1614,7 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
   ResizeOptions ro = options.resize;
   ro.progress = part(split, 1.0);
   r.method = resolved_resize_method(ro, positions(mesh), r.mapped);
-  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro);
+  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro, &r.untangle);
   return r;
 }
 

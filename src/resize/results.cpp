@@ -25,6 +25,16 @@ const ResultTable<ResizeResult>& resize_results() {
       .add("detector", [](const R& r) { return std::string(enum_name(feature_map_names(), r.detector)); },
            "the detector that made the map (for auto, the one chosen; none: weights given or no features)")
       .part(feature_summary_results(), [](const R& r) -> const FeatureSummary& { return r.summary; })
+      .add("self_intersecting", [](const R& r) { return r.untangle.after; },
+           "faces of the result crossed by an edge of a non-adjacent face (self_intersecting_faces())")
+      .add("base_self_intersecting", [](const R& r) { return r.untangle.base; },
+           "faces of the input so crossed (its own; counted only when the result has any)")
+      .add("excess_self_intersecting", [](const R& r) { return r.untangle.excess_after(); },
+           "self_intersecting beyond the input's own")
+      .add("untangle_excess_before", [](const R& r) { return r.untangle.excess_before(); },
+           "faces crossed beyond the input's own before the untangle blend")
+      .add("untangle_blended_vertices", [](const R& r) { return r.untangle.blended; },
+           "vertices the untangle blend moved towards the axis warp or the plain map")
       .array("features", [](const R& r) { return r.features; }, "#V feature weights used, in [0, 1]", "",
              kPythonOnly)
       .array("mapped", [](const R& r) { return r.mapped; }, "#V by 3 positions under the plain deformation", "",

@@ -83,6 +83,7 @@ void run(const MeshIo& io, const Args& a, ResizeRunOptions o) {
   const std::string method(enum_name(resize_method_names(), r.method));  // for auto, the one chosen
   info(fmt::format("resized {} vertices ({}{}) in {:.2f} s", mesh.n_vertices(), method,
                    o.resize.method == ResizeMethod::Auto ? ", auto" : "", sec));
+  info("self-intersections: " + r.untangle.describe());
   if (!a.save_features.empty()) write_features(mesh, r.features, a.save_features, !io.ascii);
   set_positions(mesh, r.V);
   save_mesh(mesh, io.output, !io.ascii);

@@ -263,3 +263,17 @@ def test_rigid_protrusions_are_the_default_and_can_be_turned_off(tmp_path):
         assert np.abs(got - expected).max() < 1e-9
     for r in (on, off):  # the box as asked either way
         assert np.ptp(r.V, axis=0) == pytest.approx(np.ptp(V, axis=0) * (1, 2, 1), rel=1e-9)
+
+
+def test_crossings_beyond_the_inputs_own_are_counted_and_untangled(data_dir):
+    # Issue 25: cheburashka x2 along x, its ears run into its head after the similarity stage; the result counts
+    # them, the default blends them back (none left beyond the input's own), untangle=False leaves them.
+    V, F = geotex.read_mesh(str(data_dir / "cheburashka.obj"))
+    on = geotex.resize(V, F, scale=(2, 1, 1))
+    off = geotex.resize(V, F, scale=(2, 1, 1), untangle=False)
+    assert off.excess_self_intersecting > 0 and off.untangle_blended_vertices == 0
+    assert on.untangle_excess_before == off.excess_self_intersecting
+    assert on.excess_self_intersecting == 0 and 0 < on.untangle_blended_vertices < len(V)
+    assert on.self_intersecting <= on.base_self_intersecting
+    span, asked = np.ptp(on.V, axis=0), np.ptp(on.mapped, axis=0)
+    assert np.allclose(span, asked, rtol=1e-12, atol=0)
