@@ -1020,15 +1020,6 @@ void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& b
   }
 }
 
-// \p out scaled per axis onto the bounding box of \p C (axes where either box is flat are left as they are).
-void fit_box(MatrixX3d& out, const MatrixX3d& C) {
-  const Vec3 clo = C.colwise().minCoeff(), chi = C.colwise().maxCoeff();
-  const Vec3 olo = out.colwise().minCoeff(), ohi = out.colwise().maxCoeff();
-  for (int a = 0; a < 3; ++a)
-    if (ohi[a] > olo[a] && chi[a] > clo[a])
-      out.col(a) = ((out.col(a).array() - olo[a]) * ((chi[a] - clo[a]) / (ohi[a] - olo[a])) + clo[a]).matrix();
-}
-
 // The weight of an edge following the map C: β (1 − f_ij)^p, p = \p falloff (SimilarityBase::follow_falloff;
 // 0: β on every edge), or \p relaxed_weight at a relaxed vertex.
 double follow_weight(double fe, bool relaxed, double beta, double falloff, double relaxed_weight) {
@@ -1203,7 +1194,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     out = solve_frame();
   }
   // The box exactly as the map puts it: a per-axis scale of a few parts in 10⁴ (positive, so no face turns).
-  fit_box(out, C);
+  fit_box_onto(out, C);
   return out;
 }
 
@@ -1423,7 +1414,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
     factor();
     for (int k = 0; k < kSettle; ++k) out = step();
   }
-  fit_box(out, C);  // the box exactly as the map puts it
+  fit_box_onto(out, C);  // the box exactly as the map puts it
   return out;
 }
 
@@ -1447,7 +1438,7 @@ MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const Matri
   if (!room) return out;
   MatrixX3d Y = place_protrusions(mesh, X, *room, protrusions);
   relax_turned_faces(mesh, C, protrusions, Y);
-  fit_box(Y, C);
+  fit_box_onto(Y, C);
   return Y;
 }
 

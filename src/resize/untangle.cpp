@@ -91,8 +91,8 @@ Eigen::VectorXd bump(const MatrixX3d& X, const std::vector<char>& seed, double r
   return t;
 }
 
-// \p Y scaled per axis onto the bounding box of \p B (axes where either box is flat are left as they are), as the
-// similarity stage fits its box.
+}  // namespace
+
 void fit_box_onto(MatrixX3d& Y, const MatrixX3d& B) {
   const Vec3 blo = B.colwise().minCoeff(), bhi = B.colwise().maxCoeff();
   const Vec3 lo = Y.colwise().minCoeff(), hi = Y.colwise().maxCoeff();
@@ -100,8 +100,6 @@ void fit_box_onto(MatrixX3d& Y, const MatrixX3d& B) {
     if (hi[a] > lo[a] && bhi[a] > blo[a])
       Y.col(a) = ((Y.col(a).array() - lo[a]) * ((bhi[a] - blo[a]) / (hi[a] - lo[a])) + blo[a]).matrix();
 }
-
-}  // namespace
 
 MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, const MatrixX3d& safe, bool repair,
                           UntangleReport& counts, const ProgressFn& progress) {

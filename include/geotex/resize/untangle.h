@@ -36,4 +36,8 @@ struct UntangleReport {
 MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, const MatrixX3d& safe, bool repair,
                           UntangleReport& counts, const ProgressFn& progress = {});
 
+//! \p Y scaled per axis onto the bounding box of \p B (axes where either box is flat are left as they are): the
+//! box fit the similarity stage and the repair end with (an affine map: it turns no face and adds no crossing).
+void fit_box_onto(MatrixX3d& Y, const MatrixX3d& B);
+
 }  // namespace geotex
