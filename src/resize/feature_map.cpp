@@ -428,6 +428,25 @@ Eigen::VectorXd diffuse(const Mesh& mesh, Eigen::VectorXd f, int steps) {
   return f;
 }
 
+// The boundary vertices that lie on another boundary vertex (within a millionth of the mean edge length): a
+// seam between unwelded patches (the teapot's Bézier patches), not an outline. Two patches whose seam was read as
+// outline were each held to their own shape and tore apart under a stretch.
+std::vector<int> seam_vertices(const Mesh& mesh, const std::vector<std::vector<int>>& loops) {
+  std::vector<int> b;
+  for (const std::vector<int>& loop : loops) b.insert(b.end(), loop.begin(), loop.end());
+  const MatrixX3d X = positions(mesh);
+  const double eps = 1e-6 * mean_edge_length(mesh);
+  std::sort(b.begin(), b.end(), [&](int u, int v) { return X(u, 0) < X(v, 0); });
+  std::vector<char> on(mesh.n_vertices(), 0);
+  for (size_t k = 0; k < b.size(); ++k)
+    for (size_t j = k + 1; j < b.size() && X(b[j], 0) - X(b[k], 0) <= eps; ++j)
+      if ((X.row(b[j]) - X.row(b[k])).norm() <= eps) on[b[j]] = on[b[k]] = 1;
+  std::vector<int> seam;
+  for (int v : b)
+    if (on[v]) seam.push_back(v);
+  return seam;
+}
+
 // Each boundary vertex's two neighbours along its boundary loop (boundary_loops()), {-1, -1} off the boundary
 // (empty: a closed mesh).
 std::vector<std::array<int, 2>> boundary_neighbours(const Mesh& mesh) {
@@ -439,6 +458,7 @@ std::vector<std::array<int, 2>> boundary_neighbours(const Mesh& mesh) {
       const int a = loop[k], b = loop[(k + 1) % loop.size()];  // a boundary halfedge a -> b
       nb[a][1] = b, nb[b][0] = a;
     }
+  for (int v : seam_vertices(mesh, loops)) nb[v] = {-1, -1};
   return nb;
 }
 

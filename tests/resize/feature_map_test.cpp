@@ -379,3 +379,56 @@ TEST(FeatureMap, TheOutlineOfAFlatCutOutIsRelief) {
   const Mesh closed = stick().shape.textured;
   EXPECT_EQ(feature_map(closed, on).weights, feature_map(closed, off).weights);
 }
+
+namespace {
+// A flat disk of radius 1 with a bump at its centre, over K rings of M vertices; with \p seam its rings up to K/2 and from K/2 are two patches
+// whose circle r = 1/2 is stored twice (unwelded, as the teapot's Bézier patches are).
+Mesh flat_disk(bool seam) {
+  const int K = 32, M = 128, mid = K / 2;
+  std::vector<Eigen::Vector3d> V{{0, 0, 0.2}};
+  std::vector<std::vector<int>> ring(K + 2);
+  auto add_ring = [&](int slot, int k) {
+    for (int j = 0; j < M; ++j) {
+      const double r = double(k) / K, t = 2 * M_PI * j / M;
+      ring[slot].push_back(static_cast<int>(V.size()));
+      V.emplace_back(r * std::cos(t), r * std::sin(t), 0.2 * std::exp(-r * r / 0.005));  // a bump at the centre
+    }
+  };
+  for (int k = 1; k <= K; ++k) add_ring(k, k);
+  if (seam) add_ring(K + 1, mid);  // the outer patch's own copy of the middle circle
+  std::vector<Eigen::Vector3i> F;
+  for (int j = 0; j < M; ++j) F.emplace_back(0, ring[1][j], ring[1][(j + 1) % M]);
+  for (int k = 1; k < K; ++k) {
+    const std::vector<int>& a = (seam && k == mid) ? ring[K + 1] : ring[k];
+    for (int j = 0; j < M; ++j) {
+      const int j1 = (j + 1) % M;
+      F.emplace_back(a[j], ring[k + 1][j], ring[k + 1][j1]);
+      F.emplace_back(a[j], ring[k + 1][j1], a[j1]);
+    }
+  }
+  MatrixX3d X(static_cast<Eigen::Index>(V.size()), 3);
+  for (size_t i = 0; i < V.size(); ++i) X.row(static_cast<Eigen::Index>(i)) = V[i];
+  MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
+  for (size_t f = 0; f < F.size(); ++f) G.row(static_cast<Eigen::Index>(f)) = F[f];
+  return make_mesh(X, G);
+}
+}  // namespace
+
+TEST(FeatureMap, ASeamBetweenUnweldedPatchesIsNotAnOutline) {
+  const Mesh welded = flat_disk(false), seamed = flat_disk(true);
+  const FeatureMapOptions o;
+  const Eigen::VectorXd fw = feature_map(welded, o).weights, fs = feature_map(seamed, o).weights;
+  const MatrixX3d Xs = positions(seamed);
+  double seam = 0, rim = 1, welded_mid = 0;
+  for (Eigen::Index i = 0; i < Xs.rows(); ++i) {
+    const double r = Xs.row(i).head<2>().norm();
+    if (std::abs(r - 0.5) < 1e-9) seam = std::max(seam, fs[i]);
+    if (std::abs(r - 1) < 1e-9) rim = std::min(rim, fs[i]);
+  }
+  const MatrixX3d Xw = positions(welded);
+  for (Eigen::Index i = 0; i < Xw.rows(); ++i)
+    if (std::abs(Xw.row(i).head<2>().norm() - 0.5) < 1e-9) welded_mid = std::max(welded_mid, fw[i]);
+  std::printf("  disk: the seam r = 1/2 %.3f (the welded disk's circle there %.3f), the rim %.3f\n", seam, welded_mid, rim);
+  EXPECT_LT(seam, welded_mid + 0.1);  // the seam reads as the welded disk's middle circle does: plain
+  EXPECT_LT(seam, 0.3);
+}
