@@ -425,7 +425,7 @@ double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
   } else {
     o.sigma = r.noise.sigma;
     r.choices.push_back(fmt::format("noise: sigma {:.3f} mean edge lengths (estimated{})", r.noise.sigma,
-                                    r.noise.outliers > 0.02 ? fmt::format(", {:.0f}% outliers", 100 * r.noise.outliers)
+                                    r.noise.outliers > kGaussianOutliers ? fmt::format(", {:.0f}% outliers", 100 * r.noise.outliers)
                                                             : std::string()));
   }
   return normal_noise;
@@ -732,7 +732,7 @@ Eigen::VectorXd normal_spread(const MatrixX3i& F, const MatrixX3d& P) {
 // gate fails at scattered vertices where the sharp fit's normals spread as much as the mild fit's, so a dense
 // primitive at high noise took 0.7-0.9 of the sharp fit (level-4 torus at σ 0.5 1.32° against 1.15°). Over a whole
 // part the wobble is told from relief by its size: a part whose median departure share E / R'
-// (departure_energy() of the sharp fit from the mild one) is below \\p plain_departure, the wobble's own size
+// (departure_energy() of the sharp fit from the mild one) is below \p plain_departure, the wobble's own size
 // on pure noise, has no relief the mild fit could keep, and its vertices take the sharp fit where the normal noise
 // is well above the sharp fit's own normal spread \p rough_s (kNoiseOverCurvature: at low noise the sharp fit's
 // facets cost more than the wobble; the mild fit's spread would count its wobble as curvature). \p normal_noise
