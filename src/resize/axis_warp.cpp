@@ -304,7 +304,7 @@ AxisWarp axis_warp(const Mesh& mesh, const Vec3& stretch, const Vec3& out_lo, co
   // A face counts as turned from 80° to the plain stretch's normal, not 90°: the similarity stage cannot undo a
   // face the warp left near 90° (the beetle ×2 z under the outline term: 85° in the warp, 98° after the stage,
   // bench/resize.md, twelfth session).
-  const double kGuardCos = std::cos(80.0 * 3.14159265358979323846 / 180.0);
+  const double kGuardCos = std::cos(80.0 * M_PI / 180.0);
   for (int round = 0;; ++round) {
     AxisQp q = qp;
     for (int a : axes)

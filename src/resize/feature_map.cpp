@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -436,11 +437,14 @@ std::vector<int> seam_vertices(const Mesh& mesh, const std::vector<std::vector<i
   for (const std::vector<int>& loop : loops) b.insert(b.end(), loop.begin(), loop.end());
   const MatrixX3d X = positions(mesh);
   const double eps = 1e-6 * mean_edge_length(mesh);
-  std::sort(b.begin(), b.end(), [&](int u, int v) { return X(u, 0) < X(v, 0); });
+  // Sorted by position (x, then y, then z), a seam's copies are neighbours: one pass, O(m log m) even where
+  // every boundary vertex has the same x (a plate's straight rim).
+  std::sort(b.begin(), b.end(), [&](int u, int v) {
+    return std::tie(X(u, 0), X(u, 1), X(u, 2)) < std::tie(X(v, 0), X(v, 1), X(v, 2));
+  });
   std::vector<char> on(mesh.n_vertices(), 0);
-  for (size_t k = 0; k < b.size(); ++k)
-    for (size_t j = k + 1; j < b.size() && X(b[j], 0) - X(b[k], 0) <= eps; ++j)
-      if ((X.row(b[j]) - X.row(b[k])).norm() <= eps) on[b[j]] = on[b[k]] = 1;
+  for (size_t k = 1; k < b.size(); ++k)
+    if ((X.row(b[k]) - X.row(b[k - 1])).norm() <= eps) on[b[k]] = on[b[k - 1]] = 1;
   std::vector<int> seam;
   for (int v : b)
     if (on[v]) seam.push_back(v);

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "geotex/core/geometry.h"
 #include "geotex/core/self_intersections.h"
 
 namespace geotex {
@@ -32,13 +33,6 @@ constexpr int kMaxRounds = 12;
 constexpr double kRaise[3] = {0.25, 0.5, 1.0};  // the bump's heights tried at each radius
 
 size_t count(const std::vector<char>& flags) { return static_cast<size_t>(std::count(flags.begin(), flags.end(), 1)); }
-
-double mean_edge_length(const MatrixX3d& X, const MatrixX3i& F) {
-  double sum = 0;
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) sum += (X.row(F(f, k)) - X.row(F(f, (k + 1) % 3))).norm();
-  return F.rows() ? sum / (3.0 * F.rows()) : 0.0;
-}
 
 // Marks the vertices of the faces \p hit crosses that neither \p own nor \p safe_hit does; true if there is one.
 bool mark_new_crossings(const MatrixX3i& F, const std::vector<char>& hit, const std::vector<char>& own,
@@ -118,7 +112,7 @@ MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d&
   std::fill(seed.begin(), seed.end(), 0);
   if (!mark_new_crossings(F, hit, own, safe_hit, seed)) return Y;
   const double diagonal = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
-  double r = kStartEdges * mean_edge_length(X, F);
+  double r = kStartEdges * mean_edge_length(mesh);  // the mesh's positions are X
   MatrixX3d out = Y;
   for (int round = 0; round < kMaxRounds * 3 && r < diagonal; ++round) {
     report(progress, 0.97, fmt::format("blend back {} vertices at crossings", count(seed)));
