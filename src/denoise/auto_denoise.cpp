@@ -10,6 +10,7 @@
 #include <limits>
 #include <cmath>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
@@ -52,6 +53,10 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("creased_budget", &O::creased_budget,
            "the creased reading is refused on organic-looking parts where the sharp fit moves the input by more than "
            "this many noise variances along the normals (median over a 1-ring); 0 never", between(0, 1e6))
+      .add("depth_anisotropy", &O::depth_anisotropy,
+           "the creased budget is measured against the noise along each normal where the noise runs along one axis "
+           "(a scanner's depth noise): the mild fit's move fitted as n^T S n, read so where S's smallest eigenvalue is "
+           "below this x its largest; 0 never", between(0, 1))
       .add("stripe_coherence", &O::stripe_coherence,
            "a CAD-looking part is read creased throughout where the gradient of the sharp fit's residual points one "
            "way across it (scanner stripes) with at least this coherence; 1 never", between(0, 1))
@@ -547,29 +552,12 @@ Eigen::VectorXd sharp_vertices(const Eigen::MatrixXd& features, ReadingRule read
   return sharp_here;
 }
 
-// Step 5, the creased reading held to the noise: a fit that removes only noise moves each vertex along the normal
-// by about the noise (median of its squared move over a 1-ring about 0.45 σ², a χ² of one degree). Where the
-// sharp fit moves a vertex of an organic-looking part by more than \p budget σ² (the median over its closed
-// 1-ring, averaged over 2 rings: impulses, a tenth of the vertices, do not move the median; not on the parts read
-// striped, \p striped, whose bands the sharp fit rightly removes), it flattens shape,
-// not noise: a coarse organic mesh's curvature at low noise (cow σ 0.05: the creased reading 18.5° against 9.6°,
-// and the rule read 8 % of it creased). Such vertices are read smooth (\p sharp set to 0). On CAD-looking parts
-// the sharp fit's larger moves are creases restored or scanner stripes flattened, rightly (the striped cube:
-// 3.1° as it is, 6.9° if they were refused). The default budget, 1 σ², is about twice a noise-only fit's median
-// (budgets 2 / 1.5 / 1 on the shared models' synthetic noise: spot σ 0.2 4.56 / 4.52 / 4.46°, forced smooth
-// 4.43°; the beetle σ 0.05 23.5 / — / 22.9°; nothing worse by more than 0.3 %). \return 1 at the vertices refused.
-Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X,
-                                            const MatrixX3d& Xs, const MatrixX3d& Xm, const Eigen::MatrixXd& features,
-                                            const Eigen::VectorXd& striped, double budget, double noise_var,
-                                            Eigen::VectorXd& sharp) {
+// Per vertex, how far the fit \p P moves the input \p X along the normals \p Nn: the median of the squared move
+// over the closed 1-ring (impulses, a tenth of the vertices, do not move it), averaged over 2 rings.
+Eigen::VectorXd typical_move(const Neighborhoods& N, const MatrixX3d& Nn, const MatrixX3d& X, const MatrixX3d& P) {
   const Eigen::Index n = X.rows();
-  Eigen::VectorXd refused = Eigen::VectorXd::Zero(n);
-  if (!(budget > 0)) return refused;
-  Mesh fit = mesh;
-  set_positions(fit, Xm);
-  const MatrixX3d Nm = vertex_normals(fit);
   Eigen::VectorXd move(n), median(n);
-  for (Eigen::Index v = 0; v < n; ++v) move[v] = std::pow(Nm.row(v).dot(Xs.row(v) - X.row(v)), 2);
+  for (Eigen::Index v = 0; v < n; ++v) move[v] = std::pow(Nn.row(v).dot(P.row(v) - X.row(v)), 2);
 #pragma omp parallel
   {
     std::vector<double> ring;  // one buffer per thread, not one allocation per vertex
@@ -582,10 +570,88 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
       median[v] = *mid;
     }
   }
-  const Eigen::VectorXd typical = ring_average(N, median, 2);
-  for (Eigen::Index v = 0; v < n; ++v)  // column 4: the log of the part's look (reading_feature_names())
+  return ring_average(N, median, 2);
+}
+
+// Depth noise (depth_noise_scale()): on white noise the mild fit's typical move (typical_move()) is 0.27-0.44 of
+// the normal noise variance (level-3 sphere, level-2 cylinder at σ 0.2, level-3 torus at σ 0.5); the noise along a
+// normal is read from it in proportion 1 / kMildMove (0.3 / 0.45 / 0.6: the scanner grid's cylinder under depth
+// noise σ 0.2 1.326 / 1.341 / 1.380°, the bunny σ 0.5 6.080 / 6.074 / 6.065°; bench/denoise.md, fourteenth session).
+constexpr double kMildMove = 0.3;
+// The normals determine Σ (depth_noise_scale()) where the least-squares system's reciprocal condition is above
+// this: a box's faces (woody) face along three axes only, and leave Σ's off-diagonal terms free.
+constexpr double kDepthDetermined = 1e-4;
+
+// Step 5, depth noise: a range scanner displaces each vertex along its viewing axis a, so the noise along the
+// normal has the variance σ² (n·a)²: largest where the surface faces the scanner, where the mesh's estimate (its
+// best-fitting half of the rings, the least noisy) reads much less (a level-2 cylinder at σ 0.2 along an oblique
+// axis: normal noise 0.061 estimated, 0.105 over the surface, 0.17 on the caps). The mild fit \p Xm's move from
+// \p X (typical_move() along its normals \p Nn) is fitted as nᵀ Σ n, Σ symmetric, by least squares over the
+// vertices. Where
+// Σ is far from isotropic (its smallest eigenvalue below \p anisotropy × its largest; white noise on the shared
+// models 0.16-0.82, depth noise below 0.01) and the normals present determine it, \return per vertex the noise
+// variance along the normal over \p noise_var (nᵀ Σ n / kMildMove), at least 1; else ones.
+Eigen::VectorXd depth_noise_scale(const Neighborhoods& N, const MatrixX3d& Nn, const MatrixX3d& X,
+                                  const MatrixX3d& Xm, double noise_var, double anisotropy) {
+  const Eigen::Index n = Nn.rows();
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(n);
+  if (!(anisotropy > 0) || !(noise_var > 0)) return scale;
+  const Eigen::VectorXd move = typical_move(N, Nn, X, Xm);
+  auto row = [&](Eigen::Index v) {
+    const Vec3 m = Nn.row(v);
+    Eigen::Matrix<double, 6, 1> q;
+    q << m.x() * m.x(), m.y() * m.y(), m.z() * m.z(), 2 * m.x() * m.y(), 2 * m.x() * m.z(), 2 * m.y() * m.z();
+    return q;
+  };
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const auto q = row(v);
+    A += q * q.transpose(), b += move[v] * q;
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(A);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > kDepthDetermined)) return scale;  // normals along few axes
+  const Eigen::Matrix<double, 6, 1> s = ldlt.solve(b);
+  Eigen::Matrix3d S;
+  S << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(S, Eigen::EigenvaluesOnly);
+  if (!(es.eigenvalues()[2] > 0) || es.eigenvalues()[0] >= anisotropy * es.eigenvalues()[2]) return scale;
+  for (Eigen::Index v = 0; v < n; ++v) scale[v] = std::max(row(v).dot(s) / (kMildMove * noise_var), 1.0);
+  return scale;
+}
+
+// Step 5, the creased reading held to the noise: a fit that removes only noise moves each vertex along the normal
+// by about the noise (median of its squared move over a 1-ring about 0.45 σ², a χ² of one degree). Where the
+// sharp fit moves a vertex of an organic-looking part by more than \p budget σ² (the median over its closed
+// 1-ring, averaged over 2 rings: impulses, a tenth of the vertices, do not move the median; not on the parts read
+// striped, \p striped, whose bands the sharp fit rightly removes), it flattens shape,
+// not noise: a coarse organic mesh's curvature at low noise (cow σ 0.05: the creased reading 18.5° against 9.6°,
+// and the rule read 8 % of it creased). Such vertices are read smooth (\p sharp set to 0). On CAD-looking parts
+// the sharp fit's larger moves are creases restored or scanner stripes flattened, rightly (the striped cube:
+// 3.1° as it is, 6.9° if they were refused). The default budget, 1 σ², is about twice a noise-only fit's median
+// (budgets 2 / 1.5 / 1 on the shared models' synthetic noise: spot σ 0.2 4.56 / 4.52 / 4.46°, forced smooth
+// 4.43°; the beetle σ 0.05 23.5 / — / 22.9°; nothing worse by more than 0.3 %). Under depth noise σ² is the
+// noise along each normal (depth_noise_scale(), \p anisotropy). \return 1 at the vertices refused.
+Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X,
+                                            const MatrixX3d& Xs, const MatrixX3d& Xm, const Eigen::MatrixXd& features,
+                                            const Eigen::VectorXd& striped, double budget, double noise_var,
+                                            double anisotropy, Eigen::VectorXd& sharp) {
+  const Eigen::Index n = X.rows();
+  Eigen::VectorXd refused = Eigen::VectorXd::Zero(n);
+  if (!(budget > 0)) return refused;
+  Mesh fit = mesh;
+  set_positions(fit, Xm);
+  const MatrixX3d Nm = vertex_normals(fit);
+  const Eigen::VectorXd typical = typical_move(N, Nm, X, Xs);
+  std::vector<Eigen::Index> beyond;  // column 4: the log of the part's look (reading_feature_names())
+  for (Eigen::Index v = 0; v < n; ++v)
     if (sharp[v] > 0 && striped[v] == 0 && typical[v] > budget * noise_var && features(v, 4) > std::log(kOrganicLook))
-      sharp[v] = 0, refused[v] = 1;
+      beyond.push_back(v);
+  if (beyond.empty()) return refused;  // the depth noise's scale only raises the budget
+  const Eigen::VectorXd along = depth_noise_scale(N, Nm, X, Xm, noise_var, anisotropy);
+  for (Eigen::Index v : beyond)
+    if (typical[v] > budget * noise_var * along[v]) sharp[v] = 0, refused[v] = 1;
   return refused;
 }
 
@@ -965,7 +1031,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
     const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, noise_var, sharp_here, r);
-    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, striped, o.creased_budget, noise_var, sharp_here);
+    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, striped, o.creased_budget, noise_var,
+                                          o.depth_anisotropy, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
   }
