@@ -656,8 +656,11 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
 }
 
 // A part of fewer vertices has too few faces for a direction of its residual to mean anything: the teapot's
-// patches of 111-450 vertices reach 0.45-0.99 under white noise.
-constexpr int kMinStripedPart = 1000;
+// patches of 111-450 vertices reach 0.45-0.99 under white noise (0.07-0.75 at σ 0.05-0.7, seed 7, where their
+// residual's energy, 0.1-34 noise variances, does not tell them from bands either). Woody's 694 vertices read
+// 0.06-0.09 under white noise (σ 0.05-0.7) and 0.51-0.58 under stripes 4-6 edges apart (bench/denoise.md,
+// fourteenth session).
+constexpr int kMinStripedPart = 600;
 // An organic-looking part is read striped only where the bands stand above the noise: the part's mean squared
 // residual, after the 1-ring median, at least this × the normal noise variance. A white residual's median keeps
 // little of it (the cylinder under white noise, σ 0.05-0.7 at two seeds: 0.06-0.23, with a coherence of 0.34-0.44
