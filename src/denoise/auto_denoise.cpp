@@ -589,7 +589,8 @@ constexpr double kDepthDetermined = 1e-4;
 // \p X (typical_move() along its normals \p Nn) is fitted as nᵀ Σ n, Σ symmetric, by least squares over the
 // vertices. Where
 // Σ is far from isotropic (its smallest eigenvalue below \p anisotropy × its largest; white noise on the shared
-// models 0.16-0.82, depth noise below 0.01) and the normals present determine it, \return per vertex the noise
+// models 0.16-0.91, depth noise on the cylinder below 0.01, on fandisk and the bunny at σ 0.5 0.09 / 0.04, where
+// the shape's misfit in the mild fit's move hides it at σ 0.2: 0.17-0.45) and the normals present determine it, \return per vertex the noise
 // variance along the normal over \p noise_var (nᵀ Σ n / kMildMove), at least 1; else ones.
 Eigen::VectorXd depth_noise_scale(const Neighborhoods& N, const MatrixX3d& Nn, const MatrixX3d& X,
                                   const MatrixX3d& Xm, double noise_var, double anisotropy) {
@@ -658,7 +659,7 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
 // A part of fewer vertices has too few faces for a direction of its residual to mean anything: the teapot's
 // patches of 111-450 vertices reach 0.45-0.99 under white noise (0.07-0.75 at σ 0.05-0.7, seed 7, where their
 // residual's energy, 0.1-34 noise variances, does not tell them from bands either). Woody's 694 vertices read
-// 0.06-0.09 under white noise (σ 0.05-0.7) and 0.51-0.58 under stripes 4-6 edges apart (bench/denoise.md,
+// 0.06-0.09 under white noise (σ 0.05-0.7) and 0.48-0.51 under stripes 4-6 edges apart (bench/denoise.md,
 // fourteenth session).
 constexpr int kMinStripedPart = 600;
 // An organic-looking part is read striped only where the bands stand above the noise: the part's mean squared

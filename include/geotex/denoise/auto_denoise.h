@@ -115,8 +115,8 @@ struct AutoDenoiseOptions {
   //! Step 5, depth noise: a scanner's noise runs along its viewing axis a, so its variance along a normal is
   //! σ² (n·a)², above the mesh's estimate where the surface faces the scanner; there the creased budget is measured
   //! against the noise along the normal (the mild fit's move fitted as nᵀ Σ n), where Σ's smallest eigenvalue is
-  //! below depth_anisotropy × its largest (white noise on the shared models 0.16-0.82, depth noise below 0.01;
-  //! bench/denoise.md, fourteenth session). 0 never (the previous release).
+  //! below depth_anisotropy × its largest (white noise on the shared models 0.16-0.91, depth noise on a cylinder
+  //! below 0.01; bench/denoise.md, fourteenth session). 0 never (the previous release).
   double depth_anisotropy = 0.1;
   //! Step 5, scanner stripes: a CAD-looking part (look below 0.6) is read creased throughout where the gradient
   //! of the sharp fit's residual along the normals points one way across it (the coherence of its structure
