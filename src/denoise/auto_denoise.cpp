@@ -427,6 +427,10 @@ double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
     r.choices.push_back(fmt::format("noise: sigma {:.3f} mean edge lengths (estimated{})", r.noise.sigma,
                                     r.noise.outliers > kGaussianOutliers ? fmt::format(", {:.0f}% outliers", 100 * r.noise.outliers)
                                                             : std::string()));
+    if (r.noise.noise_share < 1)
+      r.choices.push_back(fmt::format("noise: the fit's residual grows {:.2f}x from two rings to three: {:.0f}% of it "
+                                      "read as a coarse model's own facets, not noise", r.noise.misfit_growth,
+                                      100 * (1 - r.noise.noise_share)));
   }
   return normal_noise;
 }
