@@ -11,6 +11,7 @@
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/denoise/auto_denoise.h"
+#include "misfit_growth.h"
 
 namespace geotex {
 
@@ -157,6 +158,10 @@ NoiseEstimate estimate_noise(const Mesh& mesh, int max_samples) {
   out.samples = static_cast<int>(residual.size());
   out.outliers = 1.0 - double(kept) / double(residual.size());
   out.rms_normal_sigma = std::sqrt(all2 / double(residual.size())) * out.mean_edge / out.clean_edge;
+  // A coarse model's facets are not noise: the share of the residual that is (misfit_growth.h).
+  out.misfit_growth = detail::misfit_growth(mesh, samples, out.mean_edge, residual);
+  out.noise_share = detail::noise_share_of_residual(out.misfit_growth, out.sigma, out.outliers);
+  out.normal_sigma *= out.noise_share, out.sigma *= out.noise_share, out.rms_normal_sigma *= out.noise_share;
   return out;
 }
 

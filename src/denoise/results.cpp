@@ -19,9 +19,11 @@ const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
              const NoiseEstimate& n = r.noise;
              return nlohmann::json{{"sigma", n.sigma}, {"normal_sigma", n.normal_sigma},
                                    {"rms_normal_sigma", n.rms_normal_sigma}, {"outliers", n.outliers},
-                                   {"mean_edge", n.mean_edge}, {"clean_edge", n.clean_edge}, {"samples", n.samples}};
+                                   {"mean_edge", n.mean_edge}, {"clean_edge", n.clean_edge}, {"samples", n.samples},
+                                   {"misfit_growth", n.misfit_growth}, {"noise_share", n.noise_share}};
            }, "the noise estimate: sigma, normal_sigma, rms_normal_sigma (mean edge lengths), outliers (a fraction), "
-              "mean_edge, clean_edge (absolute), samples")
+              "mean_edge, clean_edge (absolute), samples, misfit_growth (the fit's residual from two rings to three: "
+              "about 1 for noise, above for a coarse model's facets), noise_share (the residual's share read as noise)")
       .add("choices", [](const R& r) { return r.choices; }, "what was chosen and why, one short line each")
       .add("turned_over", [](const R& r) { return r.turned_over; }, "faces left turned over (normally 0)")
       .add("creased_share", [](const R& r) { return r.creased_share; }, "the share of the area read creased")

@@ -73,6 +73,11 @@ struct NoiseEstimate {
   //! E|e_noisy|² = E|e|² + 2 s² for isotropic noise of variance s² per vertex.
   double clean_edge = 0;
   int samples = 0;          //!< vertices used
+  //! The growth of the fit's residual from the two-ring cubic to a three-ring quartic (about 1 for noise;
+  //! above it, a coarse model's facets the cubic cannot follow)
+  double misfit_growth = 1;
+  //! The share of the residual read as noise by that growth (1: all of it), applied to the estimate above
+  double noise_share = 1;
 };
 
 //! Estimate the noise of \p mesh from at most \p max_samples vertices (evenly strided).
