@@ -20,11 +20,18 @@ struct UntangleReport {
   size_t after = 0;    //!< faces crossed in the result returned
   size_t blended = 0;  //!< vertices moved towards the safe result (blend weight t > 0)
   int rounds = 0;      //!< blends tried (each widening the bump)
+  size_t shifted = 0;  //!< vertices moved by the parts' shift apart (before any blend)
+  int shift_rounds = 0;  //!< pushes applied
   size_t excess_before() const { return before > base ? before - base : 0; }
   size_t excess_after() const { return after > base ? after - base : 0; }
   //! "n faces intersected beyond the input's own; blended back over k vertices" (or "none …").
   std::string describe() const;
 };
+
+//! How untangle_resize() repairs: first move the parts that cross apart, each kept as it is (crossing edges pushed
+//! off the faces they cross, the pushes spread over the surface around them), blending back only where that
+//! leaves crossings; or blend back alone (the thirteenth session's repair).
+enum class UntangleRepair { ShiftThenBlend, Blend };
 
 //! Counts the faces \p Y crosses (against the input's own, \p X) and, when \p repair and \p Y crosses more faces
 //! than X, some of which neither X nor \p safe crosses, blends Y towards \p safe with weight t_i = a b(d_i): b = 1
@@ -34,7 +41,8 @@ struct UntangleReport {
 //! crossing). Done when no more faces cross than in X, or those beyond are crossed in \p safe too; at the latest
 //! \p safe itself. \param X, Y, safe #V by 3 over \p mesh's faces. \return #V by 3 positions.
 MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, const MatrixX3d& safe, bool repair,
-                          UntangleReport& counts, const ProgressFn& progress = {});
+                          UntangleReport& counts, const ProgressFn& progress = {},
+                          UntangleRepair how = UntangleRepair::ShiftThenBlend);
 
 //! \p Y scaled per axis onto the bounding box of \p B (axes where either box is flat are left as they are): the
 //! box fit the similarity stage and the repair end with (an affine map: it turns no face and adds no crossing).
