@@ -1,8 +1,10 @@
 #pragma once
 //! \file untangle.h Self-intersections a resize adds beyond the input's own, and their repair: where the
 //! result crosses itself and a safe result (the axis warp, monotone per axis and so injective, or the plain
-//! stretch, an affine map) does not, the result is blended towards the safe one with a smooth bump around the
-//! crossing faces, widened until nothing crosses beyond the input's own (issue 25, thirteenth session).
+//! stretch, an affine map) does not, the parts that cross are first moved apart (each crossing edge pushed off the
+//! face it crosses, the pushes spread over the surface around them: fourteenth session), and what that leaves is
+//! blended towards the safe result with a smooth bump around the crossing faces, widened until nothing crosses
+//! beyond the input's own (issue 25, thirteenth session).
 
 #include <cstddef>
 #include <string>
@@ -34,7 +36,11 @@ struct UntangleReport {
 enum class UntangleRepair { ShiftThenBlend, Blend };
 
 //! Counts the faces \p Y crosses (against the input's own, \p X) and, when \p repair and \p Y crosses more faces
-//! than X, some of which neither X nor \p safe crosses, blends Y towards \p safe with weight t_i = a b(d_i): b = 1
+//! than X, some of which neither X nor \p safe crosses, repairs it (\p how). ShiftThenBlend first pushes each
+//! crossing edge's end off the face it crosses (to the side its midpoint lies on in \p safe) and that face the other
+//! way, by half the depth each, spreads the pushes over the surface (graph distance, a plateau of 4 edges, 0 at 12)
+//! and repeats 8 times, keeping the round that crosses the fewest faces; what crosses then is blended. The blend
+//! takes Y towards \p safe with weight t_i = a b(d_i): b = 1
 //! within r of those faces' vertices (d_i the distance in the input), a smoothstep down to 0 at 3r (no crease);
 //! a = 1/4, 1/2, 1 at each r, then r doubles from one mean edge length; faces crossed anew or turned over by a blend
 //! join the seeds. After each blend Y is scaled per axis back onto the box of \p safe (an affine map: it adds no
