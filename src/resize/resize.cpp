@@ -14,6 +14,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/weld.h"
 #include "geotex/core/spatial.h"
 #include "geotex/toolkit/editing.h"
 #include "geotex/toolkit/linear_solver.h"
@@ -1472,8 +1473,18 @@ ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, 
                                                                     : ResizeMethod::Similarity;
 }
 
-MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
-                               const ResizeOptions& options, UntangleReport* untangled) {
+namespace {
+
+// The methods that solve for positions over the surface as one piece: they run on the mesh with its coincident
+// vertices welded (weld.h), so that unwelded patches (the teapot's) are not solved apart and opened at their seams.
+// Thesis (the preset: unchanged) and Sliding run on the input as it is.
+bool welds_for_solve(ResizeMethod m) {
+  return m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity;
+}
+
+// feature_aware_resize() without the weld: \p mesh as it is.
+MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
+                           const ResizeOptions& options, UntangleReport* untangled) {
   require_valid(mesh, "resize input");
   check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
@@ -1541,6 +1552,20 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   return out;
 }
 
+}  // namespace
+
+MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
+                               const ResizeOptions& options, UntangleReport* untangled) {
+  require_valid(mesh, "resize input");
+  if (C.rows() != static_cast<Eigen::Index>(mesh.n_vertices()) || features.size() != C.rows() ||
+      !welds_for_solve(resolved_resize_method(options, positions(mesh), C)))
+    return resize_as_stored(mesh, C, features, options, untangled);  // (which refuses the sizes)
+  const Weld w = weld_coincident(mesh);
+  if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled);
+  // A weight painted on one side of a seam holds the welded vertex (the largest of the copies').
+  return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled));
+}
+
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
                                const ResizeOptions& options) {
   return feature_aware_resize(mesh, apply_space_map(map, positions(mesh)), features, options);
@@ -1590,22 +1615,35 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
     if (!progress) return {};
     return [&progress, lo, hi](double f, std::string_view stage) { progress(lo + (hi - lo) * f, stage); };
   };
-  if (features) {
-    if (features->size() != n) throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", features->size(), n));
-    r.features = *features;
-    r.summary = summarize_features(mesh, r.features);
-  } else {
-    FeatureMapOptions fo = options.features;
-    fo.progress = part(0.0, split);
-    FeatureMap map = feature_map(mesh, fo);
-    r.features = std::move(map.weights);
-    r.detector = map.method;
-    r.summary = std::move(map.summary);
-  }
+  if (features && features->size() != n)
+    throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", features->size(), n));
   ResizeOptions ro = options.resize;
   ro.progress = part(split, 1.0);
   r.method = resolved_resize_method(ro, positions(mesh), r.mapped);
-  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro, &r.untangle);
+  // The map and the solve on the welded mesh (welds_for_solve()); the result fields per input vertex.
+  const Weld w = welds_for_solve(r.method) ? weld_coincident(mesh) : Weld{};
+  const Mesh& m = w.identity() ? mesh : w.mesh;
+  Eigen::VectorXd f;
+  if (features) {
+    r.features = *features;
+    f = w.identity() ? r.features : w.max_to_welded(r.features);  // painted on one side of a seam: held
+    r.summary = summarize_features(m, f);
+  } else {
+    FeatureMapOptions fo = options.features;
+    fo.progress = part(0.0, split);
+    FeatureMap map = feature_map(m, fo);
+    f = std::move(map.weights);
+    r.features = w.identity() ? f : w.to_input(f);
+    r.detector = map.method;
+    r.summary = std::move(map.summary);
+  }
+  if (w.identity()) {
+    r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle);
+  } else {
+    r.V = w.to_input(resize_as_stored(m, w.to_welded(r.mapped), f, ro, &r.untangle));
+  }
+  r.welded_vertices = w.merged;
+  r.weld_refused_groups = w.refused;
   return r;
 }
 

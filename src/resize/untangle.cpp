@@ -28,7 +28,7 @@ namespace {
 // was 1 only at the seeds, from 4 edges, left crossings next to them at every radius on the teapot: bench/resize.md,
 // issue 25 thirteenth session.)
 constexpr double kStartEdges = 1.0;
-constexpr double kReach = 3.0;  // the bump reaches 0 at kReach times its plateau's radius
+constexpr double kBumpReach = 3.0;  // the bump reaches 0 at kBumpReach times its plateau's radius
 constexpr int kMaxRounds = 12;
 constexpr double kRaise[3] = {0.25, 0.5, 1.0};  // the bump's heights tried at each radius
 
@@ -72,7 +72,7 @@ Eigen::VectorXd bump(const MatrixX3d& X, const std::vector<char>& seed, double r
   std::sort(s.begin(), s.end(), [&X](int a, int b) { return X(a, 0) < X(b, 0); });
   std::vector<double> sx(s.size());
   for (size_t k = 0; k < s.size(); ++k) sx[k] = X(s[k], 0);
-  const double reach = kReach * r;
+  const double reach = kBumpReach * r;
   Eigen::VectorXd t = Eigen::VectorXd::Zero(X.rows());
   for (Eigen::Index i = 0; i < X.rows(); ++i) {
     double d2 = reach * reach;
