@@ -106,8 +106,10 @@ void refuse_edges(const MatrixX3i& F, const std::vector<int>& L, const std::vect
 
 // Splits the merged groups of \p L whose faces would not make one fan (the link, each face's two other corners, is not
 // one path or cycle: the teapot's handle touching its body at a point) into one group per fan: \p next gets each
-// member's fan's smallest member. \return the groups split.
-int split_fans(const MatrixX3i& F, const std::vector<int>& L, const std::vector<int>& size, std::vector<int>& next) {
+// member's fan's smallest member, \p ties a pair of input vertices (first fan's, other fan's) per further fan.
+// \return the groups split.
+int split_fans(const MatrixX3i& F, const std::vector<int>& L, const std::vector<int>& size, std::vector<int>& next,
+               std::vector<std::array<int, 2>>& ties) {
   std::vector<std::array<int, 4>> link;  // (merged vertex, the face's other two corners, the input vertex)
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k)
@@ -135,6 +137,8 @@ int split_fans(const MatrixX3i& F, const std::vector<int>& L, const std::vector<
       m = std::min(m, link[i][3]);
     }
     for (size_t i = s; i < e; ++i) next[link[i][3]] = fan_min[sets.find(at(link[i][1]))], on_fan[link[i][3]] = 1;
+    for (size_t j = 1; j < fan_min.size(); ++j)
+      if (sets.find(static_cast<int>(j)) == static_cast<int>(j)) ties.push_back({fan_min[0], fan_min[j]});
   }
   for (size_t v = 0; v < L.size(); ++v)  // a split group's members on no face stand alone
     if (split_group[L[v]] && !on_fan[v]) next[v] = static_cast<int>(v);
@@ -144,8 +148,9 @@ int split_fans(const MatrixX3i& F, const std::vector<int>& L, const std::vector<
 // The merged groups of \p L that welding would make worse (weld.h), one kind at a time so that one kind does not show
 // as another (a face's two corners in one group also put three faces on one edge): groups making a face degenerate
 // are left apart, else those at the ends of a bad edge, else those joining several fans are welded per fan. \p next
-// gets the labels after; \return the groups changed.
-int refuse_some_groups(const MatrixX3i& F, const std::vector<int>& L, std::vector<int>& next) {
+// gets the labels after, \p ties the fans split apart (split_fans()); \return the groups changed.
+int refuse_some_groups(const MatrixX3i& F, const std::vector<int>& L, std::vector<int>& next,
+                       std::vector<std::array<int, 2>>& ties) {
   std::vector<int> size(L.size(), 0);
   for (int l : L) ++size[l];
   std::vector<char> bad(L.size(), 0);
@@ -158,15 +163,15 @@ int refuse_some_groups(const MatrixX3i& F, const std::vector<int>& L, std::vecto
   for (size_t g = 0; g < L.size(); ++g) changed += bad[g] && size[g] > 1;
   for (size_t v = 0; v < L.size(); ++v)
     if (bad[L[v]]) next[v] = static_cast<int>(v);
-  return changed > 0 ? changed : split_fans(F, L, size, next);
+  return changed > 0 ? changed : split_fans(F, L, size, next, ties);
 }
 
 // Applies refuse_some_groups() round after round until no group changes (each round only splits groups, so it ends);
-// \return the groups changed.
-int refuse_groups(const MatrixX3i& F, std::vector<int>& L) {
+// \return the groups changed; \p ties the pairs of input vertices of fans split apart.
+int refuse_groups(const MatrixX3i& F, std::vector<int>& L, std::vector<std::array<int, 2>>& ties) {
   int refused = 0;
   std::vector<int> next;
-  for (int now; (now = refuse_some_groups(F, L, next)) > 0; L.swap(next)) refused += now;
+  for (int now; (now = refuse_some_groups(F, L, next, ties)) > 0; L.swap(next)) refused += now;
   return refused;
 }
 
@@ -204,14 +209,19 @@ Weld weld_coincident(const Mesh& mesh, double relative_tolerance) {
   for (int v = 0; v < n; ++v) w.merged += L[v] != v;
   if (w.merged == 0) return w;
   const MatrixX3i F = faces(mesh);
-  w.refused = refuse_groups(F, L);
+  std::vector<std::array<int, 2>> ties;  // input vertices
+  w.refused = refuse_groups(F, L, ties);
   w.merged = 0;
   w.welded.resize(n);
   for (int v = 0; v < n; ++v) {
     if (L[v] == v) w.welded[v] = static_cast<int>(w.first.size()), w.first.push_back(v);
     else w.welded[v] = w.welded[L[v]], ++w.merged;
   }
-  if (w.merged == 0) return Weld{{}, {}, {}, 0, w.refused};
+  for (const auto& [a, b] : ties)  // (a later round may have left a fan's copies apart: its first one is tied)
+    if (w.welded[a] != w.welded[b]) w.ties.push_back({w.welded[a], w.welded[b]});
+  std::sort(w.ties.begin(), w.ties.end());
+  w.ties.erase(std::unique(w.ties.begin(), w.ties.end()), w.ties.end());
+  if (w.identity()) return Weld{{}, {}, {}, 0, w.refused, {}};
   MatrixX3i G(F.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) G(f, k) = w.welded[F(f, k)];
@@ -219,7 +229,7 @@ Weld weld_coincident(const Mesh& mesh, double relative_tolerance) {
   w.mesh = make_mesh(w.to_welded(X), G, &built);
   // The checks above leave nothing for make_mesh() to drop; should it drop a face anyway (two faces on the same
   // three vertices, the other way round), nothing is welded rather than the input's faces changed.
-  if (built.dropped() > 0 || w.mesh.n_faces() != mesh.n_faces()) return Weld{{}, {}, {}, 0, w.refused + 1};
+  if (built.dropped() > 0 || w.mesh.n_faces() != mesh.n_faces()) return Weld{{}, {}, {}, 0, w.refused + 1, {}};
   return w;
 }
 

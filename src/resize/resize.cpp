@@ -1004,7 +1004,21 @@ struct SimilarityBase {
   double follow_falloff = 0;
   const MatrixX3d* plain_normals = nullptr;
   bool hold_cores_in_box = false;  // a box scale: anchor_cores_in_box() after the rounds (the split solver)
+  const std::vector<std::array<int, 2>>* ties = nullptr;  // coincident vertices kept together (Weld::ties)
 };
+
+// Stiff zero-length springs between the coincident vertices of \p ties (Weld::ties: a point contact welded per fan,
+// the teapot's handle on its body) as an #V by #V Laplacian: added to the edge weights (≤ 1 + β, 10 relaxed) with no
+// right-hand side (x_a = x_b and c_a = c_b), they hold the copies together, so the parts are not solved apart.
+SparseMatrix tie_springs(const std::vector<std::array<int, 2>>* ties, int n) {
+  constexpr double kTie = 1e6;  // the copies end within ~1e-6 of their forces' scale apart
+  SparseMatrix G(n, n);
+  if (!ties) return G;
+  std::vector<Triplet> g;
+  for (const auto& [a, b] : *ties) g.insert(g.end(), {{a, a, kTie}, {b, b, kTie}, {a, b, -kTie}, {b, a, -kTie}});
+  G.setFromTriplets(g.begin(), g.end());
+  return G;
+}
 
 // Marks in \p marked the vertices of the faces \p bad and \p rings vertex rings around them.
 void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& bad, int rings, std::vector<char>& marked) {
@@ -1123,12 +1137,13 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   Eigen::VectorXd f = f0;
   std::vector<char> relaxed(n, 0);
   constexpr double kRelaxed = 10.0;  // edge weight of relaxed vertices towards the map: above any similarity's
+  const SparseMatrix ties = tie_springs(base.ties, n);
   MatrixX3d Nrm = Nc, Q = C;
   SpdSolver solver;
   auto assemble = [&] {
     std::vector<Triplet> t;
     t.reserve(12 * edges.size() + 12 * n);
-    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), n);
+    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed) + ties, n);
     const Eigen::VectorXd pull = similarity_pull(boundary, f, eps, o.frame_weight);
     for (int i = 0; i < n; ++i) {
       const double wi = w * (1 - f[i]);
@@ -1364,11 +1379,12 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   Eigen::VectorXd pull, hold;  // ε + the boundary's weight; the surface term's w (1 − f_i)
   Eigen::VectorXd anchor = Eigen::VectorXd::Zero(n);  // wholly important regions held at their similarity
   MatrixX3d place = C;
+  const SparseMatrix ties = tie_springs(base.ties, n);
   auto factor = [&] {
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
-    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), pull + hold + anchor,
-                  pins, o.frame_weight);
+    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed) + ties,
+                  pull + hold + anchor, pins, o.frame_weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
@@ -1482,9 +1498,11 @@ bool welds_for_solve(ResizeMethod m) {
   return m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity;
 }
 
-// feature_aware_resize() without the weld: \p mesh as it is.
+// feature_aware_resize() without the weld: \p mesh as it is, with the coincident vertices \p ties kept together by
+// the similarity stage (Weld::ties).
 MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
-                           const ResizeOptions& options, UntangleReport* untangled) {
+                           const ResizeOptions& options, UntangleReport* untangled,
+                           const std::vector<std::array<int, 2>>* ties = nullptr) {
   require_valid(mesh, "resize input");
   check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
@@ -1517,6 +1535,7 @@ MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
     const MatrixX3d plain_normals = face_normals(plain);
     SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
     base.hold_cores_in_box = true;  // a box scale: cores the box cannot hold are anchored (anchor_cores_in_box())
+    base.ties = ties;
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
@@ -1526,7 +1545,7 @@ MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
     report(o.progress, 1.0, "done");
     return out;
   }
-  const SimilarityBase base{o.background_smoothness, 0.0, nullptr};
+  const SimilarityBase base{o.background_smoothness, 0.0, nullptr, false, ties};
   auto similarity = [&](const MatrixX3d& map) {
     return o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, map, features, o, base)
                                                : similarity_resize(mesh, X, map, features, o, base);
@@ -1563,7 +1582,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   const Weld w = weld_coincident(mesh);
   if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled);
   // A weight painted on one side of a seam holds the welded vertex (the largest of the copies').
-  return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled));
+  return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled, &w.ties));
 }
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
@@ -1640,7 +1659,7 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
   if (w.identity()) {
     r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle);
   } else {
-    r.V = w.to_input(resize_as_stored(m, w.to_welded(r.mapped), f, ro, &r.untangle));
+    r.V = w.to_input(resize_as_stored(m, w.to_welded(r.mapped), f, ro, &r.untangle, &w.ties));
   }
   r.welded_vertices = w.merged;
   r.weld_refused_groups = w.refused;

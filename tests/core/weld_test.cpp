@@ -65,17 +65,23 @@ TEST(Weld, TwoPatchesSharingAnEdgeAreWeldedAndTheWayBackKeepsTheInputsVertices) 
 }
 
 TEST(Weld, GroupsThatWouldMakeTheMeshWorseAreLeftApart) {
-  // Two triangles touching at one point (welded: a vertex joining two fans).
+  // Two triangles touching at one point (welded: a vertex joining two fans): welded per fan, i.e. nothing merged,
+  // and the two copies tied for a solve to keep together (not identity: the welded mesh is the input's copy).
   const Mesh bowtie = soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {-1, 0, 0}, {0, -1, 0}}, {{0, 1, 2}, {3, 4, 5}});
   Weld w = weld_coincident(bowtie);
-  EXPECT_TRUE(w.identity());
+  EXPECT_FALSE(w.identity());
+  EXPECT_EQ(w.merged, 0);
   EXPECT_EQ(w.refused, 1);
+  EXPECT_EQ(w.ties, (std::vector<std::array<int, 2>>{{0, 3}}));
+  EXPECT_EQ(w.mesh.n_vertices(), 6u);
+  EXPECT_EQ(w.welded, (std::vector<int>{0, 1, 2, 3, 4, 5}));
   // Two triangles on one edge the same way round (welded: an orientation no halfedge mesh holds).
   const Mesh same_way =
       soup({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0.5, -1, 0.1}}, {{0, 1, 2}, {3, 4, 5}});
   w = weld_coincident(same_way);
   EXPECT_TRUE(w.identity());
   EXPECT_EQ(w.refused, 2);
+  EXPECT_TRUE(w.ties.empty());  // left apart, not per fan: nothing to tie
   // A face with two corners at one point (welded: degenerate) beside a seam that is welded.
   const Mesh sliver = soup({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 1, 0}},
                            {{0, 1, 2}, {3, 4, 5}, {6, 5, 4}});
@@ -83,6 +89,7 @@ TEST(Weld, GroupsThatWouldMakeTheMeshWorseAreLeftApart) {
   EXPECT_EQ(w.refused, 1);  // 5 and 6
   EXPECT_EQ(w.merged, 2);   // the diagonal
   EXPECT_EQ(w.mesh.n_faces(), 3u);
+  EXPECT_TRUE(w.ties.empty());
 }
 
 TEST(Weld, AWeldedModelIsLeftAsItIs) {

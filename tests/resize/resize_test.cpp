@@ -1559,3 +1559,62 @@ TEST(ResizeWeld, TheCommandWritesTheInputsVerticesAndFacesWithTheSeamClosed) {
   EXPECT_EQ(j["welded_vertices"].get<size_t>(), split.n_vertices() - shape.n_vertices());
   EXPECT_NE(r.err.find("welded"), std::string::npos) << r.err;
 }
+
+namespace {
+
+// \p shape and its mirror image through the plane x = its largest x (turned a little first, so that one vertex alone
+// lies on it), shrunk by 0.6 about that vertex: two parts touching at one point, stored with a copy of it in each
+// part, whose faces there make two separate fans (the teapot's handle on its body). \p a, \p b: the two copies.
+Mesh two_parts_touching_at_a_point(const Mesh& shape, int& a, int& b) {
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const MatrixX3d X = positions(shape) * turn.transpose();
+  const MatrixX3i F = faces(shape);
+  const Eigen::Index n = X.rows();
+  Eigen::Index top = 0;
+  X.col(0).maxCoeff(&top);
+  a = static_cast<int>(top);
+  const Eigen::RowVector3d p = X.row(a);
+  MatrixX3d Y(2 * n, 3);
+  MatrixX3i G(2 * F.rows(), 3);
+  Y.topRows(n) = X;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    Eigen::RowVector3d q = X.row(v);
+    q[0] = 2 * p[0] - q[0];
+    Y.row(n + v) = p + 0.6 * (q - p);
+  }
+  Y.row(n + a) = p;  // exactly
+  G.topRows(F.rows()) = F;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)  // mirrored: the other way round
+    G.row(F.rows() + f) = Eigen::RowVector3i(F(f, 0), F(f, 2), F(f, 1)) + Eigen::RowVector3i::Constant(static_cast<int>(n));
+  b = static_cast<int>(n) + a;
+  return make_mesh(Y, G);
+}
+
+}  // namespace
+
+// Issue 25: a part touching the body at one point stays attached. The weld leaves the point's copies apart (welded,
+// the two parts' faces would meet there in two fans), and the similarity stage solved the two parts apart: the
+// teapot's handle ended 2.2 mean edge lengths off its body at ×2 x. Tied in the solve, the copies end together, ×2
+// along x (the axis through the two parts) by the default method and the others that solve for positions.
+TEST(ResizeWeld, PartsTouchingAtAPointStayTogether) {
+  int a = 0, b = 0;
+  const Mesh m = two_parts_touching_at_a_point(spiky(icosphere(3)).textured, a, b);
+  const double unit = mean_edge_length(m);
+  const Weld w = weld_coincident(m);
+  ASSERT_EQ(w.merged, 0);
+  ASSERT_EQ(w.ties.size(), 1u);
+  EXPECT_EQ(w.ties[0], (std::array<int, 2>{a, b}));
+  for (ResizeMethod method : {ResizeMethod::Auto, ResizeMethod::Similarity}) {
+    ResizeRunOptions o;
+    o.map.scale = Vec3(2, 1, 1);
+    o.resize.method = method;
+    const ResizeResult r = resize_mesh(m, o);
+    const std::string name(enum_name(resize_method_names(), method));
+    const double gap = (r.V.row(a) - r.V.row(b)).norm();
+    std::printf("  two parts at a point x(2, 1, 1), %s: gap %.2e mean edge lengths\n", name.c_str(), gap / unit);
+    EXPECT_LE(gap, 1e-3 * unit) << name;
+    EXPECT_EQ(turned_over(m, r.V, r.mapped), 0) << name;
+    const MatrixX3d direct = feature_aware_resize(m, r.mapped, r.features, o.resize);  // the library's entry point
+    EXPECT_LE((direct.row(a) - direct.row(b)).norm(), 1e-3 * unit) << name;
+  }
+}

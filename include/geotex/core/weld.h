@@ -5,6 +5,7 @@
 //! mesh, compute on the welded one, and take the result back per input vertex (Weld::to_input()): the input's
 //! vertices, order and faces stay, and coincident vertices stay coincident.
 
+#include <array>
 #include <vector>
 
 #include "geotex/core/mesh.h"
@@ -30,7 +31,10 @@ struct Weld {
   std::vector<int> first;   //!< #W: each welded vertex's first input vertex
   int merged = 0;           //!< input vertices welded onto an earlier one
   int refused = 0;          //!< coincident groups left unwelded or welded per fan (see weld_coincident())
-  bool identity() const { return merged == 0; }
+  //! Pairs of welded vertices that coincide but were welded per fan (a point contact: the teapot's handle on its
+  //! body), a pair per further fan: a solve on #mesh should keep them together (resize ties them by stiff springs).
+  std::vector<std::array<int, 2>> ties;
+  bool identity() const { return merged == 0 && ties.empty(); }  // nothing welded or tied
   //! \return #V rows: each input vertex's welded vertex's row of \p W (#W rows).
   MatrixX3d to_input(const MatrixX3d& W) const;
   Eigen::VectorXd to_input(const Eigen::VectorXd& w) const;
@@ -46,7 +50,7 @@ struct Weld {
 //! faces running along it the same way (an orientation OpenMesh cannot hold); a group whose faces would join at the
 //! welded vertex in several fans (the teapot's handle touching its body at a point) is welded per fan. The rules
 //! are applied in this order, one kind per round, until no group changes (each round only splits groups).
-//! Identity (merged 0, no mesh) when nothing is welded.
+//! Identity (merged 0, no ties, no mesh) when nothing is welded or tied.
 Weld weld_coincident(const Mesh& mesh, double relative_tolerance = kCoincidentTolerance);
 
 }  // namespace geotex

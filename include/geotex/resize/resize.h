@@ -206,7 +206,9 @@ struct ResizeOptions {
 //! \param untangled when given, the faces the result crosses against the input's own (untangle.h).
 //! Similarity, Axis and AxisSimilarity (and Auto) solve on the mesh with its coincident vertices welded
 //! (weld_coincident(): unwelded patches, as the teapot's, are one surface for the solve; a weight is the largest of
-//! its copies'); every input vertex gets its welded vertex's position, so coincident vertices stay coincident.
+//! its copies'); every input vertex gets its welded vertex's position, so coincident vertices stay coincident. A
+//! point welded per fan (a part touching the body at a point) is held together by stiff springs in the similarity
+//! stage (Weld::ties): its copies end within a small fraction of an edge length.
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& deformed, const Eigen::VectorXd& features,
                                const ResizeOptions& options = {}, UntangleReport* untangled = nullptr);
 
