@@ -10,6 +10,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/weld.h"
 #include "geotex/resize/results.h"
 #include "geotex/toolkit/diffusion.h"
 #include "geotex/toolkit/laplace.h"
@@ -429,22 +430,17 @@ Eigen::VectorXd diffuse(const Mesh& mesh, Eigen::VectorXd f, int steps) {
   return f;
 }
 
-// The boundary vertices that lie on another boundary vertex (within a millionth of the mean edge length): a
-// seam between unwelded patches (the teapot's Bézier patches), not an outline. Two patches whose seam was read as
-// outline were each held to their own shape and tore apart under a stretch.
+// The boundary vertices that lie on another boundary vertex (coincident_groups(), within kCoincidentTolerance mean
+// edge lengths): a seam between unwelded patches (the teapot's Bézier patches), not an outline. Two patches whose
+// seam was read as outline were each held to their own shape and tore apart under a stretch. (Resize welds such
+// seams before the map (weld.h); this keeps feature_map() on an unwelded mesh, and the groups the weld refuses.)
 std::vector<int> seam_vertices(const Mesh& mesh, const std::vector<std::vector<int>>& loops) {
   std::vector<int> b;
   for (const std::vector<int>& loop : loops) b.insert(b.end(), loop.begin(), loop.end());
-  const MatrixX3d X = positions(mesh);
-  const double eps = 1e-6 * mean_edge_length(mesh);
-  // Sorted by position (x, then y, then z), a seam's copies are neighbours: one pass, O(m log m) even where
-  // every boundary vertex has the same x (a plate's straight rim).
-  std::sort(b.begin(), b.end(), [&](int u, int v) {
-    return std::tie(X(u, 0), X(u, 1), X(u, 2)) < std::tie(X(v, 0), X(v, 1), X(v, 2));
-  });
+  const std::vector<int> group = coincident_groups(positions(mesh), kCoincidentTolerance * mean_edge_length(mesh), &b);
   std::vector<char> on(mesh.n_vertices(), 0);
-  for (size_t k = 1; k < b.size(); ++k)
-    if ((X.row(b[k]) - X.row(b[k - 1])).norm() <= eps) on[b[k]] = on[b[k - 1]] = 1;
+  for (int v : b)
+    if (group[v] != v) on[v] = on[group[v]] = 1;
   std::vector<int> seam;
   for (int v : b)
     if (on[v]) seam.push_back(v);

@@ -14,6 +14,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/weld.h"
 #include "geotex/core/spatial.h"
 #include "geotex/toolkit/editing.h"
 #include "geotex/toolkit/linear_solver.h"
@@ -1003,7 +1004,21 @@ struct SimilarityBase {
   double follow_falloff = 0;
   const MatrixX3d* plain_normals = nullptr;
   bool hold_cores_in_box = false;  // a box scale: anchor_cores_in_box() after the rounds (the split solver)
+  const std::vector<std::array<int, 2>>* ties = nullptr;  // coincident vertices kept together (Weld::ties)
 };
+
+// Stiff zero-length springs between the coincident vertices of \p ties (Weld::ties: a point contact welded per fan,
+// the teapot's handle on its body) as an #V by #V Laplacian: added to the edge weights (≤ 1 + β, 10 relaxed) with no
+// right-hand side (x_a = x_b and c_a = c_b), they hold the copies together, so the parts are not solved apart.
+SparseMatrix tie_springs(const std::vector<std::array<int, 2>>* ties, int n) {
+  constexpr double kTie = 1e6;  // the copies end within ~1e-6 of their forces' scale apart
+  SparseMatrix G(n, n);
+  if (!ties) return G;
+  std::vector<Triplet> g;
+  for (const auto& [a, b] : *ties) g.insert(g.end(), {{a, a, kTie}, {b, b, kTie}, {a, b, -kTie}, {b, a, -kTie}});
+  G.setFromTriplets(g.begin(), g.end());
+  return G;
+}
 
 // Marks in \p marked the vertices of the faces \p bad and \p rings vertex rings around them.
 void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& bad, int rings, std::vector<char>& marked) {
@@ -1122,12 +1137,13 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   Eigen::VectorXd f = f0;
   std::vector<char> relaxed(n, 0);
   constexpr double kRelaxed = 10.0;  // edge weight of relaxed vertices towards the map: above any similarity's
+  const SparseMatrix ties = tie_springs(base.ties, n);
   MatrixX3d Nrm = Nc, Q = C;
   SpdSolver solver;
   auto assemble = [&] {
     std::vector<Triplet> t;
     t.reserve(12 * edges.size() + 12 * n);
-    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), n);
+    add_blocks(t, similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed) + ties, n);
     const Eigen::VectorXd pull = similarity_pull(boundary, f, eps, o.frame_weight);
     for (int i = 0; i < n; ++i) {
       const double wi = w * (1 - f[i]);
@@ -1363,11 +1379,12 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   Eigen::VectorXd pull, hold;  // ε + the boundary's weight; the surface term's w (1 − f_i)
   Eigen::VectorXd anchor = Eigen::VectorXd::Zero(n);  // wholly important regions held at their similarity
   MatrixX3d place = C;
+  const SparseMatrix ties = tie_springs(base.ties, n);
   auto factor = [&] {
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
-    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed), pull + hold + anchor,
-                  pins, o.frame_weight);
+    system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed) + ties,
+                  pull + hold + anchor, pins, o.frame_weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
@@ -1472,8 +1489,20 @@ ResizeMethod resolved_resize_method(const ResizeOptions& o, const MatrixX3d& X, 
                                                                     : ResizeMethod::Similarity;
 }
 
-MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
-                               const ResizeOptions& options, UntangleReport* untangled) {
+namespace {
+
+// The methods that solve for positions over the surface as one piece: they run on the mesh with its coincident
+// vertices welded (weld.h), so that unwelded patches (the teapot's) are not solved apart and opened at their seams.
+// Thesis (the preset: unchanged) and Sliding run on the input as it is.
+bool welds_for_solve(ResizeMethod m) {
+  return m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity;
+}
+
+// feature_aware_resize() without the weld: \p mesh as it is, with the coincident vertices \p ties kept together by
+// the similarity stage (Weld::ties).
+MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
+                           const ResizeOptions& options, UntangleReport* untangled,
+                           const std::vector<std::array<int, 2>>* ties = nullptr) {
   require_valid(mesh, "resize input");
   check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
@@ -1506,6 +1535,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     const MatrixX3d plain_normals = face_normals(plain);
     SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
     base.hold_cores_in_box = true;  // a box scale: cores the box cannot hold are anchored (anchor_cores_in_box())
+    base.ties = ties;
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
@@ -1515,7 +1545,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
     report(o.progress, 1.0, "done");
     return out;
   }
-  const SimilarityBase base{o.background_smoothness, 0.0, nullptr};
+  const SimilarityBase base{o.background_smoothness, 0.0, nullptr, false, ties};
   auto similarity = [&](const MatrixX3d& map) {
     return o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, map, features, o, base)
                                                : similarity_resize(mesh, X, map, features, o, base);
@@ -1539,6 +1569,20 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
   out = count_and_untangle(mesh, X, out, C, nullptr, false, o, untangled);  // counted only (see untangle)
   report(o.progress, 1.0, "done");
   return out;
+}
+
+}  // namespace
+
+MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
+                               const ResizeOptions& options, UntangleReport* untangled) {
+  require_valid(mesh, "resize input");
+  if (C.rows() != static_cast<Eigen::Index>(mesh.n_vertices()) || features.size() != C.rows() ||
+      !welds_for_solve(resolved_resize_method(options, positions(mesh), C)))
+    return resize_as_stored(mesh, C, features, options, untangled);  // (which refuses the sizes)
+  const Weld w = weld_coincident(mesh);
+  if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled);
+  // A weight painted on one side of a seam holds the welded vertex (the largest of the copies').
+  return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled, &w.ties));
 }
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
@@ -1590,22 +1634,35 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
     if (!progress) return {};
     return [&progress, lo, hi](double f, std::string_view stage) { progress(lo + (hi - lo) * f, stage); };
   };
-  if (features) {
-    if (features->size() != n) throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", features->size(), n));
-    r.features = *features;
-    r.summary = summarize_features(mesh, r.features);
-  } else {
-    FeatureMapOptions fo = options.features;
-    fo.progress = part(0.0, split);
-    FeatureMap map = feature_map(mesh, fo);
-    r.features = std::move(map.weights);
-    r.detector = map.method;
-    r.summary = std::move(map.summary);
-  }
+  if (features && features->size() != n)
+    throw InvalidInput(fmt::format("feature map: {} weights for {} vertices", features->size(), n));
   ResizeOptions ro = options.resize;
   ro.progress = part(split, 1.0);
   r.method = resolved_resize_method(ro, positions(mesh), r.mapped);
-  r.V = feature_aware_resize(mesh, r.mapped, r.features, ro, &r.untangle);
+  // The map and the solve on the welded mesh (welds_for_solve()); the result fields per input vertex.
+  const Weld w = welds_for_solve(r.method) ? weld_coincident(mesh) : Weld{};
+  const Mesh& m = w.identity() ? mesh : w.mesh;
+  Eigen::VectorXd f;
+  if (features) {
+    r.features = *features;
+    f = w.identity() ? r.features : w.max_to_welded(r.features);  // painted on one side of a seam: held
+    r.summary = summarize_features(m, f);
+  } else {
+    FeatureMapOptions fo = options.features;
+    fo.progress = part(0.0, split);
+    FeatureMap map = feature_map(m, fo);
+    f = std::move(map.weights);
+    r.features = w.identity() ? f : w.to_input(f);
+    r.detector = map.method;
+    r.summary = std::move(map.summary);
+  }
+  if (w.identity()) {
+    r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle);
+  } else {
+    r.V = w.to_input(resize_as_stored(m, w.to_welded(r.mapped), f, ro, &r.untangle, &w.ties));
+  }
+  r.welded_vertices = w.merged;
+  r.weld_refused_groups = w.refused;
   return r;
 }
 

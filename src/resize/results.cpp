@@ -10,7 +10,7 @@ const ResultTable<FeatureSummary>& feature_summary_results() {
   static const auto t = ResultTable<R>()
       .add("marked_fraction", [](const R& r) { return r.marked_fraction; },
            "area share of the vertices marked (f > 1/2)")
-      .add("marked_vertices", [](const R& r) { return r.marked_vertices; }, "vertices marked (f > 1/2)")
+      .add("marked_vertices", [](const R& r) { return r.marked_vertices; }, "vertices marked (f > 1/2; resize: of the mesh welded for the solve)")
       .add("regions", [](const R& r) { return r.regions; }, "connected regions of marked vertices")
       .add("warning", [](const R& r) { return r.warning; },
            "empty, or why the map is implausible (more than half or less than 0.5% marked)");
@@ -35,6 +35,11 @@ const ResultTable<ResizeResult>& resize_results() {
            "faces crossed beyond the input's own before the untangle blend")
       .add("untangle_blended_vertices", [](const R& r) { return r.untangle.blended; },
            "vertices the untangle blend moved towards the axis warp or the plain map")
+      .add("welded_vertices", [](const R& r) { return r.welded_vertices; },
+           "input vertices welded onto a coincident one for the map and the solve (unwelded patches' seams)")
+      .add("weld_refused_groups", [](const R& r) { return r.weld_refused_groups; },
+           "coincident groups left apart (welding them would make a face degenerate or an edge non-manifold) or "
+           "welded per fan (their faces would join at a point)")
       .array("features", [](const R& r) { return r.features; }, "#V feature weights used, in [0, 1]", "",
              kPythonOnly)
       .array("mapped", [](const R& r) { return r.mapped; }, "#V by 3 positions under the plain deformation", "",

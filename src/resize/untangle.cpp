@@ -36,7 +36,7 @@ namespace {
 // was 1 only at the seeds, from 4 edges, left crossings next to them at every radius on the teapot: bench/resize.md,
 // issue 25 thirteenth session.)
 constexpr double kStartEdges = 1.0;
-constexpr double kReach = 3.0;  // the bump reaches 0 at kReach times its plateau's radius
+constexpr double kBumpReach = 3.0;  // the bump reaches 0 at kBumpReach times its plateau's radius
 constexpr int kMaxRounds = 12;
 constexpr double kRaise[3] = {0.25, 0.5, 1.0};  // the bump's heights tried at each radius
 
@@ -75,7 +75,7 @@ bool mark_turned(const MatrixX3i& F, const MatrixX3d& Y, const MatrixX3d& safe, 
 // seeds are put in a uniform grid of cells 3r wide (a hash of their cell), so that each vertex looks only at the
 // seeds of the 27 cells around its own (the sweep along x before looked at every seed sharing its x, e.g. a rim's).
 Eigen::VectorXd bump(const MatrixX3d& X, const std::vector<char>& seed, double r) {
-  const double reach = kReach * r;
+  const double reach = kBumpReach * r;
   const auto cell = [reach](double v) { return static_cast<int64_t>(std::floor(v / reach)); };
   const auto key = [](int64_t a, int64_t b, int64_t c) {
     return (static_cast<uint64_t>(a) * 73856093u) ^ (static_cast<uint64_t>(b) * 19349663u) ^
@@ -211,12 +211,12 @@ std::vector<int> nearest_pushed(const VertexGraph& g, const MatrixX3d& X, const 
   return reached;
 }
 
-// The pushes spread over the surface around them: each vertex within kReach r along the edges takes its nearest
+// The pushes spread over the surface around them: each vertex within kBumpReach r along the edges takes its nearest
 // pushed vertex's push, smoothed by 2 (r / edge)² lazy averaging steps among those vertices, times the bump's
-// smoothstep of that distance (1 within r, 0 at kReach r). A part near a crossing then moves as one piece, and the
+// smoothstep of that distance (1 within r, 0 at kBumpReach r). A part near a crossing then moves as one piece, and the
 // part it ran into, nearest to its own pushes, the other way.
 MatrixX3d spread_pushes(const VertexGraph& g, const MatrixX3d& X, const MatrixX3d& push, double r, double edge) {
-  const double reach = kReach * r;
+  const double reach = kBumpReach * r;
   std::vector<double> dist;
   std::vector<int> nearest;
   const std::vector<int> reached = nearest_pushed(g, X, push, reach, dist, nearest);

@@ -84,6 +84,10 @@ void run(const MeshIo& io, const Args& a, ResizeRunOptions o) {
   info(fmt::format("resized {} vertices ({}{}) in {:.2f} s", mesh.n_vertices(), method,
                    o.resize.method == ResizeMethod::Auto ? ", auto" : "", sec));
   info("self-intersections: " + r.untangle.describe());
+  if (r.welded_vertices > 0 || r.weld_refused_groups > 0)
+    info(fmt::format("welded {} coincident vertices for the solve ({} groups left apart or welded per fan); written "
+                     "unwelded, as read",
+                     r.welded_vertices, r.weld_refused_groups));
   if (!a.save_features.empty()) write_features(mesh, r.features, a.save_features, !io.ascii);
   set_positions(mesh, r.V);
   save_mesh(mesh, io.output, !io.ascii);

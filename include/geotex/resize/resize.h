@@ -204,6 +204,11 @@ struct ResizeOptions {
 //! spatial deformation (c_i), \param features #V weights f_i in [0, 1]. \return #V by 3 positions.
 //! \throw InvalidInput on size mismatch, weights outside [0, 1] or non-finite input; SolverError.
 //! \param untangled when given, the faces the result crosses against the input's own (untangle.h).
+//! Similarity, Axis and AxisSimilarity (and Auto) solve on the mesh with its coincident vertices welded
+//! (weld_coincident(): unwelded patches, as the teapot's, are one surface for the solve; a weight is the largest of
+//! its copies'); every input vertex gets its welded vertex's position, so coincident vertices stay coincident. A
+//! point welded per fan (a part touching the body at a point) is held together by stiff springs in the similarity
+//! stage (Weld::ties): its copies end within a small fraction of an edge length.
 MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& deformed, const Eigen::VectorXd& features,
                                const ResizeOptions& options = {}, UntangleReport* untangled = nullptr);
 
@@ -240,9 +245,15 @@ struct ResizeResult {
   ResizeMethod method = ResizeMethod::Similarity;
   //! Faces the result crosses, against the input's own, before and after ResizeOptions::untangle.
   UntangleReport untangle;
+  //! Input vertices welded onto a coincident one for the map and the solve (weld.h; the methods that solve for
+  //! positions, not thesis or sliding), and the coincident groups left apart or welded per fan because welding them
+  //! whole would make the mesh worse (weld_coincident()). The fields above are per input vertex all the same.
+  int welded_vertices = 0;
+  int weld_refused_groups = 0;
 };
 
-//! One feature-aware resize as the front ends run it: the deformation is options.map (about the
+//! One feature-aware resize as the front ends run it (for the methods that solve for positions, the feature map and
+//! the solve run on the mesh with its coincident vertices welded, weld.h, as feature_aware_resize() does): the deformation is options.map (about the
 //! bounding box's centre) or, when given, \p deformed (#V by 3, e.g. an edited copy; options.map must
 //! then be the identity); the features are \p features (#V weights in [0, 1]) when given, else
 //! feature_map() with options.features (the one definition of "auto").

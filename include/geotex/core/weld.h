@@ -1,0 +1,56 @@
+#pragma once
+//! \file weld.h Coincident vertices: found, and welded into one vertex for a computation. Many models are stored
+//! as unwelded patches (the teapot's Bézier patches), whose seams are boundary loops with a copy of each vertex on
+//! either side; a method that solves for positions on them treats every patch as a surface of its own. Weld the
+//! mesh, compute on the welded one, and take the result back per input vertex (Weld::to_input()): the input's
+//! vertices, order and faces stay, and coincident vertices stay coincident.
+
+#include <array>
+#include <vector>
+
+#include "geotex/core/mesh.h"
+
+namespace geotex {
+
+//! Vertices within this many mean edge lengths of each other coincide (weld_coincident(), and the seams between
+//! unwelded patches that the importance map does not read as outline).
+inline constexpr double kCoincidentTolerance = 1e-6;
+
+//! Groups of coincident vertices among \p subset (rows of \p X; all rows when null): two vertices within
+//! \p tolerance of each other are in one group, and groups chain (single linkage). Sorted on a grid of cells of
+//! 1024 × tolerance, so O(m log m) for m vertices whatever their layout.
+//! \return #X.rows() labels: the smallest index of each vertex's group (its own index outside \p subset or alone).
+std::vector<int> coincident_groups(const MatrixX3d& X, double tolerance, const std::vector<int>* subset = nullptr);
+
+//! A mesh with its coincident vertices welded, and the way back to the input's vertices.
+struct Weld {
+  //! The welded mesh: one vertex per group, in the order of the groups' first input vertex, at that vertex's
+  //! position; the input's faces in the input's order. Empty when identity() (use the input).
+  Mesh mesh;
+  std::vector<int> welded;  //!< #V: each input vertex's welded vertex
+  std::vector<int> first;   //!< #W: each welded vertex's first input vertex
+  int merged = 0;           //!< input vertices welded onto an earlier one
+  int refused = 0;          //!< coincident groups left unwelded or welded per fan (see weld_coincident())
+  //! Pairs of welded vertices that coincide but were welded per fan (a point contact: the teapot's handle on its
+  //! body), a pair per further fan: a solve on #mesh should keep them together (resize ties them by stiff springs).
+  std::vector<std::array<int, 2>> ties;
+  bool identity() const { return merged == 0 && ties.empty(); }  // nothing welded or tied
+  //! \return #V rows: each input vertex's welded vertex's row of \p W (#W rows).
+  MatrixX3d to_input(const MatrixX3d& W) const;
+  Eigen::VectorXd to_input(const Eigen::VectorXd& w) const;
+  //! \return #W rows: each welded vertex's first input vertex's row of \p V (#V rows).
+  MatrixX3d to_welded(const MatrixX3d& V) const;
+  //! \return #W values: the largest of each group's values in \p v (#V; e.g. feature weights painted on one side).
+  Eigen::VectorXd max_to_welded(const Eigen::VectorXd& v) const;
+};
+
+//! Weld the vertices of \p mesh that coincide (coincident_groups() within \p relative_tolerance mean edge lengths).
+//! Welding must not make the mesh worse, so a group is left unwelded (all its vertices as they were) when welding
+//! it would make a face degenerate (two of its corners in the group), or an edge with more than two faces or two
+//! faces running along it the same way (an orientation OpenMesh cannot hold); a group whose faces would join at the
+//! welded vertex in several fans (the teapot's handle touching its body at a point) is welded per fan. The rules
+//! are applied in this order, one kind per round, until no group changes (each round only splits groups).
+//! Identity (merged 0, no ties, no mesh) when nothing is welded or tied.
+Weld weld_coincident(const Mesh& mesh, double relative_tolerance = kCoincidentTolerance);
+
+}  // namespace geotex

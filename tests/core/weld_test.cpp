@@ -1,0 +1,101 @@
+// Coincident vertices found and welded (core/weld.h): what is welded, what is left apart, and the way back.
+
+#include <gtest/gtest.h>
+
+#include "geotex/core/geometry.h"
+#include "geotex/core/weld.h"
+#include "geotex/tools/shapes.h"
+
+using namespace geotex;
+
+namespace {
+
+Mesh soup(const std::vector<Vec3>& V, const std::vector<Eigen::Vector3i>& F) {
+  MatrixX3d X(static_cast<Eigen::Index>(V.size()), 3);
+  for (size_t i = 0; i < V.size(); ++i) X.row(static_cast<Eigen::Index>(i)) = V[i];
+  MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
+  for (size_t f = 0; f < F.size(); ++f) G.row(static_cast<Eigen::Index>(f)) = F[f];
+  return make_mesh(X, G);
+}
+
+}  // namespace
+
+TEST(Weld, CoincidentGroupsChainWithinTheToleranceAcrossCellWalls) {
+  // Near copies on either side of a grid wall (the grid is 1024 tolerances from the lowest point), exact copies, and
+  // a point just beyond the tolerance.
+  const double tol = 1e-3, wall = 1024 * tol;
+  MatrixX3d X(7, 3);
+  X << 0, 0, 0,                              //
+      wall - 0.4 * tol, 0.5, 0.5,            // 1 and 2: across the wall x = wall, 0.8 tol apart
+      wall + 0.4 * tol, 0.5, 0.5,            //
+      0.3, 0.3, 0.3,                         // 3 and 4: the same point
+      0.3, 0.3, 0.3,                         //
+      0.3 + 1.2 * tol, 0.3, 0.3,             // 5: beyond the tolerance from 3 and 4
+      wall + 1.1 * tol, 0.5, 0.5;            // 6: within it of 2 only: chained onto 1
+  const std::vector<int> g = coincident_groups(X, tol);
+  EXPECT_EQ(g, (std::vector<int>{0, 1, 1, 3, 3, 5, 1}));
+  const std::vector<int> only{1, 3, 5};  // a subset: its members' copies outside it are not looked at
+  EXPECT_EQ(coincident_groups(X, tol, &only), (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(coincident_groups(X, 0.0), (std::vector<int>{0, 1, 2, 3, 3, 5, 6}));  // exact copies only
+}
+
+TEST(Weld, TwoPatchesSharingAnEdgeAreWeldedAndTheWayBackKeepsTheInputsVertices) {
+  // A unit square stored as two triangles with their diagonal twice.
+  const Mesh m = soup({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(boundary_loops(m).size(), 2u);
+  const Weld w = weld_coincident(m);
+  ASSERT_FALSE(w.identity());
+  EXPECT_EQ(w.merged, 2);
+  EXPECT_EQ(w.refused, 0);
+  EXPECT_EQ(w.mesh.n_vertices(), 4u);
+  EXPECT_EQ(w.mesh.n_faces(), 2u);
+  EXPECT_EQ(boundary_loops(w.mesh).size(), 1u);
+  EXPECT_EQ(w.welded, (std::vector<int>{0, 1, 2, 0, 2, 3}));
+  EXPECT_EQ(w.first, (std::vector<int>{0, 1, 2, 5}));
+  MatrixX3d W(4, 3);
+  W << 0, 0, 0, 2, 0, 0, 2, 1, 0, 0, 1, 0;
+  const MatrixX3d V = w.to_input(W);
+  ASSERT_EQ(V.rows(), 6);
+  EXPECT_EQ(V.row(3), V.row(0));
+  EXPECT_EQ(V.row(4), V.row(2));
+  Eigen::VectorXd f(6);
+  f << 0, 0, 0, 1, 0.5, 0;  // painted on one side of the diagonal
+  const Eigen::VectorXd g = w.max_to_welded(f);
+  EXPECT_EQ(g, Eigen::Vector4d(1, 0, 0.5, 0));
+}
+
+TEST(Weld, GroupsThatWouldMakeTheMeshWorseAreLeftApart) {
+  // Two triangles touching at one point (welded: a vertex joining two fans): welded per fan, i.e. nothing merged,
+  // and the two copies tied for a solve to keep together (not identity: the welded mesh is the input's copy).
+  const Mesh bowtie = soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {-1, 0, 0}, {0, -1, 0}}, {{0, 1, 2}, {3, 4, 5}});
+  Weld w = weld_coincident(bowtie);
+  EXPECT_FALSE(w.identity());
+  EXPECT_EQ(w.merged, 0);
+  EXPECT_EQ(w.refused, 1);
+  EXPECT_EQ(w.ties, (std::vector<std::array<int, 2>>{{0, 3}}));
+  EXPECT_EQ(w.mesh.n_vertices(), 6u);
+  EXPECT_EQ(w.welded, (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  // Two triangles on one edge the same way round (welded: an orientation no halfedge mesh holds).
+  const Mesh same_way =
+      soup({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0.5, -1, 0.1}}, {{0, 1, 2}, {3, 4, 5}});
+  w = weld_coincident(same_way);
+  EXPECT_TRUE(w.identity());
+  EXPECT_EQ(w.refused, 2);
+  EXPECT_TRUE(w.ties.empty());  // left apart, not per fan: nothing to tie
+  // A face with two corners at one point (welded: degenerate) beside a seam that is welded.
+  const Mesh sliver = soup({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 1, 0}},
+                           {{0, 1, 2}, {3, 4, 5}, {6, 5, 4}});
+  w = weld_coincident(sliver);
+  EXPECT_EQ(w.refused, 1);  // 5 and 6
+  EXPECT_EQ(w.merged, 2);   // the diagonal
+  EXPECT_EQ(w.mesh.n_faces(), 3u);
+  EXPECT_TRUE(w.ties.empty());
+}
+
+TEST(Weld, AWeldedModelIsLeftAsItIs) {
+  const Mesh m = icosphere(3);
+  const Weld w = weld_coincident(m);
+  EXPECT_TRUE(w.identity());
+  EXPECT_EQ(w.refused, 0);
+  EXPECT_EQ(w.mesh.n_vertices(), 0u);
+}
