@@ -63,6 +63,10 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("stripe_coherence_organic", &O::stripe_coherence_organic,
            "any part, organic-looking ones included (short bands fool the look), is read creased throughout where "
            "the sharp fit's residual points one way across it with at least this coherence; 1 never", between(0, 1))
+      .add("low_frequency_residual", &O::low_frequency_residual,
+           "a part is read creased throughout where the sharp fit moves it by more than this many noise variances "
+           "(median) and the mild fit by nearly as much: low-frequency noise the noise estimate follows; 0 never",
+           between(0, 1e6))
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "
            "below this × the local noise energy, and smoother normals; 0 never", between(0, 1e6))
@@ -782,6 +786,92 @@ Eigen::VectorXd read_stripes(const Mesh& mesh, const Neighborhoods& N, const Mat
   return striped_at;
 }
 
+// Step 5, low-frequency scanner noise (issue 24, fourteenth session): a scanner's low-frequency error displaces a
+// part along its normals by a smooth field a few edges across. The noise estimate's cubic over the 2-ring follows
+// most of it (σ 0.5 over 4 edges reads σ̂ 0.03-0.06), the mild fit keeps the rest as relief, and the rule (the
+// sharp fit's residual against the mild one's) reads the part smooth where the creased reading removes the field
+// (fandisk 18.2° against 12.4°, the bunny 14.0° against 11.0°; bench/denoise.md). It has no direction, so the
+// stripe rules cannot see it. Per part, the medians of two reading features (reading_feature_names(), 5 rings):
+// the sharp fit moves the part far beyond the noise estimated (sharp_residual above \p residual noise variances)
+// and the mild fit nearly as far (z5 = log(r_sharp / r_smooth) below kLowFrequencyZ5). Under the field over 4-6
+// edges: 30-87 noise variances, z5 0.11-0.45. Where the sharp fit flattens shape that the mild fit keeps, z5 is
+// 0.65-1.1 (organic models under white noise at σ 0.05, up to 28 noise variances; under a field 8 edges across,
+// which is shape to both fits and the smooth reading's to keep). With z5 below 0.5 and no gain from the creased
+// reading, at most 12.5 (the coarse cow, spot under a field over 3 edges); white noise at most 7. \p residual's
+// default, 20, sits between (a factor 1.5-1.6 from each). Such a part is read creased throughout, and the creased
+// budget is not applied to it (\p low_at: 1 there). \p largest: the medians of the part the sharp fit moves most
+// (size -1: none measured). \return the vertices set.
+// The medians of a smaller part are a few vertices' (the teapot's patches, 348-450 vertices, read alike).
+constexpr int kMinLowFrequencyPart = 300;
+constexpr double kLowFrequencyZ5 = 0.5;
+
+struct PartMedians {
+  double size = -1, sharp_residual = 0, z5 = 0;
+};
+
+std::vector<PartMedians> part_medians(const Eigen::MatrixXd& features, const Eigen::VectorXi& part, int n_parts) {
+  std::vector<std::vector<double>> sr(n_parts), z5(n_parts);
+  for (Eigen::Index v = 0; v < features.rows(); ++v)
+    sr[part[v]].push_back(features(v, 2)), z5[part[v]].push_back(features(v, 0));
+  const auto median = [](std::vector<double>& x) {
+    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+    std::nth_element(x.begin(), mid, x.end());
+    return *mid;
+  };
+  std::vector<PartMedians> m(n_parts);
+  for (int p = 0; p < n_parts; ++p)
+    if (!sr[p].empty()) m[p] = {double(sr[p].size()), std::exp(median(sr[p])), median(z5[p])};
+  return m;
+}
+
+int read_low_frequency_parts_creased(const Mesh& mesh, const Eigen::MatrixXd& features, double residual,
+                                     Eigen::VectorXd& sharp, Eigen::VectorXd& low_at, PartMedians* largest) {
+  low_at = Eigen::VectorXd::Zero(features.rows());
+  if (!(residual > 0)) return 0;
+  int n_parts = 0;
+  const Eigen::VectorXi part = connected_components(mesh, &n_parts);
+  const std::vector<PartMedians> m = part_medians(features, part, n_parts);
+  std::vector<char> low(n_parts, 0);
+  for (int p = 0; p < n_parts; ++p) {
+    if (m[p].size < kMinLowFrequencyPart) continue;
+    if (m[p].sharp_residual > largest->sharp_residual || largest->size < 0) *largest = m[p];
+    low[p] = m[p].sharp_residual > residual && m[p].z5 < kLowFrequencyZ5;
+  }
+  int set = 0;
+  for (Eigen::Index v = 0; v < features.rows(); ++v) {
+    if (!low[part[v]]) continue;
+    low_at[v] = 1;
+    if (sharp[v] == 0) sharp[v] = 1, ++set;
+  }
+  return set;
+}
+
+// Step 5's low-frequency noise (read_low_frequency_parts_creased()), said in the choices.
+Eigen::VectorXd read_low_frequency(const Mesh& mesh, const Eigen::MatrixXd& features, Eigen::VectorXd& sharp,
+                                   AutoDenoiseResult& r) {
+  PartMedians largest;
+  Eigen::VectorXd low_at;
+  const int set = read_low_frequency_parts_creased(mesh, features, r.resolved.low_frequency_residual, sharp, low_at,
+                                                   &largest);
+  if (largest.size >= 0)
+    r.choices.push_back(fmt::format("low-frequency noise: the sharp fit moves a part by {:.3g} noise variances, "
+                                    "z5 {:.3f} (medians over the part of {:.0f} vertices moved most; a part is read "
+                                    "creased throughout above {} and below {}){}", largest.sharp_residual, largest.z5,
+                                    largest.size, r.resolved.low_frequency_residual, kLowFrequencyZ5,
+                                    low_at.sum() > 0 ? fmt::format(": {:.0f} vertices read so, {} of them set", low_at.sum(), set)
+                                                     : std::string()));
+  return low_at;
+}
+
+// Step 5's parts read creased throughout: scanner stripes (read_stripes()) and low-frequency noise
+// (read_low_frequency()); \return 1 at their vertices, which the creased budget leaves alone.
+Eigen::VectorXd read_whole_parts(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
+                                 const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
+                                 Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
+  const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, noise_var, sharp, r);
+  return striped.cwiseMax(read_low_frequency(mesh, features, sharp, r));
+}
+
 // Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
 // above the noise; \p relief: per face, how much of it was kept.
 void add_light_relief(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, const Neighborhoods& N,
@@ -1056,8 +1146,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
-    const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, noise_var, sharp_here, r);
-    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, striped, o.creased_budget, noise_var,
+    const Eigen::VectorXd whole = read_whole_parts(mesh, N, F, X, Xs, features, noise_var, sharp_here, r);
+    refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, whole, o.creased_budget, noise_var,
                                           o.depth_anisotropy, sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();

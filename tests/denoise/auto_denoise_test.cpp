@@ -703,5 +703,36 @@ TEST(AutoDenoise, ALowNoiseCoarseModelIsLeftNearerItselfWithTheNoiseEstimated) {
       EXPECT_EQ(r.noise.noise_share, 1.0) << name;
       EXPECT_LT(e_out, e_in) << name << ": nearer the truth than the input";
     }
+// Low-frequency scanner noise (a smooth field over 4 edges along the normals) on a CAD part and on an organic model:
+// the noise estimate follows most of it and the mild fit keeps the rest as relief, so the rule read both smooth (the
+// previous release, low_frequency_residual 0, more than 5 % above the better forced reading). Both fits move the
+// part far beyond the noise estimated, and it is read creased throughout (read_low_frequency_parts_creased()). White
+// noise at a low level on the same models (where the sharp fit flattens spot's shape far beyond the noise) is not
+// read so: the results are the previous release's.
+TEST(AutoDenoise, LowFrequencyNoiseIsWithinTwoPercentOfTheBetterForcedReading) {
+  GEOTEX_REQUIRE_DATA();
+  AutoDenoiseOptions previous, sharp, mild;
+  previous.low_frequency_residual = 0;
+  sharp.creased = true;
+  mild.creased = false;
+  for (const char* name : {"fandisk.obj", "spot.obj"}) {
+    const Mesh clean = read_mesh(test::data_dir() / name);
+    NoiseOptions n;
+    n.sigma = 0.5;
+    n.pattern = NoisePattern::LowFrequency;
+    n.wavelength = 4;
+    n.seed = 7;
+    Mesh noisy = clean;
+    set_positions(noisy, add_noise(clean, n));
+    const auto error = [&](const AutoDenoiseResult& r) {
+      Mesh m = clean;
+      set_positions(m, r.positions);
+      return compare_meshes(m, clean).mean_normal_error_deg;
+    };
+    const double best = std::min(error(auto_denoise(noisy, sharp)), error(auto_denoise(noisy, mild)));
+    EXPECT_LE(error(auto_denoise(noisy)), 1.02 * best) << name;
+    EXPECT_GT(error(auto_denoise(noisy, previous)), 1.05 * best) << name << ": so the test can fail";
+    const Mesh white = with_noise(clean, 0.05, false, 7);
+    EXPECT_EQ(auto_denoise(white).positions, auto_denoise(white, previous).positions) << name;
   }
 }
