@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <unordered_map>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -16,6 +17,7 @@
 
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
+#include "geotex/core/mesh.h"
 #include "geotex/core/progress.h"
 #include "geotex/denoise/coherent_change.h"
 #include "geotex/denoise/mrf.h"
@@ -824,16 +826,59 @@ std::vector<PartMedians> part_medians(const Eigen::MatrixXd& features, const Eig
   return m;
 }
 
+// The variance of a part's normal noise alone (estimate_noise() on the part: its vertices \p verts, its faces \p
+// tris, both of the mesh \p X, \p F) over the mesh's \p noise: one noise level per mesh measures a part under a
+// low-frequency field against another part's white noise (fandisk under a field beside spot under white σ 0.2: 17.6
+// noise variances, 42 alone). 1 where the part is too small to estimate from.
+double part_noise_share(const MatrixX3d& X, const MatrixX3i& F, const std::vector<int>& verts,
+                        const std::vector<int>& tris, double all_var) {
+  std::unordered_map<int, int> index;
+  MatrixX3d Xp(verts.size(), 3);
+  for (size_t k = 0; k < verts.size(); ++k) index[verts[k]] = static_cast<int>(k), Xp.row(k) = X.row(verts[k]);
+  MatrixX3i Fp(tris.size(), 3);
+  for (size_t k = 0; k < tris.size(); ++k)
+    Fp.row(k) << index[F(tris[k], 0)], index[F(tris[k], 1)], index[F(tris[k], 2)];
+  try {
+    const Mesh sub = make_mesh(Xp, Fp);
+    const double own = estimate_noise(sub).rms_normal_sigma * mean_edge_length(sub);
+    return own > 0 && all_var > 0 ? own * own / all_var : 1;
+  } catch (const InvalidInput&) {
+    return 1;
+  }
+}
+
+// Each part's own noise variance over the mesh's (part_noise_share()) where \p m says it could be read (z5 below
+// kLowFrequencyZ5); 1 where the noise was given (\p noise not estimated) or the mesh has one part.
+std::vector<double> part_noise_shares(const Mesh& mesh, const Eigen::VectorXi& part, const std::vector<PartMedians>& m,
+                                      const NoiseEstimate& noise) {
+  const int n_parts = static_cast<int>(m.size());
+  std::vector<double> share(n_parts, 1);
+  if (n_parts < 2 || noise.samples == 0) return share;
+  const MatrixX3d X = positions(mesh);
+  const MatrixX3i F = faces(mesh);
+  std::vector<std::vector<int>> verts(n_parts), tris(n_parts);
+  for (Eigen::Index v = 0; v < X.rows(); ++v) verts[part[v]].push_back(static_cast<int>(v));
+  for (Eigen::Index f = 0; f < F.rows(); ++f) tris[part[F(f, 0)]].push_back(static_cast<int>(f));
+  const double all_var = std::pow(noise.rms_normal_sigma * mean_edge_length(mesh), 2);
+  for (int p = 0; p < n_parts; ++p)
+    if (m[p].size >= kMinLowFrequencyPart && m[p].z5 < kLowFrequencyZ5)
+      share[p] = part_noise_share(X, F, verts[p], tris[p], all_var);
+  return share;
+}
+
 int read_low_frequency_parts_creased(const Mesh& mesh, const Eigen::MatrixXd& features, double residual,
-                                     Eigen::VectorXd& sharp, Eigen::VectorXd& low_at, PartMedians* largest) {
+                                     const NoiseEstimate& noise, Eigen::VectorXd& sharp, Eigen::VectorXd& low_at,
+                                     PartMedians* largest) {
   low_at = Eigen::VectorXd::Zero(features.rows());
   if (!(residual > 0)) return 0;
   int n_parts = 0;
   const Eigen::VectorXi part = connected_components(mesh, &n_parts);
-  const std::vector<PartMedians> m = part_medians(features, part, n_parts);
+  std::vector<PartMedians> m = part_medians(features, part, n_parts);
+  const std::vector<double> share = part_noise_shares(mesh, part, m, noise);
   std::vector<char> low(n_parts, 0);
   for (int p = 0; p < n_parts; ++p) {
     if (m[p].size < kMinLowFrequencyPart) continue;
+    m[p].sharp_residual /= share[p];
     if (m[p].sharp_residual > largest->sharp_residual || largest->size < 0) *largest = m[p];
     low[p] = m[p].sharp_residual > residual && m[p].z5 < kLowFrequencyZ5;
   }
@@ -851,8 +896,8 @@ Eigen::VectorXd read_low_frequency(const Mesh& mesh, const Eigen::MatrixXd& feat
                                    AutoDenoiseResult& r) {
   PartMedians largest;
   Eigen::VectorXd low_at;
-  const int set = read_low_frequency_parts_creased(mesh, features, r.resolved.low_frequency_residual, sharp, low_at,
-                                                   &largest);
+  const int set = read_low_frequency_parts_creased(mesh, features, r.resolved.low_frequency_residual, r.noise, sharp,
+                                                   low_at, &largest);
   if (largest.size >= 0)
     r.choices.push_back(fmt::format("low-frequency noise: the sharp fit moves a part by {:.3g} noise variances, "
                                     "z5 {:.3f} (medians over the part of {:.0f} vertices moved most; a part is read "
