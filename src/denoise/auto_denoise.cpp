@@ -67,7 +67,8 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
            "the sharp fit's residual points one way across it with at least this coherence; 1 never", between(0, 1))
       .add("low_frequency_residual", &O::low_frequency_residual,
            "a part is read creased throughout where the sharp fit moves it by more than this many noise variances "
-           "(median) and the mild fit by nearly as much: low-frequency noise the noise estimate follows; 0 never",
+           "(median; the part's own noise) and the mild fit by nearly as much: low-frequency noise the noise estimate "
+           "follows; 0 never",
            between(0, 1e6))
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "

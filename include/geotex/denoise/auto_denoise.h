@@ -138,10 +138,11 @@ struct AutoDenoiseOptions {
   double stripe_coherence_organic = 0.4;
   //! Step 5, low-frequency scanner noise: a smooth field a few edges across, which the noise estimate follows (σ̂
   //! a tenth of σ) and the mild fit keeps as relief. A part is read creased throughout where the median of the sharp
-  //! fit's residual (5 rings) is above low_frequency_residual × the normal noise variance and the mild fit's is within
-  //! a factor e^0.5 of it (not shape that the sharp fit alone flattens): 30-87 under such a field over 4-6 edges, at
-  //! most 12.5 elsewhere within that factor (white noise at most 7); the creased budget is not applied there
-  //! (bench/denoise.md, fourteenth session). 0 never (the previous release).
+  //! fit's residual (5 rings) is above low_frequency_residual × the normal noise variance (the part's own estimate,
+  //! on a mesh of several parts) and the mild fit's is within a factor e^0.5 of it (not shape that the sharp fit
+  //! alone flattens): 30-87 under such a field over 4-6 edges, at most 12.5 elsewhere within that factor (white noise
+  //! at most 7); the creased budget is not applied there (bench/denoise.md, fourteenth session). 0 never (the
+  //! previous release).
   double low_frequency_residual = 20;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
