@@ -703,6 +703,9 @@ TEST(AutoDenoise, ALowNoiseCoarseModelIsLeftNearerItselfWithTheNoiseEstimated) {
       EXPECT_EQ(r.noise.noise_share, 1.0) << name;
       EXPECT_LT(e_out, e_in) << name << ": nearer the truth than the input";
     }
+  }
+}
+
 // Low-frequency scanner noise (a smooth field over 4 edges along the normals) on a CAD part and on an organic model:
 // the noise estimate follows most of it and the mild fit keeps the rest as relief, so the rule read both smooth (the
 // previous release, low_frequency_residual 0, more than 5 % above the better forced reading). Both fits move the
