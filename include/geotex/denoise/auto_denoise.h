@@ -18,7 +18,8 @@
 //!     the creased reading is refused where the sharp fit moves an organic-looking part by more than the noise
 //!     (AutoDenoiseOptions::creased_budget, AutoDenoiseResult::refused); a CAD-looking part whose sharp-fit residual
 //!     runs one way across it (a scanner's stripes) is read creased throughout (AutoDenoiseOptions::stripe_coherence),
-//!     and so is any part whose residual runs one way more strongly (stripe_coherence_organic: short bands fool the look);
+//!     and so is any part whose residual runs one way more strongly (stripe_coherence_organic: short bands fool the look),
+//!     and any part that both fits move far beyond the noise estimated (low_frequency_residual: low-frequency noise);
 //!  5b. the smooth reading's relief per region: a light fit (1 mild sweep, 3 updates) keeps fine relief and
 //!     some noise; each vertex keeps it in the Wiener proportion of its local energy over the local noise
 //!     energy (AutoDenoiseOptions::relief_floor, AutoDenoiseResult::relief), so eyes, nostrils and carved
@@ -135,6 +136,14 @@ struct AutoDenoiseOptions {
   //! above the noise (a smooth cylinder's shape alone reaches 0.44 under white noise, with a residual at the noise
   //! level), the creased budget not applied (bench/denoise.md, thirteenth session). 1 never (the previous release).
   double stripe_coherence_organic = 0.4;
+  //! Step 5, low-frequency scanner noise: a smooth field a few edges across, which the noise estimate follows (σ̂
+  //! a tenth of σ) and the mild fit keeps as relief. A part is read creased throughout where the median of the sharp
+  //! fit's residual (5 rings) is above low_frequency_residual × the normal noise variance (the part's own estimate,
+  //! on a mesh of several parts) and the mild fit's is within a factor e^0.5 of it (not shape that the sharp fit
+  //! alone flattens): 30-87 under such a field over 4-6 edges, at most 12.5 elsewhere within that factor (white noise
+  //! at most 7); the creased budget is not applied there (bench/denoise.md, fourteenth session). 0 never (the
+  //! previous release).
+  double low_frequency_residual = 20;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
