@@ -1120,6 +1120,16 @@ SurfelOptions pass_options(SurfelOptions p, int iterations, double factor, doubl
   return p;
 }
 
+// The options both passes share: lengths in mean edge lengths, IRLS weights, no energy record.
+SurfelOptions base_pass_options(const Mesh& mesh) {
+  SurfelOptions base;
+  base.unit_length = mean_edge_length(mesh);
+  base.irls_weights = true;
+  base.local_sweeps = 3;  // ICM visits every surfel again: a few block minimisations per visit suffice
+  base.record_energy = false;
+  return base;
+}
+
 // auto_denoise(); with \p truth (the clean positions), stops after the two fits and fills \p samples instead.
 AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& options, const MatrixX3d* truth,
                                     ReadingSamples* samples) {
@@ -1148,11 +1158,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   const Neighborhoods N = one_ring_neighborhoods(mesh);
   const Surfels S0 = initial_surfels(mesh);
   const double m0 = median_neighbor_angle_deg(S0, N);
-  SurfelOptions base;
-  base.unit_length = mean_edge_length(mesh);
-  base.irls_weights = true;
-  base.local_sweeps = 3;        // ICM visits every surfel again: a few block minimisations per visit suffice
-  base.record_energy = false;
+  const SurfelOptions base = base_pass_options(mesh);
   SurfelOptions mild = pass_options(base, o.mild_iterations, kMildFactor, kMildEnd, m0);
   mild.progress = [&](double f, std::string_view) { report(o.progress, 0.1 * f, "auto: mild pass"); };
   SurfelResult sr;
