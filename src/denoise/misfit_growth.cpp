@@ -5,21 +5,20 @@
 // cubic cannot follow is not: its misfit grows when the fit covers more of it, even with a quartic.
 
 #include "misfit_growth.h"
+#include "ring_fit.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 
 #include "geotex/core/geometry.h"
 
 namespace geotex::detail {
 
 namespace {
-constexpr int kTerms = 15;        // a quartic height function over the tangent plane
-constexpr int kRings = 3;
-constexpr size_t kMaxRing = 400;
+// A quartic height function over the tangent plane of the three-ring, at most 399 points besides the vertex.
+constexpr int kTerms = 15;
+constexpr RingFitLimits kThreeRing{3, 399, 1e-12};
 constexpr size_t kMaxSamples = 4000;  // the ratio needs a few thousand residuals, not all of estimate_noise()'s
 // The two-ring residual's median is read as the scale of σ² + m² (noise and misfit), the three-ring's as that of
 // K² σ² + (K α)² m²: K, the noise's own growth, up to 1.15 measured (woody σ 0.02 1.151, spot σ 0.1 1.123; bunny,
@@ -36,65 +35,6 @@ constexpr double kNoiseGrowth = 1.15, kFacetGrowth = 1.17;
 // auto_denoise's noise choice line): not Gaussian; σ̂ from kFacetSigma[0] to [1]: the correction fades out.
 constexpr double kGaussianOutliers = 0.02;
 constexpr double kFacetSigma[2] = {0.12, 0.14};
-
-// The leave-one-out fit of the quartic over the kRings-ring of \p vh (without the vertex), in \p h: (the ring's
-// residual variance, the vertex's residual over the fit's own error), or (-1, -1).
-std::pair<double, double> ring_fit(const Mesh& mesh, Mesh::VertexHandle vh, double h, std::vector<int>& mark, int tag,
-                         std::vector<int>& ring) {
-  ring.clear();
-  mark[vh.idx()] = tag;
-  size_t begin = 0;
-  ring.push_back(vh.idx());
-  for (int k = 0; k < kRings; ++k) {
-    const size_t end = ring.size();
-    for (size_t i = begin; i < end; ++i)
-      for (auto u : mesh.vv_range(mesh.vertex_handle(ring[i])))
-        if (mark[u.idx()] != tag) {
-          mark[u.idx()] = tag;
-          ring.push_back(u.idx());
-          if (ring.size() > kMaxRing) return {-1.0, -1.0};
-        }
-    begin = end;
-  }
-  ring.erase(ring.begin());  // without the vertex
-  if (ring.size() < kTerms + 4) return {-1.0, -1.0};
-  Vec3 c = Vec3::Zero();
-  for (int u : ring) c += to_eigen(mesh.point(mesh.vertex_handle(u)));
-  c /= double(ring.size());
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (int u : ring) {
-    const Vec3 d = to_eigen(mesh.point(mesh.vertex_handle(u))) - c;
-    C += d * d.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-  es.computeDirect(C);
-  const Vec3 t1 = es.eigenvectors().col(2), t2 = es.eigenvectors().col(1), n = es.eigenvectors().col(0);
-  auto basis = [&](const Vec3& p) {
-    const Vec3 q = (p - c) / h;
-    const double x = q.dot(t1), y = q.dot(t2);
-    Eigen::Matrix<double, kTerms, 1> b;
-    b << x * x * x * x, x * x * x * y, x * x * y * y, x * y * y * y, y * y * y * y, x * x * x, x * x * y, x * y * y,
-        y * y * y, x * x, x * y, y * y, x, y, 1.0;
-    return std::pair(b, q.dot(n));
-  };
-  Eigen::Matrix<double, kTerms, kTerms> A = Eigen::Matrix<double, kTerms, kTerms>::Zero();
-  Eigen::Matrix<double, kTerms, 1> rhs = Eigen::Matrix<double, kTerms, 1>::Zero();
-  for (int u : ring) {
-    const auto [b, z] = basis(to_eigen(mesh.point(mesh.vertex_handle(u))));
-    A.noalias() += b * b.transpose();
-    rhs += z * b;
-  }
-  const Eigen::LDLT<Eigen::Matrix<double, kTerms, kTerms>> ldlt(A);
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return {-1.0, -1.0};
-  const Eigen::Matrix<double, kTerms, 1> beta = ldlt.solve(rhs);
-  double rss = 0;
-  for (int u : ring) {
-    const auto [b, z] = basis(to_eigen(mesh.point(mesh.vertex_handle(u))));
-    rss += (z - b.dot(beta)) * (z - b.dot(beta));
-  }
-  const auto [b0, z0] = basis(to_eigen(mesh.point(vh)));
-  return {rss / double(ring.size() - kTerms), std::abs(z0 - b0.dot(beta)) / std::sqrt(1.0 + b0.dot(ldlt.solve(b0)))};
-}
 
 // The median of \p r: a scale that a minority of misfits (rings reaching a crease) leaves as it is.
 double median(std::vector<double> r) {
@@ -113,9 +53,13 @@ double misfit_growth(const Mesh& mesh, const std::vector<int>& vertices, double 
 #pragma omp parallel if (picked.size() > 1000)
   {
     std::vector<int> mark(mesh.n_vertices(), -1), ring;
+    std::vector<Vec3> P;
 #pragma omp for schedule(dynamic, 64)
-    for (size_t i = 0; i < picked.size(); ++i)
-      fits[i] = ring_fit(mesh, mesh.vertex_handle(picked[i]), h, mark, static_cast<int>(i), ring);
+    for (size_t i = 0; i < picked.size(); ++i) {
+      const auto [residual, rss] =
+          leave_one_out_fit<kTerms>(mesh, mesh.vertex_handle(picked[i]), h, kThreeRing, static_cast<int>(i), mark, ring, P);
+      fits[i] = {rss, residual};
+    }
   }
   // As estimate_noise(): the half of the vertices whose ring fits best.
   std::erase_if(fits, [](const auto& f) { return f.second < 0; });

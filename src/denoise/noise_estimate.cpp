@@ -5,13 +5,11 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
-
 #include "geotex/core/error.h"
 #include "geotex/core/geometry.h"
 #include "geotex/denoise/auto_denoise.h"
 #include "misfit_growth.h"
+#include "ring_fit.h"
 
 namespace geotex {
 
@@ -19,78 +17,8 @@ namespace {
 constexpr int kTerms = 10;      // a cubic height function: curvature and its change fit, the noise does not
 constexpr double kKeep = 0.5;   // the half of the vertices whose two-ring fits best
 constexpr double kOutlier = 4;  // residuals beyond 4 robust standard deviations are outliers
-constexpr size_t kMaxRing = 200;
-constexpr std::pair<double, double> kNoFit{-1.0, -1.0};
-
-// The leave-one-out fit at \p vh: a cubic height function over the tangent plane fitted to the vertex's
-// two-ring (without the vertex; lengths in \p h). \return (the vertex's residual over the fit's own error,
-// the ring's residual variance), or kNoFit for a ring too small, too large or degenerate. \p mark, \p ring
-// and \p P are the calling thread's buffers (mark[u] == tag: u is in this ring already).
-std::pair<double, double> two_ring_fit(const Mesh& mesh, Mesh::VertexHandle vh, int tag, double h,
-                                       std::vector<int>& mark, std::vector<int>& ring, std::vector<Vec3>& P) {
-  // The two-ring of the vertex, without the vertex; at most kMaxRing points (a vertex of very high
-  // valence has no local two-ring to fit, and is skipped).
-  ring.clear();
-  mark[vh.idx()] = tag;
-  for (auto u : mesh.vv_range(vh)) {
-    ring.push_back(u.idx());
-    mark[u.idx()] = tag;
-  }
-  const size_t one = ring.size();
-  bool too_large = one > kMaxRing;
-  for (size_t k = 0; k < one && !too_large; ++k)
-    for (auto u : mesh.vv_range(mesh.vertex_handle(ring[k]))) {
-      if (mark[u.idx()] == tag) continue;
-      mark[u.idx()] = tag;
-      ring.push_back(u.idx());
-      if (ring.size() > kMaxRing) {
-        too_large = true;
-        break;
-      }
-    }
-  if (too_large || ring.size() < kTerms + 4) return kNoFit;
-  P.clear();
-  Vec3 c = Vec3::Zero();
-  for (int u : ring) {
-    P.push_back(to_eigen(mesh.point(mesh.vertex_handle(u))));
-    c += P.back();
-  }
-  c /= double(P.size());
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : P) C += (p - c) * (p - c).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-  es.computeDirect(C);
-  const Vec3 t1 = es.eigenvectors().col(2), t2 = es.eigenvectors().col(1), n = es.eigenvectors().col(0);
-  // A cubic height function z(x, y) over the tangent plane, fitted to the ring (in mean edge lengths).
-  auto basis = [&](const Vec3& p) {
-    const Vec3 q = (p - c) / h;
-    const double x = q.dot(t1), y = q.dot(t2);
-    Eigen::Matrix<double, kTerms, 1> b;
-    b << x * x * x, x * x * y, x * y * y, y * y * y, x * x, x * y, y * y, x, y, 1.0;
-    return std::pair(b, q.dot(n));
-  };
-  Eigen::Matrix<double, kTerms, kTerms> A = Eigen::Matrix<double, kTerms, kTerms>::Zero();
-  Eigen::Matrix<double, kTerms, 1> rhs = Eigen::Matrix<double, kTerms, 1>::Zero();
-  for (const Vec3& p : P) {
-    const auto [b, z] = basis(p);
-    A.noalias() += b * b.transpose();
-    rhs += z * b;
-  }
-  const Eigen::LDLT<Eigen::Matrix<double, kTerms, kTerms>> ldlt(A);
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-10)) return kNoFit;
-  const auto [b0, z0] = basis(to_eigen(mesh.point(vh)));
-  const Eigen::Matrix<double, kTerms, 1> beta = ldlt.solve(rhs);
-  const double predicted = b0.dot(beta);
-  double rss = 0;
-  for (const Vec3& p : P) {
-    const auto [b, z] = basis(p);
-    rss += (z - b.dot(beta)) * (z - b.dot(beta));
-  }
-  // Var(z0 − predicted) = σ² (1 + b0ᵀ A⁻¹ b0): the fit's own error adds to the vertex's.
-  const double leverage = b0.dot(ldlt.solve(b0));
-  return {std::abs(z0 - predicted) / std::sqrt(1.0 + leverage), rss / double(P.size() - kTerms)};
-}
-
+// A cubic over the two-ring, at most 200 points (a vertex of very high valence has no local two-ring to fit).
+constexpr detail::RingFitLimits kTwoRing{2, 200, 1e-10};
 }  // namespace
 
 NoiseEstimate estimate_noise(const Mesh& mesh, int max_samples) {
@@ -110,8 +38,8 @@ NoiseEstimate estimate_noise(const Mesh& mesh, int max_samples) {
     std::vector<Vec3> P;
 #pragma omp for schedule(dynamic, 64)
     for (size_t s = 0; s < samples.size(); ++s) {
-      const auto [res, rss] = two_ring_fit(mesh, mesh.vertex_handle(samples[s]), static_cast<int>(s), out.mean_edge,
-                                           mark, ring, P);
+      const auto [res, rss] = detail::leave_one_out_fit<kTerms>(mesh, mesh.vertex_handle(samples[s]), out.mean_edge,
+                                                                kTwoRing, static_cast<int>(s), mark, ring, P);
       residual[s] = res;
       ring_rss[s] = rss;
     }
