@@ -145,8 +145,9 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "where their foot went, the rest of the model stretched to hold them in the box where it is mostly "
            "unimportant and that room settles (else the method's result stands); false: per-vertex similarities only")
       .add("untangle", &O::untangle,
-           "axis-similarity: where the result crosses itself beyond the input's own, blend it back towards the axis "
-           "warp over a smooth bump until it does not; false: only count them (every method counts them)")
+           "axis-similarity: where the result crosses itself beyond the input's own, move the colliding parts apart, "
+           "then blend what still crosses back towards the axis warp over a smooth bump until nothing does; false: "
+           "only count them (every method counts them)")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
