@@ -11,24 +11,13 @@
 #include <tuple>
 
 #include "geotex/core/geometry.h"
+#include "union_find.h"
 
 namespace geotex {
 
 namespace {
 
-// Union-find whose root is the smallest index of its set.
-struct MinRootSets {
-  std::vector<int> parent;
-  explicit MinRootSets(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  }
-  void join(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
+using detail::UnionFind;
 
 using CellKey = std::array<std::int64_t, 3>;
 
@@ -42,7 +31,7 @@ CellKey cell_of(const MatrixX3d& X, int v, const Vec3& lo, double c) {
 // Joins \p v with every vertex of the cells next to its own that lie within \p tol of it (only cells whose wall \p v
 // is within \p tol of: on a grid of 1024 tol, almost never). \p order is sorted by \p keys.
 void join_across_walls(const MatrixX3d& X, int v, const CellKey& k, const Vec3& lo, double c, double tol,
-                       const std::vector<int>& order, const std::vector<CellKey>& keys, MinRootSets& sets) {
+                       const std::vector<int>& order, const std::vector<CellKey>& keys, UnionFind& sets) {
   std::array<std::array<int, 2>, 3> side{};  // per axis: the offsets to look at (0 always, ±1 near a wall)
   for (int a = 0; a < 3; ++a) {
     const double into = X(v, a) - lo[a] - static_cast<double>(k[a]) * c;
@@ -53,7 +42,7 @@ void join_across_walls(const MatrixX3d& X, int v, const CellKey& k, const Vec3& 
     if (n == k) continue;
     auto lo_it = std::lower_bound(order.begin(), order.end(), n, [&](int u, const CellKey& q) { return keys[u] < q; });
     for (auto it = lo_it; it != order.end() && keys[*it] == n; ++it)
-      if ((X.row(*it) - X.row(v)).norm() <= tol) sets.join(*it, v);
+      if ((X.row(*it) - X.row(v)).norm() <= tol) sets.unite(*it, v);
   }
 }
 
@@ -64,7 +53,7 @@ std::vector<int> coincident_groups(const MatrixX3d& X, double tolerance, const s
   std::vector<int> order;
   if (subset) order = *subset;
   else order.resize(n), std::iota(order.begin(), order.end(), 0);
-  MinRootSets sets(n);
+  UnionFind sets(n);
   if (order.empty()) return sets.parent;
   const double tol = std::max(tolerance, 0.0), c = tol > 0 ? 1024 * tol : 1.0;
   Vec3 lo = X.row(order[0]).transpose();
@@ -75,7 +64,7 @@ std::vector<int> coincident_groups(const MatrixX3d& X, double tolerance, const s
   for (size_t s = 0, e = 0; s < order.size(); s = e) {  // one cell: its few vertices pairwise
     for (e = s + 1; e < order.size() && keys[order[e]] == keys[order[s]]; ++e)
       for (size_t t = s; t < e; ++t)
-        if ((X.row(order[e]) - X.row(order[t])).norm() <= tol) sets.join(order[e], order[t]);
+        if ((X.row(order[e]) - X.row(order[t])).norm() <= tol) sets.unite(order[e], order[t]);
   }
   if (tol > 0)
     for (int v : order) join_across_walls(X, v, keys[v], lo, c, tol, order, keys, sets);
@@ -124,9 +113,9 @@ int split_fans(const MatrixX3i& F, const std::vector<int>& L, const std::vector<
     for (size_t i = s; i < e; ++i) ends.insert(ends.end(), {link[i][1], link[i][2]});
     std::sort(ends.begin(), ends.end());
     ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-    MinRootSets sets(static_cast<int>(ends.size()));
+    UnionFind sets(ends.size());
     const auto at = [&](int x) { return static_cast<int>(std::lower_bound(ends.begin(), ends.end(), x) - ends.begin()); };
-    for (size_t i = s; i < e; ++i) sets.join(at(link[i][1]), at(link[i][2]));
+    for (size_t i = s; i < e; ++i) sets.unite(at(link[i][1]), at(link[i][2]));
     bool one = true;
     for (int j = 0; j < static_cast<int>(ends.size()); ++j) one = one && sets.find(j) == 0;
     if (one) continue;
