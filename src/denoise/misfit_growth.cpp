@@ -31,9 +31,8 @@ constexpr double kNoiseGrowth = 1.15, kFacetGrowth = 1.17;
 // coarse model's facets read as (the clean cow 0.09, the beetle 0.10): noise of another kind grows with the fit's
 // size too. Scanner noise (bench/denoise_scanner.py) that grows beyond kNoiseGrowth: depth noise on fandisk
 // (σ̂ 0.14, 3.1 % outliers: +5.6 % read as facets) and spot, low-frequency noise on fandisk (6.3 % outliers)
-// and on the cow at σ 0.5, wavelength 4 (σ̂ 0.143, 0.35 %: +3.0 %). Outliers above kGaussianOutliers (as
-// auto_denoise's noise choice line): not Gaussian; σ̂ from kFacetSigma[0] to [1]: the correction fades out.
-constexpr double kGaussianOutliers = 0.02;
+// and on the cow at σ 0.5, wavelength 4 (σ̂ 0.143, 0.35 %: +3.0 %). Outliers above kGaussianOutliers
+// (misfit_growth.h): not Gaussian; σ̂ from kFacetSigma[0] to [1]: the correction fades out.
 constexpr double kFacetSigma[2] = {0.12, 0.14};
 
 // The median of \p r: a scale that a minority of misfits (rings reaching a crease) leaves as it is.

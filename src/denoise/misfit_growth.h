@@ -8,6 +8,10 @@
 
 namespace geotex::detail {
 
+//! Share of outliers in the noise estimate above which the noise is not read white and Gaussian: auto_denoise's
+//! noise choice line reads it impulsive, and noise_share_of_residual() leaves the estimate whole.
+constexpr double kGaussianOutliers = 0.02;
+
 //! The growth of the leave-one-out residual from estimate_noise()'s fit (a cubic over the two-ring, its residuals
 //! \p small in mean edge lengths \p h) to a quartic over the three-ring, at (at most 4000 of) \p vertices: the
 //! ratio of the residuals' medians, each over the half of the vertices whose ring fits best. Noise gives about 1
