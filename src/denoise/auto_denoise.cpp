@@ -24,6 +24,7 @@
 #include "geotex/denoise/normal_fit.h"
 #include "geotex/denoise/reading_model.h"
 #include "geotex/denoise/surfel.h"
+#include "misfit_growth.h"
 
 namespace geotex {
 
@@ -115,8 +116,7 @@ constexpr int kUntangleRounds = 10;
 // "low noise on coarse models"). A global noise bound instead (every such face left below normal noise 0.2)
 // kept noise-made folds at σ 0.3 and cost the teapot's slivers 7-8 % at σ 0.2-0.3.
 constexpr double kFlipSpread = 4 * 1.4142135623730951;
-// Share of outliers in the noise estimate above which the noise is read impulsive (as the noise choice line).
-constexpr double kGaussianOutliers = 0.02;
+using detail::kGaussianOutliers;  // outliers above it: the noise is read impulsive
 // Rings over which the energy of the light fit's departure is averaged (step 5b).
 constexpr int kReliefRings = 3;
 
@@ -581,25 +581,31 @@ Eigen::VectorXd sharp_vertices(const Eigen::MatrixXd& features, ReadingRule read
   return sharp_here;
 }
 
-// Per vertex, how far the fit \p P moves the input \p X along the normals \p Nn: the median of the squared move
-// over the closed 1-ring (impulses, a tenth of the vertices, do not move it), averaged over 2 rings.
-Eigen::VectorXd typical_move(const Neighborhoods& N, const MatrixX3d& Nn, const MatrixX3d& X, const MatrixX3d& P) {
-  const Eigen::Index n = X.rows();
-  Eigen::VectorXd move(n), median(n);
-  for (Eigen::Index v = 0; v < n; ++v) move[v] = std::pow(Nn.row(v).dot(P.row(v) - X.row(v)), 2);
+// Per vertex, the median of \p x over its closed 1-ring (the vertex and its neighbours): a few vertices far out
+// (impulses) do not move it.
+Eigen::VectorXd closed_ring_median(const Neighborhoods& N, const Eigen::VectorXd& x) {
+  Eigen::VectorXd median(x.size());
 #pragma omp parallel
   {
     std::vector<double> ring;  // one buffer per thread, not one allocation per vertex
 #pragma omp for schedule(static)
-    for (Eigen::Index v = 0; v < n; ++v) {
-      ring.assign(1, move[v]);
-      for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(move[N.indices[k]]);
+    for (Eigen::Index v = 0; v < x.size(); ++v) {
+      ring.assign(1, x[v]);
+      for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(x[N.indices[k]]);
       const auto mid = ring.begin() + static_cast<std::ptrdiff_t>(ring.size() / 2);
       std::nth_element(ring.begin(), mid, ring.end());
       median[v] = *mid;
     }
   }
-  return ring_average(N, median, 2);
+  return median;
+}
+
+// Per vertex, how far the fit \p P moves the input \p X along the normals \p Nn: the median of the squared move
+// over the closed 1-ring (impulses, a tenth of the vertices, do not move it), averaged over 2 rings.
+Eigen::VectorXd typical_move(const Neighborhoods& N, const MatrixX3d& Nn, const MatrixX3d& X, const MatrixX3d& P) {
+  Eigen::VectorXd move(X.rows());
+  for (Eigen::Index v = 0; v < X.rows(); ++v) move[v] = std::pow(Nn.row(v).dot(P.row(v) - X.row(v)), 2);
+  return ring_average(N, closed_ring_median(N, move), 2);
 }
 
 // Depth noise (depth_noise_scale()): on white noise the mild fit's typical move (typical_move()) is 0.27-0.44 of
@@ -616,11 +622,11 @@ constexpr double kDepthDetermined = 1e-4;
 // best-fitting half of the rings, the least noisy) reads much less (a level-2 cylinder at σ 0.2 along an oblique
 // axis: normal noise 0.061 estimated, 0.105 over the surface, 0.17 on the caps). The mild fit \p Xm's move from
 // \p X (typical_move() along its normals \p Nn) is fitted as nᵀ Σ n, Σ symmetric, by least squares over the
-// vertices. Where
-// Σ is far from isotropic (its smallest eigenvalue below \p anisotropy × its largest; white noise on the shared
-// models 0.16-0.91, depth noise on the cylinder below 0.01, on fandisk and the bunny at σ 0.5 0.09 / 0.04, where
-// the shape's misfit in the mild fit's move hides it at σ 0.2: 0.17-0.45) and the normals present determine it, \return per vertex the noise
-// variance along the normal over \p noise_var (nᵀ Σ n / kMildMove), at least 1; else ones.
+// vertices. Where Σ is far from isotropic (its smallest eigenvalue below \p anisotropy × its largest; white noise
+// on the shared models 0.16-0.91, depth noise on the cylinder below 0.01, on fandisk and the bunny at σ 0.5
+// 0.09 / 0.04, where the shape's misfit in the mild fit's move hides it at σ 0.2: 0.17-0.45) and the normals
+// present determine it, \return per vertex the noise variance along the normal over \p noise_var
+// (nᵀ Σ n / kMildMove), at least 1; else ones.
 Eigen::VectorXd depth_noise_scale(const Neighborhoods& N, const MatrixX3d& Nn, const MatrixX3d& X,
                                   const MatrixX3d& Xm, double noise_var, double anisotropy) {
   const Eigen::Index n = Nn.rows();
@@ -722,18 +728,11 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
   Mesh fit = mesh;
   set_positions(fit, Xs);
   const MatrixX3d Ns = vertex_normals(fit);
-  Eigen::VectorXd r0(X.rows()), r(X.rows());
+  Eigen::VectorXd r0(X.rows());
   for (Eigen::Index v = 0; v < X.rows(); ++v) r0[v] = Ns.row(v).dot(X.row(v) - Xs.row(v));
   // The median over the closed 1-ring: impulses (a few vertices far out, each with a gradient of its own
   // direction) would otherwise make a part look banded by chance (fandisk with 10 % impulses: 0.19).
-  std::vector<double> ring;
-  for (Eigen::Index v = 0; v < X.rows(); ++v) {
-    ring.assign(1, r0[v]);
-    for (int k = N.offsets[v]; k < N.offsets[v + 1]; ++k) ring.push_back(r0[N.indices[k]]);
-    const auto mid = ring.begin() + static_cast<std::ptrdiff_t>(ring.size() / 2);
-    std::nth_element(ring.begin(), mid, ring.end());
-    r[v] = *mid;
-  }
+  const Eigen::VectorXd r = closed_ring_median(N, r0);
   int n_parts = 0;
   const Eigen::VectorXi part = connected_components(mesh, &n_parts);
   std::vector<Eigen::Matrix3d> T(n_parts, Eigen::Matrix3d::Zero());
