@@ -3,7 +3,7 @@
 own stretch, not the slabs of an axis warp (bench/resize_bound.py bounds those).
 
 Usage: resize_freeform_bound.py ORIG AXIS [--free Q] [--mu MU] [--cap 4] [--features MAP] [--start OUT]
-                                [--ref OUT ...] [--out RESULT.ply] [--sweep]
+                                [--ref OUT ...] [--out RESULT.ply] [--face-floor 10] [--sweep]
   ORIG      the original as geotex reads it (`geotex noise IN -o ORIG.ply --sigma 0`), resized ×2 along AXIS
   MAP       geotex's importance map (`geotex resize ... --save-features MAP.txt`) in place of the ruler's weight
   OUT       an output (geotex's auto) to start from and anchor to, in place of the plain stretch: a stage after it
@@ -44,7 +44,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from resize_bound import ruler_weight  # noqa: E402
 
 SMIN = 0.8      # a free face's smallest singular value (the ×2 resize never asks to shrink)
-AFLOOR = 10.0   # each face's term weighs at least AFLOOR × a mean face: by area alone, folding a sliver costs nothing
 CREASE = 30.0   # degrees: a sharper edge is a feature line
 GUARD = 0.3     # faces the start holds near edge-on to the plain stretch (cos below) keep the start's Jacobian
 ROUNDS = 40
@@ -124,7 +123,7 @@ def anchor(Vp, F, mu, mel):
     return A, A @ Vp.T.ravel()
 
 
-def solve(V0, F, S, dens, area, cap, mu, free, start=None):
+def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0):
     """The free-form map (see the module's text); dens: each face's importance per area."""
     n, m = len(V0), len(F)
     D = gradient_operator(V0, F)
@@ -139,7 +138,8 @@ def solve(V0, F, S, dens, area, cap, mu, free, start=None):
     guard = cosp < GUARD
     c = np.where(guard, 10.0, 1.0)
     J0 = jacobians(D, Vp, m)
-    Wd = diags(np.repeat(np.maximum(area, AFLOOR * area.mean()) * c, 2))
+    # each face's term weighs at least face_floor × a mean face: by area alone, folding a sliver costs nothing
+    Wd = diags(np.repeat(np.maximum(area, face_floor * area.mean()) * c, 2))
     L = D.T @ Wd @ D
     solver = splu((bmat([[L, None, None], [None, L, None], [None, None, L]]) + A).tocsc())
     X = Vp.copy()
@@ -199,6 +199,7 @@ def main():
     ap.add_argument("--cap", type=float, default=4.0); ap.add_argument("--mu", type=float, default=0.1)
     ap.add_argument("--free", type=float, default=0.25); ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--features"); ap.add_argument("--start"); ap.add_argument("--ref", nargs="*", default=[])
+    ap.add_argument("--face-floor", type=float, default=10.0, help="a face's least weight, in mean face areas")
     ap.add_argument("--out")
     a = ap.parse_args()
     S = np.ones(3); S["xyz".index(a.axis)] = 2
@@ -212,7 +213,7 @@ def main():
         print(os.path.basename(path) + "\t\t\t" + "\t".join(f % v for f, v in zip(FORMAT, r)))
     grid = itertools.product([0.25, 0.4, 0.55], [0.1, 0.3, 1]) if a.sweep else [(a.free, a.mu)]
     for free, mu in grid:
-        X = solve(V0, F, S, dens, area, a.cap, mu, free, start)
+        X = solve(V0, F, S, dens, area, a.cap, mu, free, start, a.face_floor)
         r = report(V0, F, X, S, area)
         print(f"free-form\t{free:g}\t{mu:g}\t" + "\t".join(f % v for f, v in zip(FORMAT, r)), flush=True)
         if a.out and not a.sweep:
