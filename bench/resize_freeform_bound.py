@@ -3,7 +3,7 @@
 own stretch, not the slabs of an axis warp (bench/resize_bound.py bounds those).
 
 Usage: resize_freeform_bound.py ORIG AXIS [--free Q] [--mu MU] [--cap 4] [--features MAP] [--start OUT]
-                                [--ref OUT ...] [--out RESULT.ply] [--face-floor 10] [--sweep]
+                                [--ref OUT ...] [--out RESULT.ply] [--face-floor 10] [--smooth λ] [--sweep]
   ORIG      the original as geotex reads it (`geotex noise IN -o ORIG.ply --sigma 0`), resized ×2 along AXIS
   MAP       geotex's importance map (`geotex resize ... --save-features MAP.txt`) in place of the ruler's weight
   OUT       an output (geotex's auto) to start from and anchor to, in place of the plain stretch: a stage after it
@@ -123,7 +123,21 @@ def anchor(Vp, F, mu, mel):
     return A, A @ Vp.T.ravel()
 
 
-def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0):
+def displacement_smoothing(Vp, F, lam, mel):
+    """λ Σ_v A_v |(L d)_v|² / mel², L the uniform graph Laplacian, d = X − Vp: the displacement from the anchor's
+    surface must be smooth, so a slide along the surface cannot ripple (3n × 3n, coordinates stacked)."""
+    n = len(Vp)
+    E = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]); E = np.concatenate([E, E[:, ::-1]])
+    Adj = coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n)).tocsr(); Adj.data[:] = 1
+    deg = np.asarray(Adj.sum(1)).ravel(); deg[deg == 0] = 1
+    Lu = identity(n) - diags(1 / deg) @ Adj
+    Av = np.zeros(n); np.add.at(Av, F.ravel(), np.repeat(np.linalg.norm(face_normals(Vp, F), axis=1) / 6, 3))
+    Q = (Lu.T @ diags(Av) @ Lu) * (lam / mel ** 2)
+    B = bmat([[Q, None, None], [None, Q, None], [None, None, Q]]).tocsc()
+    return B, B @ Vp.T.ravel()
+
+
+def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0, smooth=0.0):
     """The free-form map (see the module's text); dens: each face's importance per area."""
     n, m = len(V0), len(F)
     D = gradient_operator(V0, F)
@@ -131,6 +145,9 @@ def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0):
     Vp = V0 * S if start is None else start
     Np, Nplain = face_normals(Vp, F), face_normals(V0 * S, F)
     A, rhs_anchor = anchor(Vp, F, mu, mel)
+    if smooth > 0:
+        B, rhs_b = displacement_smoothing(Vp, F, smooth, mel)
+        A, rhs_anchor = (A + B).tocsc(), rhs_anchor + rhs_b
     order = np.argsort(dens)
     is_free = np.zeros(m, bool)
     is_free[order[np.cumsum(area[order]) / area.sum() <= free]] = True
@@ -200,6 +217,7 @@ def main():
     ap.add_argument("--free", type=float, default=0.25); ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--features"); ap.add_argument("--start"); ap.add_argument("--ref", nargs="*", default=[])
     ap.add_argument("--face-floor", type=float, default=10.0, help="a face's least weight, in mean face areas")
+    ap.add_argument("--smooth", type=float, default=0.0, help="weight of the displacement's smoothness (0: none)")
     ap.add_argument("--out")
     a = ap.parse_args()
     S = np.ones(3); S["xyz".index(a.axis)] = 2
@@ -213,7 +231,7 @@ def main():
         print(os.path.basename(path) + "\t\t\t" + "\t".join(f % v for f, v in zip(FORMAT, r)))
     grid = itertools.product([0.25, 0.4, 0.55], [0.1, 0.3, 1]) if a.sweep else [(a.free, a.mu)]
     for free, mu in grid:
-        X = solve(V0, F, S, dens, area, a.cap, mu, free, start, a.face_floor)
+        X = solve(V0, F, S, dens, area, a.cap, mu, free, start, a.face_floor, a.smooth)
         r = report(V0, F, X, S, area)
         print(f"free-form\t{free:g}\t{mu:g}\t" + "\t".join(f % v for f, v in zip(FORMAT, r)), flush=True)
         if a.out and not a.sweep:
