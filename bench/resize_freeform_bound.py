@@ -137,13 +137,14 @@ def displacement_smoothing(Vp, F, lam, mel):
     return B, B @ Vp.T.ravel()
 
 
-def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0, smooth=0.0):
+def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0, smooth=0.0, in_plane=False):
     """The free-form map (see the module's text); dens: each face's importance per area."""
     n, m = len(V0), len(F)
     D = gradient_operator(V0, F)
     mel = mean_edge(V0, F)
     Vp = V0 * S if start is None else start
     Np, Nplain = face_normals(Vp, F), face_normals(V0 * S, F)
+    Nu = Np / np.maximum(np.linalg.norm(Np, axis=1, keepdims=True), 1e-300)
     A, rhs_anchor = anchor(Vp, F, mu, mel)
     if smooth > 0:
         B, rhs_b = displacement_smoothing(Vp, F, smooth, mel)
@@ -161,7 +162,10 @@ def solve(V0, F, S, dens, area, cap, mu, free, start=None, face_floor=10.0, smoo
     solver = splu((bmat([[L, None, None], [None, L, None], [None, None, L]]) + A).tocsc())
     X = Vp.copy()
     for _ in range(ROUNDS):
-        U, s, Vt = np.linalg.svd(jacobians(D, X, m), full_matrices=False)
+        J = jacobians(D, X, m)
+        if in_plane:  # targets lie in the anchor face's plane: an important face may rotate in it, not buckle out
+            J = J - Nu[:, :, None] * (Nu[:, :, None] * J).sum(1, keepdims=True)
+        U, s, Vt = np.linalg.svd(J, full_matrices=False)
         # the fit keeps the face's orientation (as 2D ARAP's det R > 0): a folded face's target is not its mirror
         img = np.cross(U[:, :, 0], U[:, :, 1]) * np.sign(np.linalg.det(Vt))[:, None]
         U[(img * Np).sum(1) < 0, :, 1] *= -1
@@ -218,6 +222,7 @@ def main():
     ap.add_argument("--features"); ap.add_argument("--start"); ap.add_argument("--ref", nargs="*", default=[])
     ap.add_argument("--face-floor", type=float, default=10.0, help="a face's least weight, in mean face areas")
     ap.add_argument("--smooth", type=float, default=0.0, help="weight of the displacement's smoothness (0: none)")
+    ap.add_argument("--in-plane", action="store_true", help="targets in the anchor face's plane")
     ap.add_argument("--out")
     a = ap.parse_args()
     S = np.ones(3); S["xyz".index(a.axis)] = 2
@@ -231,7 +236,7 @@ def main():
         print(os.path.basename(path) + "\t\t\t" + "\t".join(f % v for f, v in zip(FORMAT, r)))
     grid = itertools.product([0.25, 0.4, 0.55], [0.1, 0.3, 1]) if a.sweep else [(a.free, a.mu)]
     for free, mu in grid:
-        X = solve(V0, F, S, dens, area, a.cap, mu, free, start, a.face_floor, a.smooth)
+        X = solve(V0, F, S, dens, area, a.cap, mu, free, start, a.face_floor, a.smooth, a.in_plane)
         r = report(V0, F, X, S, area)
         print(f"free-form\t{free:g}\t{mu:g}\t" + "\t".join(f % v for f, v in zip(FORMAT, r)), flush=True)
         if a.out and not a.sweep:
