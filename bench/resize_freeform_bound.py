@@ -3,7 +3,8 @@
 own stretch, not the slabs of an axis warp (bench/resize_bound.py bounds those).
 
 Usage: resize_freeform_bound.py ORIG AXIS [--free Q] [--mu MU] [--cap 4] [--features MAP] [--start OUT]
-                                [--ref OUT ...] [--out RESULT.ply] [--face-floor 10] [--smooth λ] [--sweep]
+                                [--ref OUT ...] [--out RESULT.ply] [--face-floor 10] [--smooth λ] [--in-plane]
+                                [--sweep]
   ORIG      the original as geotex reads it (`geotex noise IN -o ORIG.ply --sigma 0`), resized ×2 along AXIS
   MAP       geotex's importance map (`geotex resize ... --save-features MAP.txt`) in place of the ruler's weight
   OUT       an output (geotex's auto) to start from and anchor to, in place of the plain stretch: a stage after it
@@ -17,7 +18,9 @@ similarity U m Vᵀ, m = (σ1 + σ2)/2. Each fit keeps the face's orientation (n
 anchor to the start surface (the plain stretch, or OUT): each vertex held against the start's normal with weight MU
 (per mean edge length², times its area) and, a hundredth as much, in the tangent plane — it may slide along the
 surface; a vertex on a rim or a sharp edge (dihedral > CREASE°) slides only along that line; where such lines meet,
-it is held. A global step that would turn a face over against the plain stretch is halved until none does. Then a
+it is held (`--smooth λ` adds λ Σ_v A_v |L(X − anchor)|_v² / mel², L the uniform Laplacian: a smooth displacement;
+`--in-plane` projects each Jacobian onto its anchor face's plane before the fit: a face may not buckle out of it).
+A global step that would turn a face over against the plain stretch is halved until none does. Then a
 per-axis affine map makes the box exact, and the ruler measures: ratio, turned faces, σ1 / asked (max and 99.9 % of
 the area: the stretch cap), the smallest σ2, the jump of log σ1 between faces sharing an edge (max, 99th
 percentile: smoothness), each vertex's distance to the plain stretch's surface (the shape kept) and how far it moved
