@@ -1240,6 +1240,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   keep_share_of_change(X, keep, r);
   keep_within_noise_reach(X, r.noise.sigma * base.unit_length, r);
   untangle_result(mesh, F, X, FN, normal_noise * base.unit_length, r);
+  // 6c. On a model read coarse, each region's change shrunk to what the noise explains (region_guard.h).
   detail::hold_change_to_noise(N, F, X, r.noise.sigma * base.unit_length, r);
   stage("untangle");
   report(o.progress, 0.95, "auto: fit");

@@ -64,8 +64,8 @@ void hold_change_to_noise(const Neighborhoods& N, const MatrixX3i& F, const Matr
   r.positions = X + t.asDiagonal() * (r.positions - X);
   const double held = (1 - t.array()).mean();
   if (held > 0.005)
-    r.choices.push_back(fmt::format("coarse model: {:.0f}% of the change given back where it turns the faces beyond "
-                                    "what the noise explains", 100 * held));
+    r.choices.push_back(fmt::format("coarse model: the change given back by {:.0f}% on average where it turns the faces "
+                                    "beyond what the noise explains", 100 * held));
 }
 
 }  // namespace geotex::detail

@@ -25,9 +25,11 @@ Eigen::VectorXd face_normal_noise(const MatrixX3i& F, const MatrixX3d& X, double
 Eigen::VectorXd region_guard_share(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& P,
                                    double s);
 
-//! Step 6c of auto_denoise: where the noise estimate read part of its residual as a coarse model's own facets
-//! (r.noise.noise_share < 1, misfit_growth.h), r.positions' change from the input \p X is shrunk per vertex by
-//! region_guard_share() with the estimated noise (\p sigma_abs, absolute, the 3-D σ: σ / √3 along each axis).
+//! Step 6c of auto_denoise, after the untangling (which, before it, undid it on the beetle's thin faces): where the
+//! noise estimate read part of its residual as a coarse model's own facets (r.noise.noise_share < 1,
+//! misfit_growth.h), r.positions' change from the input \p X is shrunk per vertex by region_guard_share() with the
+//! estimated noise (\p sigma_abs, absolute, the 3-D σ: σ / √3 along each axis). Between the input and the untangled
+//! result, it leaves r.turned_over as the untangling counted it.
 void hold_change_to_noise(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, double sigma_abs,
                           AutoDenoiseResult& r);
 
