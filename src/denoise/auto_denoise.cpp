@@ -25,6 +25,7 @@
 #include "geotex/denoise/reading_model.h"
 #include "geotex/denoise/surfel.h"
 #include "misfit_growth.h"
+#include "region_guard.h"
 
 namespace geotex {
 
@@ -1239,6 +1240,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   keep_share_of_change(X, keep, r);
   keep_within_noise_reach(X, r.noise.sigma * base.unit_length, r);
   untangle_result(mesh, F, X, FN, normal_noise * base.unit_length, r);
+  // 6c. On a model read coarse, each region's change shrunk to what the noise explains (region_guard.h).
+  detail::hold_change_to_noise(N, F, X, r.noise.sigma * base.unit_length, r);
   stage("untangle");
   report(o.progress, 0.95, "auto: fit");
 
