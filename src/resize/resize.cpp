@@ -1006,7 +1006,6 @@ struct SimilarityBase {
   const MatrixX3d* plain_normals = nullptr;
   bool hold_cores_in_box = false;  // a box scale: anchor_cores_in_box() after the rounds (the split solver)
   const std::vector<std::array<int, 2>>* ties = nullptr;  // coincident vertices kept together (Weld::ties)
-  int pin_rings = 0;  // the box's pins pull this many vertex rings around them along (spread_pins(), the split solver)
 };
 
 // Stiff zero-length springs between the coincident vertices of \p ties (Weld::ties: a point contact welded per fan,
@@ -1035,45 +1034,6 @@ void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& b
         if (!marked[u.idx()]) marked[u.idx()] = 1, next.push_back(u.idx());
     front.swap(next);
   }
-}
-
-// The box's pins \p pins (box_extremes()) spread over the \p rings vertex rings around each, along its axis: every
-// vertex of the rings (not already pinned along that axis) joins \p pins. \return each pin's leader, the extreme it
-// came from (itself for an extreme). The similarity stage moves a pin's target by its leader's miss, so the rings
-// move with the extreme as one piece: a single vertex pulled to the box's face drew an important round end into a
-// cone (the teapot ×2 z's body to a prow, 42° at its tip against 18° in the plain stretch; a sphere of importance
-// 0.95 ×2 z: 37° at its poles against 6°; bench/resize.md, fifteenth session).
-std::vector<int> spread_pins(const Mesh& mesh, const MatrixX3d& X, int rings, std::vector<std::array<int, 2>>& pins) {
-  std::vector<int> leader;
-  for (const auto& p : pins) leader.push_back(p[0]);
-  if (rings <= 0) return leader;
-  const std::size_t n = mesh.n_vertices();
-  std::vector<char> taken(3 * n, 0), seen(n, 0);
-  for (const auto& [v, a] : pins) taken[3 * static_cast<std::size_t>(v) + a] = 1;
-  const Vec3 mid = 0.5 * (X.colwise().minCoeff() + X.colwise().maxCoeff()).transpose();
-  auto side = [&](int v, int a) { return 2 * a + (X(v, a) > mid[a] ? 1 : 0); };
-  std::array<int, 6> on_side{};
-  for (const auto& [v, a] : pins) ++on_side[side(v, a)];
-  const std::size_t extremes = pins.size();
-  for (std::size_t k = 0; k < extremes; ++k) {
-    const auto [v0, a] = pins[k];
-    if (on_side[side(v0, a)] != 1) continue;  // a side held at several vertices (a flat bottom, four hooves)
-    std::vector<int> near{v0}, front{v0};  // the rings around v0, breadth first
-    seen[v0] = 1;
-    for (int r = 0; r < rings; ++r) {
-      std::vector<int> next;
-      for (int v : front)
-        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
-          if (!seen[u.idx()]) seen[u.idx()] = 1, next.push_back(u.idx()), near.push_back(u.idx());
-      front.swap(next);
-    }
-    for (int u : near) {
-      seen[u] = 0;
-      const std::size_t slot = 3 * static_cast<std::size_t>(u) + a;
-      if (!taken[slot]) taken[slot] = 1, pins.push_back({u, a}), leader.push_back(v0);
-    }
-  }
-  return leader;
 }
 
 // The weight of an edge following the map C: β (1 − f_ij)^p, p = \p falloff (SimilarityBase::follow_falloff;
@@ -1410,8 +1370,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   std::vector<Eigen::Matrix3d> T(n);
   Eigen::VectorXd scale(n), s_lo(n), s_hi(n);
   similarity_transforms(local_jacobians(mesh, X, C), N0, o.keep_feature_size, T, scale, s_lo, s_hi);
-  std::vector<std::array<int, 2>> pins = box_extremes(mesh, X, o.frame_band);  // (vertex, axis)
-  const std::vector<int> leader = spread_pins(mesh, X, base.pin_rings, pins);
+  const std::vector<std::array<int, 2>> pins = box_extremes(mesh, X, o.frame_band);  // (vertex, axis)
   std::vector<char> boundary(n, 0), relaxed(n, 0);
   for (auto v : mesh.vertices())
     if (mesh.is_boundary(v)) boundary[v.idx()] = 1;
@@ -1429,17 +1388,14 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
                   pull + hold + anchor, pins, o.frame_weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
-  // what their leader misses (a stiff region pulled by its tip moves as a whole instead of stretching).
+  // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
   auto step = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, base.follow_falloff, kRelaxed,
                                  o.frame_weight);
     R += hold.asDiagonal() * P + anchor.asDiagonal() * place;
     const MatrixX3d Y = system.solve(R);
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
-    for (std::size_t k = 0; k < pins.size(); ++k) {
-      const auto [v, a] = pins[k];
-      target(v, a) += C(leader[k], a) - Y(leader[k], a);
-    }
+    for (const auto& [v, a] : pins) target(v, a) += C(v, a) - Y(v, a);
     return Y;
   };
   const TriangleTree tree(C, F);
@@ -1543,10 +1499,6 @@ bool welds_for_solve(ResizeMethod m) {
   return m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity;
 }
 
-// The box's pins of axis-similarity's similarity stage pull the vertex rings around them as one piece
-// (spread_pins()): 1 ring … (bench/resize.md, fifteenth session).
-constexpr int kPinRings = 2;
-
 // feature_aware_resize() without the weld: \p mesh as it is, with the coincident vertices \p ties kept together by
 // the similarity stage (Weld::ties).
 MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
@@ -1584,7 +1536,6 @@ MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
     const MatrixX3d plain_normals = face_normals(plain);
     SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
     base.hold_cores_in_box = true;  // a box scale: cores the box cannot hold are anchored (anchor_cores_in_box())
-    base.pin_rings = kPinRings;
     base.ties = ties;
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
