@@ -544,8 +544,9 @@ Eigen::VectorXd importance_map(const Mesh& mesh, const FeatureMapOptions& o, Eig
   return f;
 }
 
-// feature_map() on a mesh whose bounding box is centred at the origin.
-static FeatureMap feature_map_at_origin(const Mesh& mesh, const FeatureMapOptions& o) {
+FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
+  check_options(o);
+  require_valid(mesh, "feature map input");
   const Eigen::Index n = mesh.n_vertices();
   FeatureMap out;
   out.weights = Eigen::VectorXd::Zero(n);
@@ -578,19 +579,6 @@ static FeatureMap feature_map_at_origin(const Mesh& mesh, const FeatureMapOption
   if (out.method == FeatureMapMethod::Importance && out.summary.marked_fraction > 0.5) out.summary.warning.clear();
   report(o.progress, 1.0, "done");
   return out;
-}
-
-// Computed about the box's centre: the smoothed copies (implicit solves) err in proportion to the positions, and
-// 10^4 diagonals off the origin that error turned protrusion basins (the spiky sphere's weights moved by 0.02;
-// bench/invariance.py).
-FeatureMap feature_map(const Mesh& mesh, const FeatureMapOptions& o) {
-  check_options(o);
-  require_valid(mesh, "feature map input");
-  const Vec3 c = bounding_box(mesh).center();
-  if (c.isZero(0.0)) return feature_map_at_origin(mesh, o);
-  Mesh centred = mesh;
-  set_positions(centred, positions(mesh).rowwise() - c.transpose());
-  return feature_map_at_origin(centred, o);
 }
 
 // ---------------------------------------------------------------------------------------------

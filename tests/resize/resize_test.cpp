@@ -1692,8 +1692,9 @@ TEST(ResizeWeld, PartsTouchingAtAPointStayTogether) {
 
 // Units, placement and up axis do not change the default resize (issue 25, fifteenth session): the spiky sphere
 // ×2 along y, in metres and millimetres, 10^4 diagonals off the origin, and turned y-up → z-up (asked ×2 along
-// z), maps back onto the plain run within 1e-6 mean edge lengths. Far off the origin the similarity solve's and
-// the feature map's smoothing errors grew with the positions (here 0.016 edge lengths) until both were centred.
+// z), maps back onto the plain run within 1e-6 mean edge lengths. Far off the origin the similarity solve's error
+// grew with the positions, and the feature map's protrusions moved with signed_volume()'s cancellation (here 0.016
+// edge lengths) until the solve was centred and the volume summed about the box's centre.
 TEST(ResizeInvariance, UnitsPlacementAndUpAxisLeaveTheDefaultResult) {
   const Mesh m = make_shape("spiky-sphere", 0).textured;
   const MatrixX3d X = positions(m);
