@@ -10,6 +10,7 @@ model; resize: detail-distortion's ratio), plus the denoiser's reading (creased_
 
   PYTHONPATH=build/python /usr/bin/python3 bench/invariance.py [denoise|resize|all] [CASE,...] [T,...]
 
+CASE: a name of DENOISE, or for resize a file under ../shared/data or gen:NAME@LEVEL (geotex.generate).
 T: x1000, x0.001 (units), offset (+1e4 x the bounding-box diagonal along an oblique direction), rotx90 (y-up
 <-> z-up), rot (an arbitrary rotation; denoise only). Resize scales y by 2 (the up axis of a y-up model);
 under rotx90 the scale asked is z by 2. Prints a markdown table."""
@@ -70,6 +71,10 @@ def invert(T, X):
 
 
 def load(rel):
+    if rel.startswith("gen:"):  # a generated shape, gen:NAME@LEVEL
+        name, _, level = rel[4:].partition("@")
+        V, F = geotex.generate(name, level=int(level or 0))
+        return np.asarray(V, float), np.asarray(F)
     V, F = geotex.read_mesh(os.path.join(DATA, rel))
     return np.asarray(V, float), np.asarray(F)
 
