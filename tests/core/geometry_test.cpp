@@ -8,6 +8,17 @@
 
 using namespace geotex;
 
+// A model far off the origin has the volume it has at the origin (issue 25, fifteenth session): summed over
+// tetrahedra on the origin, 10^4 diagonals out, each term is 10^12 times the volume and the sum cancelled to noise.
+TEST(Geometry, TheVolumeDoesNotDependOnWhereTheModelIs) {
+  const Mesh sphere = icosphere(3);
+  const double v0 = signed_volume(sphere);
+  MatrixX3d X = positions(sphere);
+  Mesh far = sphere;
+  set_positions(far, X.rowwise() + 2e4 * Vec3(0.6, -0.48, 0.64).transpose());
+  EXPECT_NEAR(signed_volume(far), v0, 1e-9 * v0);
+}
+
 TEST(Geometry, CubeNormalsAreaAndDihedralAngles) {
   const Mesh cube = subdivided_cube(4, 2.0);
   EXPECT_NEAR(surface_area(cube), 24.0, 1e-12);

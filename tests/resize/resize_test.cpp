@@ -1689,3 +1689,38 @@ TEST(ResizeWeld, PartsTouchingAtAPointStayTogether) {
     EXPECT_LE((direct.row(a) - direct.row(b)).norm(), 1e-3 * unit) << name;
   }
 }
+
+// Units, placement and up axis do not change the default resize (issue 25, fifteenth session): the spiky sphere
+// ×2 along y, in metres and millimetres, 10^4 diagonals off the origin, and turned y-up → z-up (asked ×2 along
+// z), maps back onto the plain run within 1e-6 mean edge lengths. Far off the origin the similarity solve's error
+// grew with the positions, and the feature map's protrusions moved with signed_volume()'s cancellation (here 0.016
+// edge lengths) until the solve was centred and the volume summed about the box's centre.
+TEST(ResizeInvariance, UnitsPlacementAndUpAxisLeaveTheDefaultResult) {
+  const Mesh m = make_shape("spiky-sphere", 0).textured;
+  const MatrixX3d X = positions(m);
+  const double mel = mean_edge_length(m), diag = bounding_box(m).diagonal();
+  ResizeRunOptions o;
+  o.map.scale = {1, 2, 1};
+  const MatrixX3d Y0 = resize_mesh(m, o).V;
+  Eigen::Matrix3d rotx90;  // y → z, z → −y
+  rotx90 << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  struct Similarity {
+    const char* name;
+    double s;
+    Eigen::Matrix3d R;
+    Vec3 t;
+  };
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Similarity cases[] = {{"x1000", 1000, I, Vec3::Zero()},
+                              {"x0.001", 0.001, I, Vec3::Zero()},
+                              {"offset", 1, I, 1e4 * diag * Vec3(0.6, -0.48, 0.64)},
+                              {"rotx90", 1, rotx90, Vec3::Zero()}};
+  for (const Similarity& c : cases) {
+    Mesh moved = m;
+    set_positions(moved, (c.s * X * c.R.transpose()).rowwise() + c.t.transpose());
+    ResizeRunOptions ot = o;
+    ot.map.scale = c.R.cwiseAbs() * o.map.scale;  // the asked axes carried along
+    const MatrixX3d Y = ((resize_mesh(moved, ot).V.rowwise() - c.t.transpose()) / c.s) * c.R;
+    EXPECT_LT((Y - Y0).cwiseAbs().maxCoeff(), 1e-6 * mel) << c.name;
+  }
+}
