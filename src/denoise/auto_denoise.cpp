@@ -25,6 +25,7 @@
 #include "geotex/denoise/reading_model.h"
 #include "geotex/denoise/surfel.h"
 #include "misfit_growth.h"
+#include "region_noise.h"
 
 namespace geotex {
 
@@ -263,7 +264,9 @@ int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d
 
 // Step 7: no face of r.positions left turned over against \p FN, but those the input \p X itself turns over
 // where Gaussian noise of \p normal_noise (absolute) could not have (kFlipSpread). Impulses have no Gaussian
-// tail: with outliers found, every turned face is untangled (teapot impulsive +1.2 % otherwise).
+// tail: with outliers found, every turned face is untangled (teapot impulsive +1.2 % otherwise). The mesh's level,
+// not the region's: a cylinder's side under depth noise along its axis reads noise-free, yet the noise slid its
+// faces along the surface and turned some over, which this undoes (per region: 1.77° -> 9.40°; fifteenth session).
 void untangle_result(const Mesh& mesh, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& FN, double normal_noise,
                      AutoDenoiseResult& r) {
   const bool gaussian = !(r.noise.outliers > kGaussianOutliers);
@@ -288,11 +291,15 @@ Eigen::VectorXd face_means(const MatrixX3i& F, const Eigen::VectorXd& v) {
   return m;
 }
 
-// Step 6: the share \p keep of the change from the input \p X kept (low noise: nearly none).
-void keep_share_of_change(const MatrixX3d& X, double keep, AutoDenoiseResult& r) {
-  if (keep >= 0.999) return;
-  r.positions = X + keep * (r.positions - X);
-  r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept", 100 * keep));
+// Step 6: the share \p keep of the change from the input \p X kept, per vertex (low noise: nearly none).
+void keep_share_of_change(const MatrixX3d& X, const Eigen::VectorXd& keep, AutoDenoiseResult& r) {
+  if (keep.minCoeff() >= 0.999) return;
+  r.positions = X + keep.asDiagonal() * (r.positions - X);
+  if (keep.maxCoeff() - keep.minCoeff() < 1e-9)
+    r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept", 100 * keep[0]));
+  else
+    r.choices.push_back(fmt::format("low noise by region: {:.0f}% of the change kept on average ({:.0f}% to {:.0f}%)",
+                                    100 * keep.mean(), 100 * keep.minCoeff(), 100 * keep.maxCoeff()));
 }
 
 // Step 6b: where the estimate read part of the residual as a coarse model's own facets (misfit_growth.h), no vertex
@@ -463,6 +470,20 @@ double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
                                       100 * (1 - r.noise.noise_share)));
   }
   return normal_noise;
+}
+
+// Step 1, the noise per region (region_noise.h) into r.noise_map: the given level everywhere where it was given.
+// \return per vertex the normal noise its region is measured against (region_levels()): \p normal_noise everywhere
+// where the noise was given.
+Eigen::VectorXd read_region_noise(const Mesh& mesh, double normal_noise, AutoDenoiseResult& r) {
+  if (r.noise.samples == 0) {
+    r.noise_map = Eigen::VectorXd::Constant(mesh.n_vertices(), r.resolved.sigma.value_or(0) / std::sqrt(3.0));
+    return Eigen::VectorXd::Constant(mesh.n_vertices(), normal_noise);
+  }
+  const detail::RegionNoise map = detail::region_noise(mesh, r.noise);
+  r.noise_map = map.level;
+  r.choices.push_back(detail::describe_region_noise(r.noise_map, map.whole));
+  return detail::region_levels(map, r.noise, normal_noise);
 }
 
 // No noise found: the mesh returned as it is, its edges labelled.
@@ -668,11 +689,12 @@ Eigen::VectorXd depth_noise_scale(const Neighborhoods& N, const MatrixX3d& Nn, c
 // 3.1° as it is, 6.9° if they were refused). The default budget, 1 σ², is about twice a noise-only fit's median
 // (budgets 2 / 1.5 / 1 on the shared models' synthetic noise: spot σ 0.2 4.56 / 4.52 / 4.46°, forced smooth
 // 4.43°; the beetle σ 0.05 23.5 / — / 22.9°; nothing worse by more than 0.3 %). Under depth noise σ² is the
-// noise along each normal (depth_noise_scale(), \p anisotropy). \return 1 at the vertices refused.
+// noise along each normal (depth_noise_scale(), \p anisotropy), or where larger the region's own (\p regional: its
+// level's variance over the mesh's, at least 1; region_levels()). \return 1 at the vertices refused.
 Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X,
                                             const MatrixX3d& Xs, const MatrixX3d& Xm, const Eigen::MatrixXd& features,
                                             const Eigen::VectorXd& striped, double budget, double noise_var,
-                                            double anisotropy, Eigen::VectorXd& sharp) {
+                                            double anisotropy, const Eigen::VectorXd& regional, Eigen::VectorXd& sharp) {
   const Eigen::Index n = X.rows();
   Eigen::VectorXd refused = Eigen::VectorXd::Zero(n);
   if (!(budget > 0)) return refused;
@@ -687,7 +709,7 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
   if (beyond.empty()) return refused;  // the depth noise's scale only raises the budget
   const Eigen::VectorXd along = depth_noise_scale(N, Nm, X, Xm, noise_var, anisotropy);
   for (Eigen::Index v : beyond)
-    if (typical[v] > budget * noise_var * along[v]) sharp[v] = 0, refused[v] = 1;
+    if (typical[v] > budget * noise_var * std::max(along[v], regional[v])) sharp[v] = 0, refused[v] = 1;
   return refused;
 }
 
@@ -1143,10 +1165,20 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
   // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
-  const double normal_noise = resolve_noise(mesh, r);
+  // The noise per region (region_noise.h): each vertex keeps the change in proportion to its region's level.
+  const double mesh_noise = resolve_noise(mesh, r);
+  const Eigen::VectorXd levels = read_region_noise(mesh, mesh_noise, r);
+  const double normal_noise = detail::running_level(levels, mesh_noise, o.keep_below);
+  if (normal_noise != mesh_noise)
+    r.choices.push_back(fmt::format("noise: the mesh reads {:.3f} normal noise, but some regions more: run at their "
+                                    "median {:.3f}, the change kept by each region's level", mesh_noise, normal_noise));
   stage("noise estimate");
-  const double s4 = std::pow(normal_noise / o.keep_below, 4), keep = s4 / (1 + s4);
-  if (keep < 1e-6) {
+  Eigen::VectorXd keep(levels.size());
+  for (Eigen::Index v = 0; v < keep.size(); ++v) {
+    const double s4 = std::pow(levels[v] / o.keep_below, 4);
+    keep[v] = s4 / (1 + s4);
+  }
+  if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || keep.maxCoeff() < 1e-6) {  // as keep's formula
     keep_noise_free(mesh, X, F, r);
     return r;
   }
@@ -1203,7 +1235,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
     const Eigen::VectorXd whole = read_whole_parts(mesh, N, F, X, Xs, features, noise_var, sharp_here, r);
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, whole, o.creased_budget, noise_var,
-                                          o.depth_anisotropy, sharp_here);
+                                          o.depth_anisotropy, (levels / normal_noise).array().square().max(1.0).matrix(),
+                                          sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
   }
