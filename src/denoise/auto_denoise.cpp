@@ -473,17 +473,40 @@ double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
 }
 
 // Step 1, the noise per region (region_noise.h) into r.noise_map: the given level everywhere where it was given.
-// \return per vertex the normal noise its region is measured against (region_levels()): \p normal_noise everywhere
-// where the noise was given.
-Eigen::VectorXd read_region_noise(const Mesh& mesh, double normal_noise, AutoDenoiseResult& r) {
+// Per vertex, the normal noise its region is measured against and the share of the change it keeps (step 6,
+// s = σ⁴ / (σ⁴ + σ0⁴) of its level); the level the denoiser runs at (running_level()). The regions' own levels
+// (region_levels()) only where the mesh reads (nearly) noise-free but some regions do not; elsewhere \p mesh_noise
+// everywhere, as where the noise was given: on white noise a region read above twice the mesh's level is mostly
+// shape the cubic misses (creases, a coarse model's detail), and measuring it against that level cost the issue's
+// grid up to 2 % (fandisk σ 0.05 +1.99 %, spot with impulses +1.02 %; bench/denoise.md, fifteenth session).
+struct RegionLevels {
+  Eigen::VectorXd level, keep;
+  double running = 0;
+};
+RegionLevels read_region_noise(const Mesh& mesh, double mesh_noise, AutoDenoiseResult& r) {
+  RegionLevels out;
   if (r.noise.samples == 0) {
     r.noise_map = Eigen::VectorXd::Constant(mesh.n_vertices(), r.resolved.sigma.value_or(0) / std::sqrt(3.0));
-    return Eigen::VectorXd::Constant(mesh.n_vertices(), normal_noise);
+    out.level = Eigen::VectorXd::Constant(mesh.n_vertices(), mesh_noise);
+  } else {
+    const detail::RegionNoise map = detail::region_noise(mesh, r.noise);
+    r.noise_map = map.level;
+    r.choices.push_back(detail::describe_region_noise(r.noise_map, map.whole));
+    out.level = detail::region_levels(map, r.noise, mesh_noise);
   }
-  const detail::RegionNoise map = detail::region_noise(mesh, r.noise);
-  r.noise_map = map.level;
-  r.choices.push_back(detail::describe_region_noise(r.noise_map, map.whole));
-  return detail::region_levels(map, r.noise, normal_noise);
+  const double keep_below = r.resolved.keep_below;
+  out.running = detail::running_level(out.level, mesh_noise, keep_below);
+  if (out.running != mesh_noise)
+    r.choices.push_back(fmt::format("noise: the mesh reads {:.3f} normal noise, but some regions more: run at their "
+                                    "median {:.3f}, the change kept by each region's level", mesh_noise, out.running));
+  else
+    out.level.setConstant(mesh_noise);
+  out.keep.resize(out.level.size());
+  for (Eigen::Index v = 0; v < out.keep.size(); ++v) {
+    const double s4 = std::pow(out.level[v] / keep_below, 4);
+    out.keep[v] = s4 / (1 + s4);
+  }
+  return out;
 }
 
 // No noise found: the mesh returned as it is, its edges labelled.
@@ -1166,19 +1189,11 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
   // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
   // The noise per region (region_noise.h): each vertex keeps the change in proportion to its region's level.
-  const double mesh_noise = resolve_noise(mesh, r);
-  const Eigen::VectorXd levels = read_region_noise(mesh, mesh_noise, r);
-  const double normal_noise = detail::running_level(levels, mesh_noise, o.keep_below);
-  if (normal_noise != mesh_noise)
-    r.choices.push_back(fmt::format("noise: the mesh reads {:.3f} normal noise, but some regions more: run at their "
-                                    "median {:.3f}, the change kept by each region's level", mesh_noise, normal_noise));
+  const RegionLevels region = read_region_noise(mesh, resolve_noise(mesh, r), r);
+  const Eigen::VectorXd& levels = region.level;
+  const double normal_noise = region.running;
   stage("noise estimate");
-  Eigen::VectorXd keep(levels.size());
-  for (Eigen::Index v = 0; v < keep.size(); ++v) {
-    const double s4 = std::pow(levels[v] / o.keep_below, 4);
-    keep[v] = s4 / (1 + s4);
-  }
-  if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || keep.maxCoeff() < 1e-6) {  // as keep's formula
+  if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || region.keep.maxCoeff() < 1e-6) {  // as keep's formula
     keep_noise_free(mesh, X, F, r);
     return r;
   }
@@ -1269,7 +1284,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
   give_back_coherent(mesh, X, F, N, cv, strong, noise_var, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
-  keep_share_of_change(X, keep, r);
+  keep_share_of_change(X, region.keep, r);
   keep_within_noise_reach(X, r.noise.sigma * base.unit_length, r);
   untangle_result(mesh, F, X, FN, normal_noise * base.unit_length, r);
   stage("untangle");

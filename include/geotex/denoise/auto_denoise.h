@@ -4,9 +4,9 @@
 //! shared clean models (bench/denoise.md).
 //!
 //! The pipeline (auto_denoise()):
-//!  1. the noise level, estimate_noise(), and per region (AutoDenoiseResult::noise_map): a region reading far
-//!     above the mesh's level is measured against its own level (the creased budget, the change kept); a mesh
-//!     read nearly noise-free but for some regions is denoised at their level, the rest left as it is;
+//!  1. the noise level, estimate_noise(), and per region (AutoDenoiseResult::noise_map): a mesh read nearly
+//!     noise-free but for some regions is denoised at their level, each region measured against its own (the
+//!     creased budget, the change kept: the rest left as it is);
 //!  2. a mild surfel pass (ch. 7, IRLS weights; thresholds from 2.5× the median angle between neighbouring
 //!     initial surfels down to 20°, 4 sweeps): the smooth (organic) reading;
 //!  3. the sharp surfel pass from the initial surfels (thresholds from 0.85× that median down to 10°,
