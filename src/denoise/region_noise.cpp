@@ -28,9 +28,12 @@ constexpr RingFitLimits kRegionRing{2, 200, 1e-10};
 // mesh's level all the same: keeping less of the change where a region read below a third of the whole cost the
 // cylinder and the sphere under oblique depth noise 0.3-1.5 % (bench/denoise.md, fifteenth session).
 constexpr double kNoisierRegion = 2.0;
-// running_level(): a mesh whose level keeps less than half of the change, with at least this share of the vertices
-// above it.
-constexpr double kNoisyShare = 0.1;
+// running_level(): a mesh whose level keeps less than kNoiseFree of the change (auto_denoise() returns it as it is),
+// with at least kNoisyShare of the vertices above keep_below by their regions. Raised wherever the mesh's level keeps
+// less than half, it also took low-frequency noise (the estimate follows the field) away from the low-frequency rule:
+// the cylinder under a field over 4 edges 15.73° -> 18.48° (fandisk and spot under a field over 8 edges -5 %;
+// bench/denoise.md, fifteenth session).
+constexpr double kNoiseFree = 1e-6, kNoisyShare = 0.1;
 
 // The mean square of the better-fitting half of \p fits (ring fit, residual) without outliers, as estimate_noise().
 double region_level(std::vector<std::pair<double, double>>& fits) {
@@ -124,7 +127,7 @@ Eigen::VectorXd region_levels(const RegionNoise& map, const NoiseEstimate& noise
 }
 
 double running_level(const Eigen::VectorXd& levels, double normal_noise, double keep_below) {
-  if (normal_noise >= keep_below || levels.size() == 0) return normal_noise;  // keeps half of the change or more
+  if (std::pow(normal_noise / keep_below, 4) >= kNoiseFree || levels.size() == 0) return normal_noise;  // not noise-free
   std::vector<double> above;
   for (Eigen::Index v = 0; v < levels.size(); ++v)
     if (levels[v] >= keep_below) above.push_back(levels[v]);

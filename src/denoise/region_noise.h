@@ -33,9 +33,9 @@ RegionNoise region_noise(const Mesh& mesh, const NoiseEstimate& global, int max_
 //! included), \p noise the mesh's estimate.
 Eigen::VectorXd region_levels(const RegionNoise& map, const NoiseEstimate& noise, double normal_noise);
 
-//! The level the denoiser runs at: \p normal_noise, or where it would keep less than half of the change
-//! (keep_below \p keep_below) while a tenth of the vertices or more would keep more by their \p levels
-//! (region_levels()), those vertices' median level (a mesh noise-free but for some regions). 
+//! The level the denoiser runs at: \p normal_noise, or where the mesh reads noise-free by it (keeps less than 1e-6 of
+//! the change, keep_below \p keep_below) while a tenth of the vertices or more would keep more than half by their
+//! \p levels (region_levels()), those vertices' median level (a mesh noise-free but for some regions).
 double running_level(const Eigen::VectorXd& levels, double normal_noise, double keep_below);
 
 //! A choices line for \p map (region_noise()): its quantiles over the vertices and the shares of the vertices whose
