@@ -26,6 +26,7 @@
 #include "geotex/denoise/surfel.h"
 #include "misfit_growth.h"
 #include "region_guard.h"
+#include "region_noise.h"
 
 namespace geotex {
 
@@ -264,7 +265,9 @@ int untangle(const Mesh& mesh, const MatrixX3i& F, MatrixX3d& X, const MatrixX3d
 
 // Step 7: no face of r.positions left turned over against \p FN, but those the input \p X itself turns over
 // where Gaussian noise of \p normal_noise (absolute) could not have (kFlipSpread). Impulses have no Gaussian
-// tail: with outliers found, every turned face is untangled (teapot impulsive +1.2 % otherwise).
+// tail: with outliers found, every turned face is untangled (teapot impulsive +1.2 % otherwise). The mesh's level,
+// not the region's: a cylinder's side under depth noise along its axis reads noise-free, yet the noise slid its
+// faces along the surface and turned some over, which this undoes (per region: 1.77° -> 9.40°; fifteenth session).
 void untangle_result(const Mesh& mesh, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& FN, double normal_noise,
                      AutoDenoiseResult& r) {
   const bool gaussian = !(r.noise.outliers > kGaussianOutliers);
@@ -289,17 +292,23 @@ Eigen::VectorXd face_means(const MatrixX3i& F, const Eigen::VectorXd& v) {
   return m;
 }
 
-// Step 6: the share \p keep of the change from the input \p X kept (low noise: nearly none), but all of it at the
-// vertices of \p whole (1 there): the CAD-looking parts read as low-frequency noise, whose noise the estimate missed
-// (read_low_frequency_parts_creased()), so the share it gives is too small there (the level-4 cube and woody under
-// the field over 4 edges: σ̂ 0.057 for σ 0.5, 89 % kept; all of it 8 / 5 % nearer the truth). On organic-looking
-// parts the creased reading's move is partly shape flattened, which the share rightly tempers (all of it: spot,
-// the bunny, cheburashka 0.5-10 % farther; bench/denoise.md, fifteenth session).
-void keep_share_of_change(const MatrixX3d& X, double keep, const Eigen::VectorXd& whole, AutoDenoiseResult& r) {
-  if (keep >= 0.999) return;
-  r.positions = X + whole.cwiseMax(keep).asDiagonal() * (r.positions - X);
-  r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept{}", 100 * keep,
-                                  whole.maxCoeff() > 0 ? " (all of it on the parts read as low-frequency noise)" : ""));
+// Step 6: the share \p keep of the change from the input \p X kept, per vertex (low noise: nearly none), but all of
+// it at the vertices of \p whole (1 there): the CAD-looking parts read as low-frequency noise, whose noise the
+// estimate missed (read_low_frequency_parts_creased()), so the share it gives is too small there (the level-4 cube
+// and woody under the field over 4 edges: σ̂ 0.057 for σ 0.5, 89 % kept; all of it 8 / 5 % nearer the truth). On
+// organic-looking parts the creased reading's move is partly shape flattened, which the share rightly tempers (all
+// of it: spot, the bunny, cheburashka 0.5-10 % farther; bench/denoise.md, fifteenth session).
+void keep_share_of_change(const MatrixX3d& X, const Eigen::VectorXd& keep_at, const Eigen::VectorXd& whole,
+                          AutoDenoiseResult& r) {
+  const Eigen::VectorXd keep = whole.cwiseMax(keep_at);
+  if (keep.minCoeff() >= 0.999) return;
+  r.positions = X + keep.asDiagonal() * (r.positions - X);
+  const std::string all = whole.maxCoeff() > 0 ? " (all of it on the parts read as low-frequency noise)" : "";
+  if (keep_at.maxCoeff() - keep_at.minCoeff() < 1e-9)
+    r.choices.push_back(fmt::format("low noise: {:.0f}% of the change kept{}", 100 * keep_at[0], all));
+  else
+    r.choices.push_back(fmt::format("low noise by region: {:.0f}% of the change kept on average ({:.0f}% to {:.0f}%){}",
+                                    100 * keep_at.mean(), 100 * keep_at.minCoeff(), 100 * keep_at.maxCoeff(), all));
 }
 
 // Step 6b: where the estimate read part of the residual as a coarse model's own facets (misfit_growth.h), no vertex
@@ -470,6 +479,43 @@ double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
                                       100 * (1 - r.noise.noise_share)));
   }
   return normal_noise;
+}
+
+// Step 1, the noise per region (region_noise.h) into r.noise_map: the given level everywhere where it was given.
+// Per vertex, the normal noise its region is measured against and the share of the change it keeps (step 6,
+// s = σ⁴ / (σ⁴ + σ0⁴) of its level); the level the denoiser runs at (running_level()). The regions' own levels
+// (region_levels()) only where the mesh reads (nearly) noise-free but some regions do not; elsewhere \p mesh_noise
+// everywhere, as where the noise was given: on white noise a region read above twice the mesh's level is mostly
+// shape the cubic misses (creases, a coarse model's detail), and measuring it against that level cost the issue's
+// grid up to 2 % (fandisk σ 0.05 +1.99 %, spot with impulses +1.02 %; bench/denoise.md, fifteenth session).
+struct RegionLevels {
+  Eigen::VectorXd level, keep;
+  double running = 0;
+};
+RegionLevels read_region_noise(const Mesh& mesh, double mesh_noise, AutoDenoiseResult& r) {
+  RegionLevels out;
+  if (r.noise.samples == 0) {
+    r.noise_map = Eigen::VectorXd::Constant(mesh.n_vertices(), r.resolved.sigma.value_or(0) / std::sqrt(3.0));
+    out.level = Eigen::VectorXd::Constant(mesh.n_vertices(), mesh_noise);
+  } else {
+    const detail::RegionNoise map = detail::region_noise(mesh, r.noise);
+    r.noise_map = map.level;
+    r.choices.push_back(detail::describe_region_noise(r.noise_map, map.whole));
+    out.level = detail::region_levels(map, r.noise, mesh_noise);
+  }
+  const double keep_below = r.resolved.keep_below;
+  out.running = detail::running_level(out.level, mesh_noise, keep_below);
+  if (out.running != mesh_noise)
+    r.choices.push_back(fmt::format("noise: the mesh reads {:.3f} normal noise, but some regions more: run at their "
+                                    "median {:.3f}, the change kept by each region's level", mesh_noise, out.running));
+  else
+    out.level.setConstant(mesh_noise);
+  out.keep.resize(out.level.size());
+  for (Eigen::Index v = 0; v < out.keep.size(); ++v) {
+    const double s4 = std::pow(out.level[v] / keep_below, 4);
+    out.keep[v] = s4 / (1 + s4);
+  }
+  return out;
 }
 
 // No noise found: the mesh returned as it is, its edges labelled.
@@ -675,11 +721,12 @@ Eigen::VectorXd depth_noise_scale(const Neighborhoods& N, const MatrixX3d& Nn, c
 // 3.1° as it is, 6.9° if they were refused). The default budget, 1 σ², is about twice a noise-only fit's median
 // (budgets 2 / 1.5 / 1 on the shared models' synthetic noise: spot σ 0.2 4.56 / 4.52 / 4.46°, forced smooth
 // 4.43°; the beetle σ 0.05 23.5 / — / 22.9°; nothing worse by more than 0.3 %). Under depth noise σ² is the
-// noise along each normal (depth_noise_scale(), \p anisotropy). \return 1 at the vertices refused.
+// noise along each normal (depth_noise_scale(), \p anisotropy), or where larger the region's own (\p regional: its
+// level's variance over the mesh's, at least 1; region_levels()). \return 1 at the vertices refused.
 Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X,
                                             const MatrixX3d& Xs, const MatrixX3d& Xm, const Eigen::MatrixXd& features,
                                             const Eigen::VectorXd& striped, double budget, double noise_var,
-                                            double anisotropy, Eigen::VectorXd& sharp) {
+                                            double anisotropy, const Eigen::VectorXd& regional, Eigen::VectorXd& sharp) {
   const Eigen::Index n = X.rows();
   Eigen::VectorXd refused = Eigen::VectorXd::Zero(n);
   if (!(budget > 0)) return refused;
@@ -694,7 +741,7 @@ Eigen::VectorXd refuse_creased_beyond_noise(const Mesh& mesh, const Neighborhood
   if (beyond.empty()) return refused;  // the depth noise's scale only raises the budget
   const Eigen::VectorXd along = depth_noise_scale(N, Nm, X, Xm, noise_var, anisotropy);
   for (Eigen::Index v : beyond)
-    if (typical[v] > budget * noise_var * along[v]) sharp[v] = 0, refused[v] = 1;
+    if (typical[v] > budget * noise_var * std::max(along[v], regional[v])) sharp[v] = 0, refused[v] = 1;
   return refused;
 }
 
@@ -1167,10 +1214,12 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
 
   // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
   // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
-  const double normal_noise = resolve_noise(mesh, r);
+  // The noise per region (region_noise.h): each vertex keeps the change in proportion to its region's level.
+  const RegionLevels region = read_region_noise(mesh, resolve_noise(mesh, r), r);
+  const Eigen::VectorXd& levels = region.level;
+  const double normal_noise = region.running;
   stage("noise estimate");
-  const double s4 = std::pow(normal_noise / o.keep_below, 4), keep = s4 / (1 + s4);
-  if (keep < 1e-6) {
+  if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || region.keep.maxCoeff() < 1e-6) {  // as keep's formula
     keep_noise_free(mesh, X, F, r);
     return r;
   }
@@ -1227,7 +1276,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
     const Eigen::VectorXd whole = read_whole_parts(mesh, N, F, X, Xs, features, noise_var, sharp_here, low, r);
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, whole, o.creased_budget, noise_var,
-                                          o.depth_anisotropy, sharp_here);
+                                          o.depth_anisotropy, (levels / normal_noise).array().square().max(1.0).matrix(),
+                                          sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
   }
@@ -1260,7 +1310,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   // 6a. The smooth reading's change given back where it is coherent beyond the noise.
   give_back_coherent(mesh, X, F, N, cv, strong, noise_var, r);
   // 6.–7. The change kept in proportion to the noise, then no face left turned over.
-  keep_share_of_change(X, keep, low, r);
+  keep_share_of_change(X, region.keep, low, r);
   keep_within_noise_reach(X, r.noise.sigma * base.unit_length, r);
   untangle_result(mesh, F, X, FN, normal_noise * base.unit_length, r);
   // 6c. On a model read coarse, each region's change shrunk to what the noise explains (region_guard.h).

@@ -24,6 +24,9 @@ const ResultTable<AutoDenoiseResult>& auto_denoise_results() {
            }, "the noise estimate: sigma, normal_sigma, rms_normal_sigma (mean edge lengths), outliers (a fraction), "
               "mean_edge, clean_edge (absolute), samples, misfit_growth (the fit's residual from two rings to three: "
               "about 1 for noise, above for a coarse model's facets), noise_share (the residual's share read as noise)")
+      .array("noise_map", [](const R& r) { return r.noise_map; },
+             "#V: the normal noise of each vertex's region (mean edge lengths, as noise.normal_sigma: the estimate read "
+             "over about three rings); the given level everywhere when sigma is given")
       .add("choices", [](const R& r) { return r.choices; }, "what was chosen and why, one short line each")
       .add("turned_over", [](const R& r) { return r.turned_over; }, "faces left turned over (normally 0)")
       .add("creased_share", [](const R& r) { return r.creased_share; }, "the share of the area read creased")

@@ -863,3 +863,53 @@ TEST(AutoDenoise, LowFrequencyNoiseOnACadPartIsReadCreasedThroughout) {
   const Mesh white = with_noise(clean, 0.05, false, 7);
   EXPECT_EQ(auto_denoise(white).positions, auto_denoise(white, previous).positions);
 }
+
+// One noise level per mesh reads a mesh half noisy and half clean at the clean half's level (the better-fitting half
+// of the rings): fandisk under white σ 0.3 beside spot untouched. The noise per region reads two levels: fandisk's
+// near its σ / √3 along the normals, spot's below a quarter of it.
+TEST(RegionNoise, AMeshHalfNoisyHalfCleanReadsTwoLevels) {
+  GEOTEX_REQUIRE_DATA();
+  const Mesh fandisk = read_mesh(test::data_dir() / "fandisk.obj");
+  const Mesh clean = side_by_side(fandisk, read_mesh(test::data_dir() / "spot.obj"));
+  const Eigen::Index nv = fandisk.n_vertices(), nf = fandisk.n_faces();
+  MatrixX3d X = positions(clean);
+  X.topRows(nv) = positions(with_noise(clean, 0.3, false, 11)).topRows(nv);
+  Mesh noisy = clean;
+  set_positions(noisy, X);
+  const AutoDenoiseResult r = auto_denoise(noisy);
+  ASSERT_EQ(r.noise_map.size(), X.rows());
+  const auto median = [](Eigen::VectorXd x) {
+    std::nth_element(x.data(), x.data() + x.size() / 2, x.data() + x.size());
+    return x[x.size() / 2];
+  };
+  const double noisy_level = median(r.noise_map.head(nv)), clean_level = median(r.noise_map.tail(X.rows() - nv));
+  EXPECT_NEAR(noisy_level, 0.3 / std::sqrt(3.0), 0.35 * 0.3 / std::sqrt(3.0));  // isotropic σ: σ / √3 along n
+  EXPECT_LT(clean_level, noisy_level / 4);
+  const MatrixX3i F = faces(clean);
+  const MatrixX3d V = positions(clean);
+  EXPECT_LT(part_error(F, V, r.positions, 0, nf), 0.5 * part_error(F, V, X, 0, nf));  // fandisk denoised
+}
+
+// Depth noise along the cylinder's own axis moves the side's vertices along the side: its rings carry no normal
+// noise, fit best, and one level per mesh read the whole cylinder noise-free (the input returned, 14.6°). The caps,
+// facing the scanner, are noisy; their regions read so, and are denoised at their level.
+TEST(RegionNoise, DepthNoiseAlongACylindersAxisIsNotReadNoiseFree) {
+  const Mesh clean = make_shape("cylinder", 2).base;
+  NoiseOptions n;
+  n.sigma = 0.3;
+  n.direction = NoiseDirection::Depth;
+  n.axis = Vec3(0, 0, 1);
+  n.seed = 11;
+  Mesh noisy = clean;
+  set_positions(noisy, add_noise(clean, n));
+  const MatrixX3i F = faces(clean);
+  const MatrixX3d V = positions(clean), X = positions(noisy);
+  const AutoDenoiseResult r = auto_denoise(noisy);
+  EXPECT_LT(part_error(F, V, r.positions, 0, F.rows()), 0.5 * part_error(F, V, X, 0, F.rows()));
+  double cap = 0, side = 0;
+  int caps = 0, sides = 0;
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
+    if (std::abs(std::abs(V(v, 2)) - 0.5) < 1e-9) cap += r.noise_map[v], ++caps;
+    else side += r.noise_map[v], ++sides;
+  EXPECT_GT(cap / caps, 4 * side / sides) << "the caps read noisier than the side";
+}

@@ -4,7 +4,9 @@
 //! shared clean models (bench/denoise.md).
 //!
 //! The pipeline (auto_denoise()):
-//!  1. the noise level, estimate_noise();
+//!  1. the noise level, estimate_noise(), and per region (AutoDenoiseResult::noise_map): a mesh read nearly
+//!     noise-free but for some regions is denoised at their level, each region measured against its own (the
+//!     creased budget, the change kept: the rest left as it is);
 //!  2. a mild surfel pass (ch. 7, IRLS weights; thresholds from 2.5× the median angle between neighbouring
 //!     initial surfels down to 20°, 4 sweeps): the smooth (organic) reading;
 //!  3. the sharp surfel pass from the initial surfels (thresholds from 0.85× that median down to 10°,
@@ -32,7 +34,7 @@
 //!     (coherent_change.h): removed noise is white from vertex to vertex, a coarse mesh's own facets smoothed
 //!     away are not (AutoDenoiseOptions::coherence_weight, AutoDenoiseResult::change_kept);
 //!  6. the change kept in proportion to the noise: x_in + s (x_fit − x_in), s = σ⁴ / (σ⁴ + σ0⁴) with σ the
-//!     RMS normal noise (impulses included), so that a noiseless mesh is returned as it is;
+//!     RMS normal noise (impulses included) of the vertex's region, so that a noiseless mesh is returned as it is;
 //!  7. faces turned over against their target normals are untangled (their vertices moved to the mean of
 //!     their neighbours until none is left);
 //!  8. labels: the edge process (Eq. 6.12) on the result, φ0 = 60° in creased regions and 75° in smooth
@@ -174,6 +176,10 @@ struct AutoDenoiseResult {
   MatrixX3d positions;                 //!< #V by 3: the input's connectivity
   Eigen::VectorXd edge_labels;         //!< #E labels, 0 or 1 (1: a crease), OpenMesh edge order
   NoiseEstimate noise;                 //!< the noise estimate
+  //! #V: the normal noise of each vertex's region (mean edge lengths, as NoiseEstimate::normal_sigma), read as
+  //! estimate_noise() reads the mesh over the vertex's nearest samples (about three rings); the given level
+  //! (sigma / √3) everywhere when the noise was given.
+  Eigen::VectorXd noise_map;
   AutoDenoiseOptions resolved;         //!< the options with every automatic value set
   std::vector<std::string> choices;    //!< what was chosen and why, one short line each
   //! faces left turned over against their target normals (normally 0); not counted: those the input itself

@@ -365,3 +365,28 @@ def test_scanner_like_noise_patterns(tmp_path):
                         "--seed", "2", "--sigma", "0.3"], check=True)
         X, _ = geotex.read_mesh(tmp_path / "n.ply")
         assert np.allclose(X, geotex.add_noise(V, F, sigma=0.3, seed=2, pattern="striped"), atol=1e-6)
+
+
+def test_the_noise_per_region_is_in_python_and_the_cli(tmp_path):
+    # Step 1 (auto_denoise.h, noise_map): the level-2 cylinder under depth noise along its own axis reads noise-free
+    # as a whole (the side's rings carry no normal noise); its caps' regions read noisy, and the result is denoised
+    # there. The CLI's report carries the same map; a given sigma is the map everywhere.
+    V, F = geotex.generate("cylinder", level=2)
+    V, F = np.asarray(V), np.asarray(F)
+    Vn = geotex.add_noise(V, F, sigma=0.3, direction="depth", axis=(0, 0, 1), seed=11)
+    r = geotex.denoise(Vn, F)
+    m = np.asarray(r["noise_map"])
+    caps = np.abs(np.abs(V[:, 2]) - 0.5) < 1e-9
+    assert m.shape == (len(V),) and m.min() >= 0
+    assert m[caps].mean() > 4 * m[~caps].mean() and r["noise"]["normal_sigma"] < 0.01
+    err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
+    assert err(r["V"]) < 0.5 * err(Vn), (err(r["V"]), err(Vn))
+    given = np.asarray(geotex.denoise(Vn, F, sigma=0.3)["noise_map"])
+    assert np.allclose(given, 0.3 / math.sqrt(3))
+    cli = os.environ.get("GEOTEX_CLI")
+    if cli:
+        geotex.write_mesh(tmp_path / "n.ply", Vn, F)
+        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"),
+                        "--report", str(tmp_path / "r.json")], check=True)
+        report = json.loads((tmp_path / "r.json").read_text())
+        assert np.allclose(report["noise_map"], m, atol=1e-9)
