@@ -715,10 +715,16 @@ constexpr double kStripeEnergy = 0.5;
 // which fit_stripes() fits in 3D (stripes.h). One sinusoid along it explains 0.19-0.82 of the residual under
 // stripes and at most 0.20 under white noise (woody with impulses; else at most 0.12; bench/denoise.md). Where the
 // coherence rule has not already read it: a CAD-looking part above \p stripe_share is banded; an organic-looking
-// part only where its coherence is also above \p organic_threshold (it then stands in for kStripeEnergy: the
-// cylinder under oblique stripes 0.72 with energy 0.25, under white noise at most 0.07), as organic models under
-// stripes reach 0.23-0.33 where the smooth reading is the better one (spot, the bunny). \p best_share: the
+// part where its coherence is also above \p organic_threshold (the share then stands in for kStripeEnergy: the
+// cylinder under stripes 16 edges apart 0.19, under white noise at most 0.07), or the share above kOrganicBands ×
+// \p stripe_share, as organic models under stripes reach 0.23-0.33 where the smooth reading is the better one
+// (spot, the bunny). \p best_share: the
 // largest share measured (-1: none). \return per part, 1 where banded.
+// An organic-looking part whatever its coherence where the share is above kOrganicBands × stripe_share: a smooth
+// primitive under oblique stripes, whose faces see the bands run different ways (the cylinder: coherence 0.31-0.39,
+// share 0.57-0.74), while organic models under stripes reach 0.33 (the bunny; spot, cheburashka 0.14-0.23), their
+// residual being shape the sharp fit flattens as much as bands.
+constexpr double kOrganicBands = 1.5;
 std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xs,
                                const Eigen::VectorXd& r, const Eigen::MatrixXd& features, const Eigen::VectorXi& part,
                                const std::vector<int>& size, const std::vector<double>& coherence,
@@ -730,7 +736,7 @@ std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const Matri
   for (Eigen::Index v = 0; v < X.rows(); ++v) cad[part[v]] = features(v, 4) < std::log(kOrganicLook);
   std::vector<std::vector<int>> verts(n_parts), tris(n_parts);
   for (int p = 0; p < n_parts; ++p)  // only where the answer could change the reading
-    measure[p] = coherence[p] >= 0 && (cad[p] || (coherence[p] > organic_threshold && energy[p] < kStripeEnergy));
+    measure[p] = coherence[p] >= 0 && (cad[p] || !(coherence[p] > organic_threshold && energy[p] >= kStripeEnergy));
   for (Eigen::Index v = 0; v < X.rows(); ++v)
     if (measure[part[v]]) verts[part[v]].push_back(static_cast<int>(v));
   for (Eigen::Index f = 0; f < F.rows(); ++f)
@@ -740,7 +746,7 @@ std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const Matri
     if (!measure[p]) continue;
     const double share = detail::fit_stripes(X, Xs, F, tris[p], verts[p], r, h).share;
     *best_share = std::max(*best_share, share);
-    banded[p] = share > stripe_share;
+    banded[p] = share > stripe_share && (cad[p] || coherence[p] > organic_threshold || share > kOrganicBands * stripe_share);
   }
   return banded;
 }
