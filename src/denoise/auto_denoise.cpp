@@ -70,7 +70,8 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("stripe_share", &O::stripe_share,
            "a CAD-looking part is also read creased throughout where one sinusoid along one axis (fitted in 3D) "
            "explains at least this share of the sharp fit's residual: bands whose direction differs face to face; "
-           "on other parts it stands in for the bands' energy above stripe_coherence_organic; 1 never", between(0, 1))
+           "so is a part of any look where its coherence is also above stripe_coherence_organic, or its share "
+           "above 1.5 x this; 1 never", between(0, 1))
       .add("low_frequency_residual", &O::low_frequency_residual,
            "a part is read creased throughout where the sharp fit moves it by more than this many noise variances "
            "(median; the part's own noise) and the mild fit by nearly as much: low-frequency noise the noise estimate "
@@ -712,18 +713,16 @@ constexpr double kStripeEnergy = 0.5;
 // Step 5, scanner stripes whose direction differs face to face (issue 24, fifteenth session): the part-wide
 // tensor of read_striped_parts_creased() mixes the projections of the bands' axis onto a cube's faces (stripes 16
 // edges apart: 0.16; woody under oblique stripes: 0.27), but the bands are one function of a·x for one world axis a,
-// which fit_stripes() fits in 3D (stripes.h). One sinusoid along it explains 0.19-0.82 of the residual under
-// stripes and at most 0.20 under white noise (woody with impulses; else at most 0.12; bench/denoise.md). Where the
-// coherence rule has not already read it: a CAD-looking part above \p stripe_share is banded; an organic-looking
-// part where its coherence is also above \p organic_threshold (the share then stands in for kStripeEnergy: the
-// cylinder under stripes 16 edges apart 0.19, under white noise at most 0.07), or the share above kOrganicBands ×
-// \p stripe_share, as organic models under stripes reach 0.23-0.33 where the smooth reading is the better one
-// (spot, the bunny). \p best_share: the
-// largest share measured (-1: none). \return per part, 1 where banded.
-// An organic-looking part whatever its coherence where the share is above kOrganicBands × stripe_share: a smooth
-// primitive under oblique stripes, whose faces see the bands run different ways (the cylinder: coherence 0.31-0.39,
-// share 0.57-0.74), while organic models under stripes reach 0.33 (the bunny; spot, cheburashka 0.14-0.23), their
-// residual being shape the sharp fit flattens as much as bands.
+// which fit_stripes() fits in 3D (stripes.h). One sinusoid along it explains 0.19-0.83 of the residual under
+// stripes and at most 0.12 under white noise (woody with 10 % impulses 0.37, a part read creased throughout
+// anyway; bench/denoise.md). Where the coherence rule has not already read it: a CAD-looking part above
+// \p stripe_share is banded; an organic-looking part where its coherence is also above \p organic_threshold (the
+// share then stands in for kStripeEnergy: the cylinder under stripes 8 edges apart at σ 0.5, 0.37) or where the
+// share is above kOrganicBands × \p stripe_share: a smooth primitive under oblique stripes, whose faces see the
+// bands run different ways (the cylinder: coherence 0.23-0.39, share 0.56-0.74), while organic models under
+// stripes reach 0.33 (the bunny; spot and cheburashka 0.13-0.24), their residual being shape the sharp fit
+// flattens as much as bands, and the smooth reading the better one. \p best_share: the largest share measured
+// (-1: none). \return per part, 1 where banded.
 constexpr double kOrganicBands = 1.5;
 std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xs,
                                const Eigen::VectorXd& r, const Eigen::MatrixXd& features, const Eigen::VectorXi& part,
@@ -746,7 +745,8 @@ std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const Matri
     if (!measure[p]) continue;
     const double share = detail::fit_stripes(X, Xs, F, tris[p], verts[p], r, h).share;
     *best_share = std::max(*best_share, share);
-    banded[p] = share > stripe_share && (cad[p] || coherence[p] > organic_threshold || share > kOrganicBands * stripe_share);
+    banded[p] = share > stripe_share &&
+                (cad[p] || coherence[p] > organic_threshold || share > kOrganicBands * stripe_share);
   }
   return banded;
 }

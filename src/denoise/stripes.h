@@ -23,8 +23,8 @@ struct StripeFit {
 //! solution over the part's faces (area-weighted), measured against what a direction-free residual would give
 //! (E[(g × n)(g × n)ᵀ] = |g|² (I − n nᵀ) / 2): a generalized eigenproblem, whose smallest vector is a. It is
 //! then refined (a pattern search over directions, steps 0.15 to 0.005 rad) to the axis along which one
-//! sinusoid of period 3-32 edges explains most of the residual's variance; that share is 0.00-0.20 under white
-//! noise and 0.19-0.80 under stripes (bench/denoise.md, fifteenth session).
+//! sinusoid of period 3-32 edges explains most of the residual's variance; that share is at most 0.12 under white
+//! noise (a small part with impulses more) and 0.19-0.83 under stripes (bench/denoise.md, fifteenth session).
 //! \p X #V by 3 positions along which the bands are measured, \p Xs #V by 3 the fit whose faces carry the
 //! gradient, \p F #F by 3, \p faces and \p verts the part's faces (rows of F) and vertices, \p r #V residual
 //! along the normals, \p h the mean edge length. A part of fewer than 3 faces or a residual of no variance reads
