@@ -27,6 +27,7 @@
 #include "misfit_growth.h"
 #include "region_guard.h"
 #include "region_noise.h"
+#include "stripes.h"
 
 namespace geotex {
 
@@ -68,6 +69,11 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
       .add("stripe_coherence_organic", &O::stripe_coherence_organic,
            "any part, organic-looking ones included (short bands fool the look), is read creased throughout where "
            "the sharp fit's residual points one way across it with at least this coherence; 1 never", between(0, 1))
+      .add("stripe_share", &O::stripe_share,
+           "a CAD-looking part is also read creased throughout where one sinusoid along one axis (fitted in 3D) "
+           "explains at least this share of the sharp fit's residual: bands whose direction differs face to face; "
+           "so is a part of any look where its coherence is also above stripe_coherence_organic, or its share "
+           "above 1.5 x this; 1 never", between(0, 1))
       .add("low_frequency_residual", &O::low_frequency_residual,
            "a part is read creased throughout where the sharp fit moves it by more than this many noise variances "
            "(median; the part's own noise) and the mild fit by nearly as much: low-frequency noise the noise estimate "
@@ -758,6 +764,47 @@ constexpr int kMinStripedPart = 600;
 // stripes 3-4 edges apart: 1.18-2.96; bench/denoise.md, thirteenth session).
 constexpr double kStripeEnergy = 0.5;
 
+// Step 5, scanner stripes whose direction differs face to face (issue 24, fifteenth session): the part-wide
+// tensor of read_striped_parts_creased() mixes the projections of the bands' axis onto a cube's faces (stripes 16
+// edges apart: 0.16; woody under oblique stripes: 0.27), but the bands are one function of a·x for one world axis a,
+// which fit_stripes() fits in 3D (stripes.h). One sinusoid along it explains 0.19-0.83 of the residual under
+// stripes and at most 0.12 under white noise (woody with 10 % impulses 0.37, a part read creased throughout
+// anyway; bench/denoise.md). Where the coherence rule has not already read it: a CAD-looking part above
+// \p stripe_share is banded; an organic-looking part where its coherence is also above \p organic_threshold (the
+// share then stands in for kStripeEnergy: the cylinder under stripes 8 edges apart at σ 0.5, 0.37) or where the
+// share is above kOrganicBands × \p stripe_share: a smooth primitive under oblique stripes, whose faces see the
+// bands run different ways (the cylinder: coherence 0.23-0.39, share 0.56-0.74), while organic models under
+// stripes reach 0.33 (the bunny; spot and cheburashka 0.13-0.24), their residual being shape the sharp fit
+// flattens as much as bands, and the smooth reading the better one. \p best_share: the largest share measured
+// (-1: none). \return per part, 1 where banded.
+constexpr double kOrganicBands = 1.5;
+std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& Xs,
+                               const Eigen::VectorXd& r, const Eigen::MatrixXd& features, const Eigen::VectorXi& part,
+                               const std::vector<int>& size, const std::vector<double>& coherence,
+                               const std::vector<double>& energy, double organic_threshold, double stripe_share,
+                               double* best_share) {
+  const int n_parts = static_cast<int>(size.size());
+  std::vector<char> banded(n_parts, 0), cad(n_parts, 0), measure(n_parts, 0);
+  if (!(stripe_share < 1)) return banded;
+  for (Eigen::Index v = 0; v < X.rows(); ++v) cad[part[v]] = features(v, 4) < std::log(kOrganicLook);
+  std::vector<std::vector<int>> verts(n_parts), tris(n_parts);
+  for (int p = 0; p < n_parts; ++p)  // only where the answer could change the reading
+    measure[p] = coherence[p] >= 0 && (cad[p] || !(coherence[p] > organic_threshold && energy[p] >= kStripeEnergy));
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    if (measure[part[v]]) verts[part[v]].push_back(static_cast<int>(v));
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (measure[part[F(f, 0)]]) tris[part[F(f, 0)]].push_back(static_cast<int>(f));
+  const double h = mean_edge_length(mesh);
+  for (int p = 0; p < n_parts; ++p) {
+    if (!measure[p]) continue;
+    const double share = detail::fit_stripes(X, Xs, F, tris[p], verts[p], r, h).share;
+    *best_share = std::max(*best_share, share);
+    banded[p] = share > stripe_share &&
+                (cad[p] || coherence[p] > organic_threshold || share > kOrganicBands * stripe_share);
+  }
+  return banded;
+}
+
 // Step 5, scanner stripes: a range scanner's bands displace a part along its normals by a wave that runs one way
 // across it. The sharp fit removes them (its residual is the wave) where the mild fit keeps them as relief, and the
 // rule reads the creases' neighbourhoods (bent by the bands) and scattered vertices smooth: the default was 1.19-1.63x
@@ -774,11 +821,11 @@ constexpr double kStripeEnergy = 0.5;
 // \return the vertices set.
 int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
                                const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold,
-                               double organic_threshold, double noise_var, Eigen::VectorXd& sharp,
-                               Eigen::VectorXd& striped_at, double* largest) {
-  *largest = -1;  // no part measured
+                               double organic_threshold, double stripe_share, double noise_var, Eigen::VectorXd& sharp,
+                               Eigen::VectorXd& striped_at, double* largest, double* best_share) {
+  *largest = -1, *best_share = -1;  // no part measured
   striped_at = Eigen::VectorXd::Zero(X.rows());
-  if (!(std::min(threshold, organic_threshold) < 1)) return 0;
+  if (!(std::min({threshold, organic_threshold, stripe_share}) < 1)) return 0;
   Mesh fit = mesh;
   set_positions(fit, Xs);
   const MatrixX3d Ns = vertex_normals(fit);
@@ -811,11 +858,14 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
     const double l1 = es.eigenvalues()[2], l2 = es.eigenvalues()[1];
     if (l1 + l2 > 0) coherence[p] = (l1 - l2) / (l1 + l2), *largest = std::max(*largest, coherence[p]);
   }
+  const std::vector<char> banded = banded_parts(mesh, F, X, Xs, r, features, part, size, coherence, energy,
+                                                 organic_threshold, stripe_share, best_share);
   int set = 0;
   for (Eigen::Index v = 0; v < X.rows(); ++v) {
     const bool cad = features(v, 4) < std::log(kOrganicLook);
-    if (!(coherence[part[v]] > (cad ? threshold : organic_threshold)) || !(cad || energy[part[v]] >= kStripeEnergy))
-      continue;
+    const bool coherent = coherence[part[v]] > (cad ? threshold : organic_threshold) &&
+                          (cad || energy[part[v]] >= kStripeEnergy);
+    if (!coherent && !banded[part[v]]) continue;
     striped_at[v] = 1;
     if (sharp[v] == 0) sharp[v] = 1, ++set;
   }
@@ -827,16 +877,19 @@ Eigen::VectorXd read_stripes(const Mesh& mesh, const Neighborhoods& N, const Mat
                              const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
                              Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
   const double threshold = r.resolved.stripe_coherence;
-  double coherence = -1;
+  double coherence = -1, share = -1;
   Eigen::VectorXd striped_at;
   const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, threshold,
-                                                 r.resolved.stripe_coherence_organic, noise_var, sharp, striped_at,
-                                                 &coherence);
+                                                 r.resolved.stripe_coherence_organic, r.resolved.stripe_share,
+                                                 noise_var, sharp, striped_at, &coherence, &share);
   if (coherence >= 0)
     r.choices.push_back(fmt::format("stripes: the sharp fit's residual runs one way with coherence {:.3f} (largest "
                                     "over the parts of {}+ vertices; striped above {} on CAD-looking parts, above {} "
-                                    "on others where the bands stand above the noise){}", coherence, kMinStripedPart,
+                                    "on others where the bands stand above the noise){}{}", coherence, kMinStripedPart,
                                     threshold, r.resolved.stripe_coherence_organic,
+                                    share >= 0 ? fmt::format("; one sinusoid along a fitted axis explains {:.3f} of it "
+                                                             "(banded above {})", share, r.resolved.stripe_share)
+                                               : std::string(),
                                     striped > 0 ? fmt::format(": {} vertices of a striped part read creased", striped)
                                                 : std::string()));
   return striped_at;

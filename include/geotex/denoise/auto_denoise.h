@@ -138,6 +138,15 @@ struct AutoDenoiseOptions {
   //! above the noise (a smooth cylinder's shape alone reaches 0.44 under white noise, with a residual at the noise
   //! level), the creased budget not applied (bench/denoise.md, thirteenth session). 1 never (the previous release).
   double stripe_coherence_organic = 0.4;
+  //! Step 5, scanner stripes whose direction differs face to face: the bands are one function of a·x for one
+  //! world axis a, fitted in 3D from the residual's gradients and refined to where one sinusoid (period 3-32 edges)
+  //! explains most of the sharp fit's residual. A CAD-looking part is read creased throughout where that share is
+  //! above stripe_share (white noise at most 0.12, stripes 0.19-0.83; the cube under stripes 16 edges apart 0.60,
+  //! woody under oblique stripes 0.60); a part of any look where it is, if its coherence is above
+  //! stripe_coherence_organic (in place of the bands' energy) or the share above 1.5 × stripe_share (a cylinder
+  //! under oblique stripes; organic models under stripes reach 0.33; bench/denoise.md, fifteenth session). 1 never
+  //! (the previous release).
+  double stripe_share = 0.3;
   //! Step 5, low-frequency scanner noise: a smooth field a few edges across, which the noise estimate follows (σ̂
   //! a tenth of σ) and the mild fit keeps as relief. A part is read creased throughout where the median of the sharp
   //! fit's residual (5 rings) is above low_frequency_residual × the normal noise variance (the part's own estimate,
