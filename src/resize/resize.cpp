@@ -1006,6 +1006,7 @@ struct SimilarityBase {
   const MatrixX3d* plain_normals = nullptr;
   bool hold_cores_in_box = false;  // a box scale: anchor_cores_in_box() after the rounds (the split solver)
   const std::vector<std::array<int, 2>>* ties = nullptr;  // coincident vertices kept together (Weld::ties)
+  int pin_rings = 0;  // the box's lone pins pull this many vertex rings softly along (soft_pins(), the split solver)
 };
 
 // Stiff zero-length springs between the coincident vertices of \p ties (Weld::ties: a point contact welded per fan,
@@ -1034,6 +1035,56 @@ void mark_around(const Mesh& mesh, const MatrixX3i& F, const std::vector<int>& b
         if (!marked[u.idx()]) marked[u.idx()] = 1, next.push_back(u.idx());
     front.swap(next);
   }
+}
+
+// The box's pins spread softly: the vertices of the \p rings rings around a side's lone extreme (a side held by
+// one vertex), each pulled along the extreme's axis by the extreme's push (its pin target's move), with a weight
+// w_F g exp(−(r/σ)²) at ring r, σ = rings / 2, g = the rings' importance ((mean f − 0.75) / 0.2, clamped: the
+// cheburashka's back of the head, f 0.69, is left alone) × their roundness (1 − largest dihedral angle / 30°, clamped): an important round end moves as a soft piece instead of being drawn into a
+// cone by its tip (the teapot ×2 z's prow), a flat or unimportant side stays held by its extreme alone.
+struct SoftPins {
+  std::vector<int> vertex, leader, axis;
+  MatrixX3d weight;  // per mesh vertex, along each axis (0 off the spread)
+};
+SoftPins soft_pins(const Mesh& mesh, const MatrixX3d& X, const Eigen::VectorXd& f,
+                   const std::vector<std::array<int, 2>>& pins, int rings, double pin_weight) {
+  const std::size_t n = mesh.n_vertices();
+  SoftPins soft{{}, {}, {}, MatrixX3d::Zero(static_cast<Eigen::Index>(n), 3)};
+  if (rings <= 0) return soft;
+  const MatrixX3d Fn = face_normals(mesh);
+  const Vec3 mid = 0.5 * (X.colwise().minCoeff() + X.colwise().maxCoeff()).transpose();
+  auto side = [&](int v, int a) { return 2 * a + (X(v, a) > mid[a] ? 1 : 0); };
+  std::array<int, 6> on_side{};
+  for (const auto& [v, a] : pins) ++on_side[side(v, a)];
+  std::vector<int> ring(n, -1);
+  const double sigma = 0.5 * rings, kRound = 30.0 * M_PI / 180, kLow = 0.75;
+  for (const auto& [v0, a] : pins) {
+    if (on_side[side(v0, a)] != 1) continue;  // a side held at several vertices (a flat bottom, four hooves)
+    std::vector<int> near{v0};  // breadth first, ring[] the ring index
+    ring[v0] = 0;
+    for (std::size_t k = 0; k < near.size(); ++k)
+      if (ring[near[k]] < rings)
+        for (auto u : mesh.vv_range(mesh.vertex_handle(near[k])))
+          if (ring[u.idx()] < 0) ring[u.idx()] = ring[near[k]] + 1, near.push_back(u.idx());
+    double fsum = 0, flat = 1;  // the importance; the least cosine between two faces on an edge of the rings
+    for (int u : near) {
+      fsum += f[u];
+      for (auto h : mesh.voh_range(mesh.vertex_handle(u)))
+        if (h.face().is_valid() && h.opp().face().is_valid())
+          flat = std::min(flat, Fn.row(h.face().idx()).dot(Fn.row(h.opp().face().idx())));
+    }
+    const double bend = std::acos(std::clamp(flat, -1.0, 1.0));
+    const double important = std::clamp((fsum / static_cast<double>(near.size()) - kLow) / (1 - kLow - 0.05), 0.0, 1.0);
+    const double g = important * std::clamp(1 - bend / kRound, 0.0, 1.0);
+    for (int u : near) {
+      const double r = ring[u];
+      ring[u] = -1;
+      if (u == v0 || g <= 0 || soft.weight(u, a) > 0) continue;
+      soft.vertex.push_back(u), soft.leader.push_back(v0), soft.axis.push_back(a);
+      soft.weight(u, a) = pin_weight * g * std::exp(-(r / sigma) * (r / sigma));
+    }
+  }
+  return soft;
 }
 
 // The weight of an edge following the map C: β (1 − f_ij)^p, p = \p falloff (SimilarityBase::follow_falloff;
@@ -1258,13 +1309,13 @@ class SplitSystem {
   static constexpr size_t kWoodburyPins = 64;  // pinned vertices (of the sharing axes) up to which they share A_0
 
   void factor(const SparseMatrix& G, const Eigen::VectorXd& d, const std::vector<std::array<int, 2>>& pins,
-              double pin_weight) {
+              double pin_weight, const MatrixX3d& along) {
     const int n = static_cast<int>(d.size());
-    choose_shared(pins);
+    choose_shared(pins, along);
     pin_weight_ = pin_weight;
     for (int a = 0; a < 3; ++a) {
       if (shared_[a]) continue;
-      Eigen::VectorXd da = d;
+      Eigen::VectorXd da = d + along.col(a);
       for (const auto& [v, axis] : pins)
         if (axis == a) da[v] += pin_weight;
       factors_[a].factor(G + SparseMatrix(da.asDiagonal()));
@@ -1314,7 +1365,7 @@ class SplitSystem {
  private:
   // Which axes share A_0: from the fewest pinned vertices up, while their union stays within
   // kWoodburyPins; at least two (one axis alone is cheaper with its own factor).
-  void choose_shared(const std::vector<std::array<int, 2>>& pins) {
+  void choose_shared(const std::vector<std::array<int, 2>>& pins, const MatrixX3d& soft) {
     std::array<std::vector<int>, 3> along;
     for (const auto& [v, a] : pins) along[a].push_back(v);
     std::array<int, 3> order{0, 1, 2};
@@ -1322,6 +1373,7 @@ class SplitSystem {
     vertices_.clear();
     shared_ = {false, false, false};
     for (int a : order) {
+      if (soft.col(a).any()) continue;  // pins spread softly along a (soft_pins()): its own factor
       std::vector<int> merged = vertices_;
       merged.insert(merged.end(), along[a].begin(), along[a].end());
       std::sort(merged.begin(), merged.end());
@@ -1371,11 +1423,12 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   Eigen::VectorXd scale(n), s_lo(n), s_hi(n);
   similarity_transforms(local_jacobians(mesh, X, C), N0, o.keep_feature_size, T, scale, s_lo, s_hi);
   const std::vector<std::array<int, 2>> pins = box_extremes(mesh, X, o.frame_band);  // (vertex, axis)
+  const SoftPins soft = soft_pins(mesh, X, f0, pins, base.pin_rings, o.frame_weight);
   std::vector<char> boundary(n, 0), relaxed(n, 0);
   for (auto v : mesh.vertices())
     if (mesh.is_boundary(v)) boundary[v.idx()] = 1;
   Eigen::VectorXd f = f0;
-  MatrixX3d target = C, Nrm = Nc, Q = C, P = C;  // P: each vertex's point on its plane
+  MatrixX3d target = C, Nrm = Nc, Q = C, P = C, spread = C;  // P: each vertex's point on its plane
   SplitSystem system;
   Eigen::VectorXd pull, hold;  // ε + the boundary's weight; the surface term's w (1 − f_i)
   Eigen::VectorXd anchor = Eigen::VectorXd::Zero(n);  // wholly important regions held at their similarity
@@ -1385,17 +1438,20 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
     system.factor(similarity_edge_weights(edges, f, relaxed, beta, base.follow_falloff, kRelaxed) + ties,
-                  pull + hold + anchor, pins, o.frame_weight);
+                  pull + hold + anchor, pins, o.frame_weight, soft.weight);
   };
   // One step: x' for the points P, then P to the feet of x' on the planes; the pins' targets move by
   // what they miss (a stiff region pulled by its tip moves as a whole instead of stretching).
   auto step = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, base.follow_falloff, kRelaxed,
                                  o.frame_weight);
-    R += hold.asDiagonal() * P + anchor.asDiagonal() * place;
+    R += hold.asDiagonal() * P + anchor.asDiagonal() * place + soft.weight.cwiseProduct(spread);
     const MatrixX3d Y = system.solve(R);
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
     for (const auto& [v, a] : pins) target(v, a) += C(v, a) - Y(v, a);
+    for (std::size_t k = 0; k < soft.vertex.size(); ++k)  // pushed along the axis as its extreme's pin
+      spread(soft.vertex[k], soft.axis[k]) = C(soft.vertex[k], soft.axis[k]) + target(soft.leader[k], soft.axis[k]) -
+                                            C(soft.leader[k], soft.axis[k]);
     return Y;
   };
   const TriangleTree tree(C, F);
@@ -1499,6 +1555,10 @@ bool welds_for_solve(ResizeMethod m) {
   return m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity;
 }
 
+// The box's lone pins of axis-similarity's similarity stage pull this many vertex rings around them softly along
+// (soft_pins(); 2 rings: teapot ×2 z 0.252, 3: 0.241 and its prow 42° -> 15°; bench/resize.md, fifteenth session).
+constexpr int kPinRings = 3;
+
 // resize_as_stored() on a mesh whose bounding box is centred at the origin.
 MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
                            const ResizeOptions& options, UntangleReport* untangled,
@@ -1535,6 +1595,7 @@ MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
     const MatrixX3d plain_normals = face_normals(plain);
     SimilarityBase base{o.axis.follow_weight, o.axis.follow_falloff, &plain_normals};
     base.hold_cores_in_box = true;  // a box scale: cores the box cannot hold are anchored (anchor_cores_in_box())
+    base.pin_rings = kPinRings;
     base.ties = ties;
     MatrixX3d out = o.method == ResizeMethod::Axis            ? W
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
