@@ -1265,11 +1265,9 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   const MatrixX3i F = faces(mesh);
   StageClock stage{r.seconds};
 
-  // 1. How noisy: the normal noise (impulses included) decides how much of the change is kept.
-  // A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
-  // The noise per region (region_noise.h): each vertex keeps the change in proportion to its region's level.
+  // 1. How noisy, per region (region_noise.h; impulses included): each vertex keeps the change in proportion to its
+  // region's level. A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
   const RegionLevels region = read_region_noise(mesh, resolve_noise(mesh, r), r);
-  const Eigen::VectorXd& levels = region.level;
   const double normal_noise = region.running;
   stage("noise estimate");
   if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || region.keep.maxCoeff() < 1e-6) {  // as keep's formula
@@ -1329,8 +1327,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
     const Eigen::VectorXd whole = read_whole_parts(mesh, N, F, X, Xs, features, noise_var, sharp_here, low, r);
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, whole, o.creased_budget, noise_var,
-                                          o.depth_anisotropy, (levels / normal_noise).array().square().max(1.0).matrix(),
-                                          sharp_here);
+                                          o.depth_anisotropy,
+                                          (region.level / normal_noise).array().square().max(1.0).matrix(), sharp_here);
     cv = ring_average(N, sharp_here, kReadingRings);
     cad = (features.col(4).array() <= std::log(kOrganicLook)).cast<double>().matrix();
   }
