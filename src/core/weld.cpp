@@ -232,7 +232,7 @@ std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance
   const MatrixX3i F = faces(mesh);
   UnionFind parts(X.rows());  // connected by edges: parts touching at a point welded per fan stay apart
   for (Eigen::Index f = 0; f < F.rows(); ++f) parts.unite(F(f, 0), F(f, 1)), parts.unite(F(f, 0), F(f, 2));
-  const double tol = std::max(relative_tolerance, 0.0) * mean_edge_length(mesh);
+  const double unit = mean_edge_length(mesh), tol = std::max(relative_tolerance, 0.0) * unit;
   const TriangleTree tree(X, F);
   std::vector<SurfaceTie> ties;
   for (int v : rim) {
@@ -248,7 +248,13 @@ std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance
       if (d < best || (d == best && tie.vertex < 0))
         best = d, tie = SurfaceTie{v, {F(f, 0), F(f, 1), F(f, 2)}, bary};
     });
-    if (tie.vertex >= 0) ties.push_back(tie);
+    // A rim vertex on another part's vertex is the weld's: a point contact (tied there) or a group it left apart.
+    const bool on_vertex = tie.vertex >= 0 && [&] {
+      for (int k = 0; k < 3; ++k)
+        if ((X.row(tie.corners[k]) - X.row(v)).norm() <= kCoincidentTolerance * unit) return true;
+      return false;
+    }();
+    if (tie.vertex >= 0 && !on_vertex) ties.push_back(tie);
   }
   return ties;
 }

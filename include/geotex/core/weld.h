@@ -71,7 +71,8 @@ inline constexpr double kContactTolerance = 0.15;
 //! The rims of parts resting on another part's faces, as the teapot's handle ends on its body: each boundary vertex
 //! of \p mesh within \p relative_tolerance mean edge lengths of a face of another connected part (sharing no vertex
 //! with its own: a point contact welded per fan leaves the two parts apart), tied to its closest point on the nearest
-//! such face. A solve that keeps those points together keeps the parts in contact (T-junctions between parts, where
+//! such face; a rim vertex coinciding with a vertex of that face is left to the weld (a point contact, Weld::ties, or a
+//! group it leaves apart). A solve that keeps those points together keeps the parts in contact (T-junctions between parts, where
 //! only one of a rim's vertices, or none, is a vertex of the other part). \return the ties, by vertex.
 std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance = kContactTolerance);
 
