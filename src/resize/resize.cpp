@@ -150,8 +150,8 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "only count them (every method counts them)")
       .add("weld", &O::weld,
            "similarity, axis, axis-similarity: solve on the mesh with coincident vertices welded (unwelded patches as "
-           "one surface), point contacts and rims resting on another part's faces held together; false: the mesh as "
-           "stored, each patch and part solved apart")
+           "one surface), parts touching at a point held together; false: the mesh as stored, each patch and part "
+           "solved apart")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",

@@ -195,9 +195,8 @@ struct ResizeOptions {
   //! false: counted only (research).
   bool untangle = true;
   //! Similarity, Axis and AxisSimilarity (and Auto): solve on the mesh with its coincident vertices welded
-  //! (weld_coincident(): unwelded patches, as the teapot's, are one surface), the copies of a point contact and the
-  //! rims resting on another part's faces (rim_contacts(): the teapot's handle ends on its body) held together by
-  //! stiff springs in the similarity stage. false: the mesh as stored, each patch and part solved apart (its seams
+  //! (weld_coincident(): unwelded patches, as the teapot's, are one surface), the copies of a point contact (the
+  //! teapot's handle on its body) held together by stiff springs in the similarity stage. false: the mesh as stored, each patch and part solved apart (its seams
   //! and contacts may open; ResizeResult::welded_vertices 0). Thesis and Sliding never weld.
   bool weld = true;
   //! Axis and AxisSimilarity: the separable warp's grid and weights (options axis_cells, axis_smoothness, …).
