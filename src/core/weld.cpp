@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "geotex/core/geometry.h"
+#include "geotex/core/spatial.h"
 #include "union_find.h"
 
 namespace geotex {
@@ -220,6 +221,42 @@ Weld weld_coincident(const Mesh& mesh, double relative_tolerance) {
   // three vertices, the other way round), nothing is welded rather than the input's faces changed.
   if (built.dropped() > 0 || w.mesh.n_faces() != mesh.n_faces()) return Weld{{}, {}, {}, 0, w.refused + 1, {}};
   return w;
+}
+
+std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance) {
+  std::vector<int> rim;
+  for (auto v : mesh.vertices())
+    if (mesh.is_boundary(v)) rim.push_back(v.idx());
+  if (rim.empty() || mesh.n_faces() == 0) return {};
+  const MatrixX3d X = positions(mesh);
+  const MatrixX3i F = faces(mesh);
+  UnionFind parts(X.rows());  // connected by edges: parts touching at a point welded per fan stay apart
+  for (Eigen::Index f = 0; f < F.rows(); ++f) parts.unite(F(f, 0), F(f, 1)), parts.unite(F(f, 0), F(f, 2));
+  const double unit = mean_edge_length(mesh), tol = std::max(relative_tolerance, 0.0) * unit;
+  const TriangleTree tree(X, F);
+  std::vector<SurfaceTie> ties;
+  for (int v : rim) {
+    const Vec3 p = X.row(v).transpose();
+    const int own = parts.find(v);
+    double best = tol;
+    SurfaceTie tie;
+    tree.visit_within(p, tol, [&](int f) {
+      if (parts.find(F(f, 0)) == own) return;
+      Vec3 bary;
+      const double d = (closest_point_on_triangle(p, X.row(F(f, 0)).transpose(), X.row(F(f, 1)).transpose(),
+                                                  X.row(F(f, 2)).transpose(), &bary) - p).norm();
+      if (d < best || (d == best && tie.vertex < 0))
+        best = d, tie = SurfaceTie{v, {F(f, 0), F(f, 1), F(f, 2)}, bary};
+    });
+    // A rim vertex on another part's vertex is the weld's: a point contact (tied there) or a group it left apart.
+    const bool on_vertex = tie.vertex >= 0 && [&] {
+      for (int k = 0; k < 3; ++k)
+        if ((X.row(tie.corners[k]) - X.row(v)).norm() <= kCoincidentTolerance * unit) return true;
+      return false;
+    }();
+    if (tie.vertex >= 0 && !on_vertex) ties.push_back(tie);
+  }
+  return ties;
 }
 
 }  // namespace geotex

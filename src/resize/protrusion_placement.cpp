@@ -136,7 +136,46 @@ bool protrusion_shape(const MatrixX3d& X, const RigidProtrusion& p, double large
   return reach >= kReach * radius;
 }
 
+// The band around \p p that place_protrusions() blends: the vertices not yet reached (\p slot −1) reached from p's
+// vertices through vertices within \p blend foot radii of its foot ring's centre, marked 0 in \p slot and appended
+// to \p band.
+void grow_band(const Mesh& mesh, const MatrixX3d& X, const RigidProtrusion& p, double blend, std::vector<int>& slot,
+               std::vector<int>& band) {
+  const auto [c, mean_radius] = ring_circle(X, p.foot);
+  const double radius = blend * mean_radius;
+  std::vector<int> wave = p.vertices;
+  while (!wave.empty()) {
+    std::vector<int> next;
+    for (int v : wave)
+      for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
+        if (slot[u.idx()] == -1 && (X.row(u.idx()).transpose() - c).norm() < radius)
+          slot[u.idx()] = 0, band.push_back(u.idx()), next.push_back(u.idx());
+    wave.swap(next);
+  }
+}
+
 }  // namespace
+
+std::vector<RigidProtrusion> untied_protrusions(const Mesh& mesh, const MatrixX3d& X,
+                                                std::vector<RigidProtrusion> protrusions,
+                                                const std::vector<SurfaceTie>& ties, double blend) {
+  if (ties.empty()) return protrusions;
+  std::vector<int> slot(X.rows(), -1), band;
+  std::erase_if(protrusions, [&](const RigidProtrusion& p) {
+    std::fill(slot.begin(), slot.end(), -1);
+    for (int v : p.vertices) slot[v] = -2;
+    band.clear();
+    grow_band(mesh, X, p, blend, slot, band);
+    for (const SurfaceTie& t : ties) {
+      int moved = slot[t.vertex] != -1, held = 1;
+      for (int k = 0; k < 3; ++k)
+        if (t.weights[k] != 0) moved += slot[t.corners[k]] != -1, ++held;
+      if (moved > 0 && moved < held) return true;  // the placement would move the tie's vertex off its point
+    }
+    return false;
+  });
+  return protrusions;
+}
 
 int relax_turned_faces(const Mesh& mesh, const MatrixX3d& C, const std::vector<RigidProtrusion>& protrusions,
                        MatrixX3d& Y, int rounds) {
@@ -295,22 +334,8 @@ MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
       slot[v] = -2;
     }
   }
-  // The band: the vertices reached from a protrusion through vertices within \p blend foot radii of its
-  // foot ring's centre.
   std::vector<int> band;
-  for (const RigidProtrusion& p : protrusions) {
-    const auto [c, mean_radius] = ring_circle(X, p.foot);
-    const double radius = blend * mean_radius;
-    std::vector<int> wave = p.vertices;
-    while (!wave.empty()) {
-      std::vector<int> next;
-      for (int v : wave)
-        for (auto u : mesh.vv_range(mesh.vertex_handle(v)))
-          if (slot[u.idx()] == -1 && (X.row(u.idx()).transpose() - c).norm() < radius)
-            slot[u.idx()] = 0, band.push_back(u.idx()), next.push_back(u.idx());
-      wave.swap(next);
-    }
-  }
+  for (const RigidProtrusion& p : protrusions) grow_band(mesh, X, p, blend, slot, band);
   for (int i = 0; i < n; ++i) slot[i] = slot[i] == 0 ? 1 : 0;  // the unknowns: the band
   biharmonic_fill(mesh, slot, D);
   for (int v : band) Z.row(v) += D.row(v);

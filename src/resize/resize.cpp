@@ -148,6 +148,10 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "axis-similarity: where the result crosses itself beyond the input's own, move the colliding parts apart, "
            "then blend what still crosses back towards the axis warp over a smooth bump until nothing does; false: "
            "only count them (every method counts them)")
+      .add("weld", &O::weld,
+           "similarity, axis, axis-similarity: solve on the mesh with coincident vertices welded (unwelded patches as "
+           "one surface), parts touching at a point held together; false: the mesh as stored, each patch and part "
+           "solved apart")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1005,19 +1009,29 @@ struct SimilarityBase {
   double follow_falloff = 0;
   const MatrixX3d* plain_normals = nullptr;
   bool hold_cores_in_box = false;  // a box scale: anchor_cores_in_box() after the rounds (the split solver)
-  const std::vector<std::array<int, 2>>* ties = nullptr;  // coincident vertices kept together (Weld::ties)
+  const std::vector<SurfaceTie>* ties = nullptr;  // vertices kept at points of the surface (solve_ties())
   int pin_rings = 0;  // the box's lone pins pull this many vertex rings softly along (soft_pins(), the split solver)
 };
 
-// Stiff zero-length springs between the coincident vertices of \p ties (Weld::ties: a point contact welded per fan,
-// the teapot's handle on its body) as an #V by #V Laplacian: added to the edge weights (≤ 1 + β, 10 relaxed) with no
-// right-hand side (x_a = x_b and c_a = c_b), they hold the copies together, so the parts are not solved apart.
-SparseMatrix tie_springs(const std::vector<std::array<int, 2>>* ties, int n) {
-  constexpr double kTie = 1e6;  // the copies end within ~1e-6 of their forces' scale apart
+// Stiff springs holding each tie's vertex at its point, x_v − Σ_k w_k x_{c_k} = its offset in the input X (0 for the
+// copies of a point contact, the teapot's handle on its body; a rim's offset from the face it rests on, the chord
+// error of that face: kept as it is, not stretched), as an #V by #V matrix Σ kTie a aᵀ with a = e_v − Σ_k w_k e_{c_k}
+// (a Laplacian: Σ_k w_k = 1). Added to the edge weights (≤ 1 + β, 10 relaxed), with the right-hand side (that
+// matrix) · X, so the parts touching are not solved apart. (The offset as the map puts it, · C: the teapot's handle
+// end ×2 y 0.137 mean edge lengths off its body against 0.081, the same detail ratios; bench/resize.md.)
+SparseMatrix tie_springs(const std::vector<SurfaceTie>* ties, int n) {
+  constexpr double kTie = 1e6;  // a tie ends within ~1e-6 of its forces' scale off its point
   SparseMatrix G(n, n);
   if (!ties) return G;
   std::vector<Triplet> g;
-  for (const auto& [a, b] : *ties) g.insert(g.end(), {{a, a, kTie}, {b, b, kTie}, {a, b, -kTie}, {b, a, -kTie}});
+  for (const SurfaceTie& t : *ties) {
+    std::array<std::pair<int, double>, 4> a{{{t.vertex, 1.0}}};
+    int k = 1;
+    for (int c = 0; c < 3; ++c)
+      if (t.weights[c] != 0) a[k++] = {t.corners[c], -t.weights[c]};
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) g.emplace_back(a[i].first, a[j].first, kTie * a[i].second * a[j].second);
+  }
   G.setFromTriplets(g.begin(), g.end());
   return G;
 }
@@ -1190,6 +1204,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
   std::vector<char> relaxed(n, 0);
   constexpr double kRelaxed = 10.0;  // edge weight of relaxed vertices towards the map: above any similarity's
   const SparseMatrix ties = tie_springs(base.ties, n);
+  const MatrixX3d tie_rest = ties * X;
   MatrixX3d Nrm = Nc, Q = C;
   SpdSolver solver;
   auto assemble = [&] {
@@ -1213,6 +1228,7 @@ MatrixX3d similarity_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, similarity_pull(boundary, f, eps, o.frame_weight),
                                  extremes, target, beta, base.follow_falloff, kRelaxed, o.frame_weight);
     for (int i = 0; i < n; ++i) R.row(i) += w * (1 - f[i]) * Nrm.row(i).dot(Q.row(i)) * Nrm.row(i);
+    R += tie_rest;
     return unstack(solver.solve(stack(R)).col(0));
   };
   // The frame's vertices land where the map puts them: their targets are moved by what they miss
@@ -1434,6 +1450,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   Eigen::VectorXd anchor = Eigen::VectorXd::Zero(n);  // wholly important regions held at their similarity
   MatrixX3d place = C;
   const SparseMatrix ties = tie_springs(base.ties, n);
+  const MatrixX3d tie_rest = ties * X;
   auto factor = [&] {
     pull = similarity_pull(boundary, f, eps, o.frame_weight);
     hold = w * (1 - f.array()).matrix();
@@ -1445,7 +1462,7 @@ MatrixX3d similarity_resize_split(const Mesh& mesh, const MatrixX3d& X, const Ma
   auto step = [&] {
     MatrixX3d R = similarity_rhs(edges, X, C, T, f, relaxed, pull, pins, target, beta, base.follow_falloff, kRelaxed,
                                  o.frame_weight);
-    R += hold.asDiagonal() * P + anchor.asDiagonal() * place + soft.weight.cwiseProduct(spread);
+    R += hold.asDiagonal() * P + anchor.asDiagonal() * place + soft.weight.cwiseProduct(spread) + tie_rest;
     const MatrixX3d Y = system.solve(R);
     for (int i = 0; i < n; ++i) P.row(i) = Y.row(i) - (Y.row(i) - Q.row(i)).dot(Nrm.row(i)) * Nrm.row(i);
     for (const auto& [v, a] : pins) target(v, a) += C(v, a) - Y(v, a);
@@ -1503,9 +1520,12 @@ constexpr double kStretchableRest = 0.5;
 // importance \p f: the rest stretched a little more per axis so that the box holds them at their size, each put
 // back as one piece where its foot went, faces the seams turned relaxed the map's way round, and the box fitted.
 // \p out itself where that room cannot be made: the rest is mostly important (kStretchableRest) or the per-axis
-// factors do not settle.
+// factors do not settle. A protrusion a tie joins to the rest (\p ties) stays where the method put it
+// (untied_protrusions()).
 MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& C, const Eigen::VectorXd& f,
-                               const MatrixX3d& out, const std::vector<RigidProtrusion>& protrusions) {
+                               const MatrixX3d& out, std::vector<RigidProtrusion> protrusions,
+                               const std::vector<SurfaceTie>* ties) {
+  if (ties) protrusions = untied_protrusions(mesh, X, std::move(protrusions), *ties);
   if (protrusions.empty() || important_share_of_rest(mesh, X, f, protrusions) > kStretchableRest) return out;
   const Vec3 lo = C.colwise().minCoeff(), hi = C.colwise().maxCoeff();
   const std::optional<MatrixX3d> room = fit_box_around_protrusions(mesh, X, out, lo, hi, protrusions);
@@ -1550,19 +1570,31 @@ namespace {
 
 // The methods that solve for positions over the surface as one piece: they run on the mesh with its coincident
 // vertices welded (weld.h), so that unwelded patches (the teapot's) are not solved apart and opened at their seams.
-// Thesis (the preset: unchanged) and Sliding run on the input as it is.
-bool welds_for_solve(ResizeMethod m) {
-  return m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity;
+// Thesis (the preset: unchanged) and Sliding run on the input as it is, and so does every method without
+// ResizeOptions::weld.
+bool welds_for_solve(const ResizeOptions& o, ResizeMethod m) {
+  return o.weld && (m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity);
+}
+
+// The ties the similarity stage holds on the mesh solved: the copies of each point contact (w.ties). (Tying the rims
+// resting on another part's faces too, rim_contacts(), shut the teapot's handle notch but made the stanford-bunny ×2
+// x / y / z 0.253 / 0.353 / 0.197 → 0.454 / 0.622 / 0.402 and the beetle ×2 z 0.719 → 0.743 with a face turned:
+// not kept; bench/resize.md, issue 25, fifteenth session.)
+std::vector<SurfaceTie> solve_ties(const Weld& w, const Mesh&) {
+  std::vector<SurfaceTie> ties;
+  for (const auto& [a, b] : w.ties) ties.push_back({b, {a, a, a}, Vec3(1, 0, 0)});
+  return ties;
 }
 
 // The box's lone pins of axis-similarity's similarity stage pull this many vertex rings around them softly along
 // (soft_pins(); 2 rings: teapot ×2 z 0.252, 3: 0.241 and its prow 42° -> 15°; bench/resize.md, fifteenth session).
 constexpr int kPinRings = 3;
 
-// resize_as_stored() on a mesh whose bounding box is centred at the origin.
+// resize_as_stored() on a mesh whose bounding box is centred at the origin: \p mesh as it is (no weld), with the
+// vertices of \p ties held at their points by the similarity stage and left there by the rigid protrusions' placement.
 MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
                            const ResizeOptions& options, UntangleReport* untangled,
-                           const std::vector<std::array<int, 2>>* ties = nullptr) {
+                           const std::vector<SurfaceTie>* ties = nullptr) {
   require_valid(mesh, "resize input");
   check_options(options);
   const int n = static_cast<int>(mesh.n_vertices());
@@ -1601,7 +1633,7 @@ MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
                     : o.solver == SimilaritySolver::Split ? similarity_resize_split(mesh, X, W, features, o, base)
                                                           : similarity_resize(mesh, X, W, features, o, base);
     // (Giving the protrusions' slabs full importance in the warp changed nothing measurable: bench/resize.md.)
-    out = put_back_protrusions(mesh, X, C, features, out, protrusions);
+    out = put_back_protrusions(mesh, X, C, features, out, protrusions, ties);
     out = count_and_untangle(mesh, X, out, W, &C, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled);
     report(o.progress, 1.0, "done");
     return out;
@@ -1618,7 +1650,7 @@ MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
       // room already made and the pieces in place dented the stick's body: its important caps resisted the
       // larger stretch; bench/resize.md, eleventh session.)
       set_protrusion_scales(X, C, protrusions, o.keep_feature_size);
-      MatrixX3d out = put_back_protrusions(mesh, X, C, features, similarity(C), protrusions);
+      MatrixX3d out = put_back_protrusions(mesh, X, C, features, similarity(C), protrusions, ties);
       out = count_and_untangle(mesh, X, out, C, nullptr, false, o, untangled);  // counted (see untangle)
       report(o.progress, 1.0, "done");
       return out;
@@ -1632,13 +1664,13 @@ MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
   return out;
 }
 
-// feature_aware_resize() without the weld: \p mesh as it is, with the coincident vertices \p ties kept together by
-// the similarity stage (Weld::ties). Solved about the box's centre: the similarity solve's small pull (ε) towards
-// the map leaves its error in proportion to the positions, 6e-3 edge lengths at 10^4 diagonals off the origin
-// (bench/invariance.py).
+// feature_aware_resize() without the weld: \p mesh as it is, with the vertices of \p ties held at their points by
+// the similarity stage (solve_ties()) and left there by the rigid protrusions' placement. Solved about the box's
+// centre: the similarity solve's small pull (ε) towards the map leaves its error in proportion to the positions,
+// 6e-3 edge lengths at 10^4 diagonals off the origin (bench/invariance.py).
 MatrixX3d resize_as_stored(const Mesh& mesh, const MatrixX3d& C, const Eigen::VectorXd& features,
                            const ResizeOptions& options, UntangleReport* untangled,
-                           const std::vector<std::array<int, 2>>* ties = nullptr) {
+                           const std::vector<SurfaceTie>* ties = nullptr) {
   const Vec3 c = bounding_box(mesh).center();
   Mesh centred = mesh;
   set_positions(centred, positions(mesh).rowwise() - c.transpose());
@@ -1652,12 +1684,13 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
                                const ResizeOptions& options, UntangleReport* untangled) {
   require_valid(mesh, "resize input");
   if (C.rows() != static_cast<Eigen::Index>(mesh.n_vertices()) || features.size() != C.rows() ||
-      !welds_for_solve(resolved_resize_method(options, positions(mesh), C)))
+      !welds_for_solve(options, resolved_resize_method(options, positions(mesh), C)))
     return resize_as_stored(mesh, C, features, options, untangled);  // (which refuses the sizes)
   const Weld w = weld_coincident(mesh);
-  if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled);
+  const std::vector<SurfaceTie> ties = solve_ties(w, w.identity() ? mesh : w.mesh);
+  if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled, &ties);
   // A weight painted on one side of a seam holds the welded vertex (the largest of the copies').
-  return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled, &w.ties));
+  return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled, &ties));
 }
 
 MatrixX3d feature_aware_resize(const Mesh& mesh, const SpaceMap& map, const Eigen::VectorXd& features,
@@ -1715,7 +1748,8 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
   ro.progress = part(split, 1.0);
   r.method = resolved_resize_method(ro, positions(mesh), r.mapped);
   // The map and the solve on the welded mesh (welds_for_solve()); the result fields per input vertex.
-  const Weld w = welds_for_solve(r.method) ? weld_coincident(mesh) : Weld{};
+  const bool weld = welds_for_solve(ro, r.method);
+  const Weld w = weld ? weld_coincident(mesh) : Weld{};
   const Mesh& m = w.identity() ? mesh : w.mesh;
   Eigen::VectorXd f;
   if (features) {
@@ -1731,10 +1765,11 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
     r.detector = map.method;
     r.summary = std::move(map.summary);
   }
+  const std::vector<SurfaceTie> ties = weld ? solve_ties(w, m) : std::vector<SurfaceTie>{};
   if (w.identity()) {
-    r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle);
+    r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle, &ties);
   } else {
-    r.V = w.to_input(resize_as_stored(m, w.to_welded(r.mapped), f, ro, &r.untangle, &w.ties));
+    r.V = w.to_input(resize_as_stored(m, w.to_welded(r.mapped), f, ro, &r.untangle, &ties));
   }
   r.welded_vertices = w.merged;
   r.weld_refused_groups = w.refused;

@@ -1768,5 +1768,89 @@ TEST(ResizeInvariance, UnitsPlacementAndUpAxisLeaveTheDefaultResult) {
     ot.map.scale = c.R.cwiseAbs() * o.map.scale;  // the asked axes carried along
     const MatrixX3d Y = ((resize_mesh(moved, ot).V.rowwise() - c.t.transpose()) / c.s) * c.R;
     EXPECT_LT((Y - Y0).cwiseAbs().maxCoeff(), 1e-6 * mel) << c.name;
+}
+
+// Issue 25, fifteenth session: with the weld off (ResizeOptions::weld false) an unwelded seam is solved as two patches
+// and opens, as it did before the weld; on, it stays shut. Auto (axis-similarity) and similarity, ×2 x, through the
+// library and the command line (--no-weld: the report's welded_vertices 0).
+TEST(ResizeWeld, WithTheWeldOffAnUnweldedSeamOpens) {
+  const Mesh shape = spiky(icosphere(3)).textured;
+  std::vector<int> origin;
+  const Mesh split = split_in_two_patches(make_mesh(positions(shape), faces(shape)), origin);
+  const double unit = mean_edge_length(split);
+  for (ResizeMethod method : {ResizeMethod::Auto, ResizeMethod::Similarity}) {
+    ResizeRunOptions o;
+    o.map.scale = Vec3(2, 1, 1);
+    o.resize.method = method;
+    const ResizeResult on = resize_mesh(split, o);
+    o.resize.weld = false;
+    const ResizeResult off = resize_mesh(split, o);
+    const std::string name(enum_name(resize_method_names(), method));
+    std::printf("  split sphere x2 x, %s: seam gap %.2e (weld on) / %.3f (off) mean edge lengths\n", name.c_str(),
+                largest_gap(on.V, on.V, origin) / unit, largest_gap(off.V, off.V, origin) / unit);
+    EXPECT_EQ(largest_gap(on.V, on.V, origin), 0.0) << name;
+    EXPECT_GT(largest_gap(off.V, off.V, origin), 1e-2 * unit) << name;
+    EXPECT_GT(on.welded_vertices, 0) << name;
+    EXPECT_EQ(off.welded_vertices, 0) << name;
+    const MatrixX3d direct = feature_aware_resize(split, off.mapped, off.features, o.resize);  // the library's entry
+    EXPECT_LE((direct - off.V).cwiseAbs().maxCoeff(), 1e-12 * unit) << name;
+  }
+  TempDir tmp;
+  write_mesh(split, tmp / "split.ply");
+  const auto r = geotex::test::run_cli("resize " + tmp / "split.ply" + " -o " + tmp / "r.ply" +
+                                       " --scale 2,1,1 --no-weld --report " + tmp / "r.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(geotex::test::read_file(tmp / "r.json"));
+  EXPECT_EQ(j["welded_vertices"].get<int>(), 0);
+  const MatrixX3d V = positions(read_mesh(tmp / "r.ply"));
+  EXPECT_GT(largest_gap(V, V, origin), 1e-2 * unit);
+}
+
+// Issue 25, fifteenth session: a rigid protrusion tied to another part stays where the similarity stage put it. A
+// small ball touches the tip of one of the tentacle stick's tentacles at a point (welded per fan: tied); placed as one
+// piece, that tentacle would pull its tip off the ball. The tie holds ×2 along each axis by the default method (its
+// untangle off: it moves parts that cross apart, tied or not), and the other tentacles are still placed rigidly (their
+// length and lean kept as in RigidProtrusionsKeepEveryTentaclesLengthAndLeanOnEveryAxis).
+TEST(ResizeWeld, ARigidProtrusionTiedToAnotherPartIsLeftWhereTheSolvePutIt) {
+  std::vector<Tentacle> info;
+  const TexturedShape s = tentacle_stick(0, &info);
+  const MatrixX3d X0 = positions(s.textured);
+  const MatrixX3i F0 = faces(s.textured);
+  const int tip = info[0].foot;  // the footprint's centre is the tentacle's tip
+  const Vec3 out = Vec3(vertex_normals(s.textured).row(tip).transpose()).normalized();
+  const Mesh ball = icosphere(1, 0.15);
+  const MatrixX3d B = positions(ball);
+  Eigen::Index touch = 0;
+  (B * out).minCoeff(&touch);  // the ball's vertex facing the tip
+  const Eigen::Index n0 = X0.rows(), nb = B.rows();
+  MatrixX3d X(n0 + nb, 3);
+  X.topRows(n0) = X0;
+  X.bottomRows(nb) = B.rowwise() + (X0.row(tip) - B.row(touch));
+  MatrixX3i F(F0.rows() + ball.n_faces(), 3);
+  F.topRows(F0.rows()) = F0;
+  F.bottomRows(ball.n_faces()) = faces(ball).array() + static_cast<int>(n0);
+  const Mesh m = make_mesh(X, F);
+  const Weld w = weld_coincident(m);
+  ASSERT_EQ(w.ties.size(), 1u);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(X.rows());
+  f.head(n0) = feature_map(s.textured).weights;
+  const double unit = mean_edge_length(m);
+  const std::vector<Tentacle> others(info.begin() + 1, info.end());
+  for (int a = 0; a < 3; ++a) {
+    Vec3 scale = Vec3::Ones();
+    scale[a] = 2;
+    const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
+    ResizeOptions o;
+    o.untangle = false;  // (the repair moves parts that cross apart, ties or not: open)
+    const MatrixX3d Y = feature_aware_resize(m, C, f, o);
+    const double gap = (Y.row(tip) - Y.row(n0 + touch)).norm();
+    const MatrixX3d Ys = Y.topRows(n0);
+    const auto r = worst_tentacle_change(s, others, X0, Ys);
+    std::printf("  stick level 0 with a ball on a tip x2 %c: gap %.2e mean edge lengths; the other tentacles' worst "
+                "length / lean change %.2f%% / %.2f deg\n", "xyz"[a], gap / unit, 100 * r[0], r[1]);
+    EXPECT_LE(gap, 1e-3 * unit);
+    EXPECT_LT(r[0], 0.03);
+    EXPECT_LT(r[1], 3.0);
+    EXPECT_EQ(turned_over(m, Y, C), 0);
   }
 }

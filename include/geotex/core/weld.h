@@ -53,4 +53,27 @@ struct Weld {
 //! Identity (merged 0, no ties, no mesh) when nothing is welded or tied.
 Weld weld_coincident(const Mesh& mesh, double relative_tolerance = kCoincidentTolerance);
 
+//! A vertex held at a point of a triangle: Σ_k weights[k] · corners[k] (barycentric weights, summing to 1). A point
+//! contact (Weld::ties) is one with a single corner of weight 1.
+struct SurfaceTie {
+  int vertex = -1;
+  std::array<int, 3> corners{};
+  Vec3 weights = Vec3(1, 0, 0);
+};
+
+//! Rim vertices within this many mean edge lengths of another part's faces touch them (rim_contacts()). The teapot's
+//! handle's lower end rests on its body's faces (the body's facets chord the curved surface the rim was cut from)
+//! 0.002 to 0.094 mean edge lengths off. Tied too, the handle's upper end (0.32 to 0.43 into the body; at 0.5) cost
+//! the teapot's ×2 x / y / z detail ratios 0.015 / 0.011 / 0.066, and the beetle's second part's rim (0.19 to 0.23
+//! off the body; at 0.25) its ×2 z 0.016 (bench/resize.md, issue 25, fifteenth session).
+inline constexpr double kContactTolerance = 0.15;
+
+//! The rims of parts resting on another part's faces, as the teapot's handle ends on its body: each boundary vertex
+//! of \p mesh within \p relative_tolerance mean edge lengths of a face of another connected part (sharing no vertex
+//! with its own: a point contact welded per fan leaves the two parts apart), tied to its closest point on the nearest
+//! such face; a rim vertex coinciding with a vertex of that face is left to the weld (a point contact, Weld::ties, or a
+//! group it leaves apart). A solve that keeps those points together keeps the parts in contact (T-junctions between parts, where
+//! only one of a rim's vertices, or none, is a vertex of the other part). \return the ties, by vertex.
+std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance = kContactTolerance);
+
 }  // namespace geotex

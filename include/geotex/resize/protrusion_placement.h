@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "geotex/core/mesh.h"
+#include "geotex/core/weld.h"
 
 namespace geotex {
 
@@ -49,6 +50,14 @@ void set_protrusion_scales(const MatrixX3d& X, const MatrixX3d& C, std::vector<R
 //! \return #V by 3 positions.
 MatrixX3d place_protrusions(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y,
                             const std::vector<RigidProtrusion>& protrusions, double blend = 1.5);
+
+//! \p protrusions without those a tie (weld.h: a point contact welded per fan, a rim resting on another part's faces)
+//! joins to the rest: some but not all of the tie's vertex and corners (of nonzero weight) among the vertices
+//! place_protrusions() moves for it (its own, and its band for \p blend). Placed as one piece, such a protrusion would
+//! pull its tied vertices off their points; left out, it stays where the method put it, with the tie held.
+std::vector<RigidProtrusion> untied_protrusions(const Mesh& mesh, const MatrixX3d& X,
+                                                std::vector<RigidProtrusion> protrusions,
+                                                const std::vector<SurfaceTie>& ties, double blend = 1.5);
 
 //! Faces of \p Y turned over against the map \p C (#V by 3 both): their vertices and 2, 4, … rings around
 //! them (not the protrusions') take the displacement Y − C harmonically interpolated from around them, for up

@@ -194,6 +194,11 @@ struct ResizeOptions {
   //! towards the plain stretch, the teapot ×2 x went from detail ratio 0.36 to 0.95 and the cow ×2 y from 0.19 to 0.83.
   //! false: counted only (research).
   bool untangle = true;
+  //! Similarity, Axis and AxisSimilarity (and Auto): solve on the mesh with its coincident vertices welded
+  //! (weld_coincident(): unwelded patches, as the teapot's, are one surface), the copies of a point contact (the
+  //! teapot's handle on its body) held together by stiff springs in the similarity stage. false: the mesh as stored, each patch and part solved apart (its seams
+  //! and contacts may open; ResizeResult::welded_vertices 0). Thesis and Sliding never weld.
+  bool weld = true;
   //! Axis and AxisSimilarity: the separable warp's grid and weights (options axis_cells, axis_smoothness, …).
   AxisWarpOptions axis;
   ProgressFn progress;

@@ -302,3 +302,18 @@ def test_unwelded_patches_keep_their_seams_closed(data_dir):
         assert (gaps > 0).sum() <= r.weld_refused_groups < len(groups) / 100, (scale, gaps.max())
         assert r.excess_self_intersecting == 0
         assert np.allclose(np.ptp(r.V, axis=0), np.ptp(r.mapped, axis=0), rtol=1e-12, atol=0)
+
+
+def test_weld_off_solves_the_patches_apart(data_dir):
+    # Issue 25, fifteenth session: weld=False (--no-weld) solves the teapot as stored: nothing welded, and the seams
+    # the weld keeps shut open; the default keeps them shut.
+    V, F = geotex.read_mesh(str(data_dir / "teapot.obj"))
+    groups = _coincident_groups(V)
+    on = geotex.resize(V, F, scale=(2, 1, 1))
+    off = geotex.resize(V, F, scale=(2, 1, 1), weld=False)
+    assert off.welded_vertices == 0 and off.weld_refused_groups == 0 and on.welded_vertices > 300
+    gap = lambda r: max(np.abs(r.V[g] - r.V[g[0]]).max() for g in groups)
+    edge = np.linalg.norm(V[F[:, 0]] - V[F[:, 1]], axis=1).mean()
+    opened = sum(np.abs(off.V[g] - off.V[g[0]]).max() > 1e-3 * edge for g in groups)
+    shut = sum(np.abs(on.V[g] - on.V[g[0]]).max() > 1e-3 * edge for g in groups)
+    assert opened > 10 * max(shut, 1), (opened, shut, gap(off) / edge)
