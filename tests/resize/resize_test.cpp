@@ -1768,6 +1768,7 @@ TEST(ResizeInvariance, UnitsPlacementAndUpAxisLeaveTheDefaultResult) {
     ot.map.scale = c.R.cwiseAbs() * o.map.scale;  // the asked axes carried along
     const MatrixX3d Y = ((resize_mesh(moved, ot).V.rowwise() - c.t.transpose()) / c.s) * c.R;
     EXPECT_LT((Y - Y0).cwiseAbs().maxCoeff(), 1e-6 * mel) << c.name;
+  }
 }
 
 // Issue 25, fifteenth session: with the weld off (ResizeOptions::weld false) an unwelded seam is solved as two patches
