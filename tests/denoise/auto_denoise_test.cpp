@@ -35,6 +35,18 @@ Mesh with_noise(const Mesh& clean, double sigma, bool along_normal = false, uint
   return m;
 }
 
+// \p clean with a range scanner's depth noise along \p axis (NoiseDirection::Depth).
+Mesh with_depth_noise(const Mesh& clean, double sigma, const Vec3& axis, uint64_t seed) {
+  NoiseOptions o;
+  o.sigma = sigma;
+  o.direction = NoiseDirection::Depth;
+  o.axis = axis;
+  o.seed = seed;
+  Mesh m = clean;
+  set_positions(m, add_noise(clean, o));
+  return m;
+}
+
 // Faces whose normal points away from the truth's (turned over), where the truth's face lies flat among its
 // neighbours (real models have a few crumpled faces of their own).
 int turned_over(const Mesh& result, const Mesh& truth) {
@@ -665,13 +677,7 @@ TEST(AutoDenoise, ALowNoiseCoarseModelIsLeftAlmostAsItIs) {
 // release's result.
 TEST(AutoDenoise, DepthNoiseOnACurvedCadPartIsNotRefusedTheCreasedReading) {
   const Mesh clean = make_shape("cylinder", 2).base;
-  NoiseOptions n;
-  n.sigma = 0.2;
-  n.direction = NoiseDirection::Depth;
-  n.axis = Vec3(0.3, 0.4, 0.866);
-  n.seed = 7;
-  Mesh noisy = clean;
-  set_positions(noisy, add_noise(clean, n));
+  const Mesh noisy = with_depth_noise(clean, 0.2, Vec3(0.3, 0.4, 0.866), 7);
   const MatrixX3i F = faces(clean);
   const MatrixX3d V = positions(clean);
   const auto error = [&](const MatrixX3d& X) { return part_error(F, V, X, 0, F.rows()); };
@@ -928,13 +934,7 @@ TEST(RegionNoise, AMeshHalfNoisyHalfCleanReadsTwoLevels) {
 // facing the scanner, are noisy; their regions read so, and are denoised at their level.
 TEST(RegionNoise, DepthNoiseAlongACylindersAxisIsNotReadNoiseFree) {
   const Mesh clean = make_shape("cylinder", 2).base;
-  NoiseOptions n;
-  n.sigma = 0.3;
-  n.direction = NoiseDirection::Depth;
-  n.axis = Vec3(0, 0, 1);
-  n.seed = 11;
-  Mesh noisy = clean;
-  set_positions(noisy, add_noise(clean, n));
+  const Mesh noisy = with_depth_noise(clean, 0.3, Vec3(0, 0, 1), 11);
   const MatrixX3i F = faces(clean);
   const MatrixX3d V = positions(clean), X = positions(noisy);
   const AutoDenoiseResult r = auto_denoise(noisy);

@@ -12,6 +12,13 @@ import pytest
 import geotex
 
 
+def cli_denoise_report(cli, tmp_path, *flags):
+    """`geotex denoise` on tmp_path / "n.ply" with the given flags; its --report, parsed."""
+    subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *flags,
+                    "--report", str(tmp_path / "r.json")], check=True)
+    return json.loads((tmp_path / "r.json").read_text())
+
+
 @pytest.fixture(scope="module")
 def noisy_cube():
     V, F = geotex.generate("cube", level=1)
@@ -75,21 +82,19 @@ def test_default_denoiser_reads_each_part_of_a_mixed_mesh_on_its_own(tmp_path):
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
-        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), "--report",
-                        str(tmp_path / "r.json")], check=True)
-        report = json.loads((tmp_path / "r.json").read_text())
+        report = cli_denoise_report(cli, tmp_path)
         assert np.allclose(report["creased"], c) and abs(report["creased_share"] - r["creased_share"]) < 1e-12
 
 
 def test_every_way_of_reading_is_a_keyword_and_a_flag(tmp_path):
     # Striped noise on a cube (issue 24): the hand-made rule misreads part of it as smooth, the learned model
     # (and the default combination) read it creased; Python and the CLI name the same choice. The stripe step
-    # (stripe_coherence) now reads such a part creased before any of them: it is off here (1), so that the
-    # three readings themselves are compared.
+    # (stripe_coherence, and stripe_share for bands whose direction differs face to face) now reads such a part
+    # creased before any of them: both are off here (1), so that the three readings themselves are compared.
     V, F = geotex.generate("cube", level=3)
     Vn = geotex.add_noise(V, F, sigma=0.3, pattern="striped", axis=(0.3, 0.4, 0.866), seed=7)
     err = lambda r: geotex.compare(r["V"], F, V, F)["mean_normal_error_deg"]
-    runs = {mode: geotex.denoise(Vn, F, reading=mode, stripe_coherence=1) for mode in ("combined", "rule", "learned")}
+    runs = {mode: geotex.denoise(Vn, F, reading=mode, stripe_coherence=1, stripe_share=1) for mode in ("combined", "rule", "learned")}
     assert runs["combined"]["parameters"]["reading"] == "combined"
     assert geotex.denoise(Vn, F)["parameters"]["reading"] == "combined"  # the default
     assert runs["learned"]["creased_share"] > 0.9
@@ -101,9 +106,8 @@ def test_every_way_of_reading_is_a_keyword_and_a_flag(tmp_path):
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
-        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), "--reading", "rule",
-                        "--stripe-coherence", "1", "--report", str(tmp_path / "r.json")], check=True)
-        report = json.loads((tmp_path / "r.json").read_text())
+        report = cli_denoise_report(cli, tmp_path, "--reading", "rule", "--stripe-coherence", "1",
+                                    "--stripe-share", "1")
         assert abs(report["creased_share"] - runs["rule"]["creased_share"]) < 1e-12
 
 
@@ -129,9 +133,7 @@ def test_relief_map_keeps_detail_and_smooths_a_plain_part_in_python_and_the_cli(
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
-        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), "--no-creased",
-                        "--report", str(tmp_path / "r.json")], check=True)
-        report = json.loads((tmp_path / "r.json").read_text())
+        report = cli_denoise_report(cli, tmp_path, "--no-creased")
         assert np.allclose(report["relief"], rel) and abs(report["relief_share"] - r["relief_share"]) < 1e-12
 
 
@@ -152,9 +154,7 @@ def test_coherent_change_is_given_back_in_python_and_the_cli(tmp_path):
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
-        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"),
-                        "--report", str(tmp_path / "r.json")], check=True)
-        report = json.loads((tmp_path / "r.json").read_text())
+        report = cli_denoise_report(cli, tmp_path)
         assert np.allclose(report["change_kept"], kept) and abs(report["change_kept_share"] - r["change_kept_share"]) < 1e-12
 
 
@@ -175,9 +175,7 @@ def test_strong_smoothing_takes_a_plain_noisy_sphere_in_python_and_the_cli(tmp_p
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
         for extra, share in (([], r["strong_share"]), (["--strong-floor", "0"], 0.0)):
-            subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *extra,
-                            "--report", str(tmp_path / "r.json")], check=True)
-            report = json.loads((tmp_path / "r.json").read_text())
+            report = cli_denoise_report(cli, tmp_path, *extra)
             assert abs(report["strong_share"] - share) < 1e-12
         assert report["strong_share"] == 0 and max(report["strong"]) == 0
 
@@ -201,20 +199,18 @@ def test_creased_reading_beyond_the_noise_is_refused_in_python_and_the_cli(tmp_p
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
         for extra, share in (([], r["refused_share"]), (["--creased-budget", "0"], 0.0)):
-            subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *extra,
-                            "--report", str(tmp_path / "r.json")], check=True)
-            report = json.loads((tmp_path / "r.json").read_text())
+            report = cli_denoise_report(cli, tmp_path, *extra)
             assert abs(report["refused_share"] - share) < 1e-12
         assert max(report["refused"]) == 0
 
 
 def test_striped_cad_part_is_read_creased_in_python_and_the_cli(tmp_path):
     # Step 5 (auto_denoise.h, stripe_coherence): a generated cube with a scanner's striped noise reads creased
-    # throughout, as near the truth as the forced creased reading; stripe_coherence=1 is the previous release.
-    # --stripe-coherence reaches the CLI.
+    # throughout, as near the truth as the forced creased reading; stripe_coherence=1 with stripe_share=1 (the
+    # banded-part rule, stripes.h, off) is the previous release. --stripe-coherence reaches the CLI.
     V, F = geotex.generate("cube", level=3)
     Vn = geotex.add_noise(V, F, sigma=0.3, pattern="striped", seed=7)
-    r, before = geotex.denoise(Vn, F), geotex.denoise(Vn, F, stripe_coherence=1)
+    r, before = geotex.denoise(Vn, F), geotex.denoise(Vn, F, stripe_coherence=1, stripe_share=1)
     assert any(line.startswith("stripes") and "read creased" in line for line in r["choices"])
     assert r["creased_share"] > before["creased_share"]
     err = lambda X: geotex.compare(X, F, V, F)["mean_normal_error_deg"]
@@ -223,10 +219,8 @@ def test_striped_cad_part_is_read_creased_in_python_and_the_cli(tmp_path):
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
-        for extra, share in (([], r["creased_share"]), (["--stripe-coherence", "1"], before["creased_share"])):
-            subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"), *extra,
-                            "--report", str(tmp_path / "r.json")], check=True)
-            report = json.loads((tmp_path / "r.json").read_text())
+        for extra, share in (([], r["creased_share"]), (["--stripe-coherence", "1", "--stripe-share", "1"], before["creased_share"])):
+            report = cli_denoise_report(cli, tmp_path, *extra)
             assert abs(report["creased_share"] - share) < 1e-9
 
 
@@ -386,7 +380,5 @@ def test_the_noise_per_region_is_in_python_and_the_cli(tmp_path):
     cli = os.environ.get("GEOTEX_CLI")
     if cli:
         geotex.write_mesh(tmp_path / "n.ply", Vn, F)
-        subprocess.run([cli, "-q", "denoise", str(tmp_path / "n.ply"), "-o", str(tmp_path / "o.ply"),
-                        "--report", str(tmp_path / "r.json")], check=True)
-        report = json.loads((tmp_path / "r.json").read_text())
+        report = cli_denoise_report(cli, tmp_path)
         assert np.allclose(report["noise_map"], m, atol=1e-9)
