@@ -1580,7 +1580,7 @@ bool welds_for_solve(const ResizeOptions& o, ResizeMethod m) {
 // resting on another part's faces too, rim_contacts(), shut the teapot's handle notch but made the stanford-bunny ×2
 // x / y / z 0.253 / 0.353 / 0.197 → 0.454 / 0.622 / 0.402 and the beetle ×2 z 0.719 → 0.743 with a face turned:
 // not kept; bench/resize.md, issue 25, fifteenth session.)
-std::vector<SurfaceTie> solve_ties(const Weld& w, const Mesh&) {
+std::vector<SurfaceTie> solve_ties(const Weld& w) {
   std::vector<SurfaceTie> ties;
   for (const auto& [a, b] : w.ties) ties.push_back({b, {a, a, a}, Vec3(1, 0, 0)});
   return ties;
@@ -1687,7 +1687,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       !welds_for_solve(options, resolved_resize_method(options, positions(mesh), C)))
     return resize_as_stored(mesh, C, features, options, untangled);  // (which refuses the sizes)
   const Weld w = weld_coincident(mesh);
-  const std::vector<SurfaceTie> ties = solve_ties(w, w.identity() ? mesh : w.mesh);
+  const std::vector<SurfaceTie> ties = solve_ties(w);
   if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled, &ties);
   // A weight painted on one side of a seam holds the welded vertex (the largest of the copies').
   return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled, &ties));
@@ -1765,7 +1765,7 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
     r.detector = map.method;
     r.summary = std::move(map.summary);
   }
-  const std::vector<SurfaceTie> ties = weld ? solve_ties(w, m) : std::vector<SurfaceTie>{};
+  const std::vector<SurfaceTie> ties = weld ? solve_ties(w) : std::vector<SurfaceTie>{};
   if (w.identity()) {
     r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle, &ties);
   } else {
