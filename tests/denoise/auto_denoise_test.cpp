@@ -35,6 +35,18 @@ Mesh with_noise(const Mesh& clean, double sigma, bool along_normal = false, uint
   return m;
 }
 
+// \p clean with a scanner's low-frequency noise correlated over \p wavelength mean edge lengths.
+Mesh with_low_frequency_noise(const Mesh& clean, double sigma, double wavelength, uint64_t seed) {
+  NoiseOptions o;
+  o.sigma = sigma;
+  o.pattern = NoisePattern::LowFrequency;
+  o.wavelength = wavelength;
+  o.seed = seed;
+  Mesh m = clean;
+  set_positions(m, add_noise(clean, o));
+  return m;
+}
+
 // \p clean with a range scanner's depth noise along \p axis (NoiseDirection::Depth).
 Mesh with_depth_noise(const Mesh& clean, double sigma, const Vec3& axis, uint64_t seed) {
   NoiseOptions o;
@@ -770,13 +782,7 @@ TEST(AutoDenoise, LowFrequencyNoiseIsWithinTwoPercentOfTheBetterForcedReading) {
   mild.creased = false;
   for (const char* name : {"fandisk.obj", "spot.obj"}) {
     const Mesh clean = read_mesh(test::data_dir() / name);
-    NoiseOptions n;
-    n.sigma = 0.5;
-    n.pattern = NoisePattern::LowFrequency;
-    n.wavelength = 4;
-    n.seed = 7;
-    Mesh noisy = clean;
-    set_positions(noisy, add_noise(clean, n));
+    const Mesh noisy = with_low_frequency_noise(clean, 0.5, 4, 7);
     const auto error = [&](const AutoDenoiseResult& r) {
       Mesh m = clean;
       set_positions(m, r.positions);
@@ -879,13 +885,7 @@ TEST(RegionGuard, AChangeBeyondTheNoiseIsGivenBackTowardsTheInput) {
 // reading, so the test can fail. White noise on the cube is not read so: the result is the one without the rule.
 TEST(AutoDenoise, LowFrequencyNoiseOnACadPartIsReadCreasedThroughout) {
   const Mesh clean = subdivided_cube(40);
-  NoiseOptions n;
-  n.sigma = 0.5;
-  n.pattern = NoisePattern::LowFrequency;
-  n.wavelength = 4;
-  n.seed = 7;
-  Mesh noisy = clean;
-  set_positions(noisy, add_noise(clean, n));
+  const Mesh noisy = with_low_frequency_noise(clean, 0.5, 4, 7);
   const auto error = [&](const MatrixX3d& X) {
     Mesh m = clean;
     set_positions(m, X);
