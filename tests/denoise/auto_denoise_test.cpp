@@ -35,25 +35,8 @@ Mesh with_noise(const Mesh& clean, double sigma, bool along_normal = false, uint
   return m;
 }
 
-// \p clean with a scanner's low-frequency noise correlated over \p wavelength mean edge lengths.
-Mesh with_low_frequency_noise(const Mesh& clean, double sigma, double wavelength, uint64_t seed) {
-  NoiseOptions o;
-  o.sigma = sigma;
-  o.pattern = NoisePattern::LowFrequency;
-  o.wavelength = wavelength;
-  o.seed = seed;
-  Mesh m = clean;
-  set_positions(m, add_noise(clean, o));
-  return m;
-}
-
-// \p clean with a range scanner's depth noise along \p axis (NoiseDirection::Depth).
-Mesh with_depth_noise(const Mesh& clean, double sigma, const Vec3& axis, uint64_t seed) {
-  NoiseOptions o;
-  o.sigma = sigma;
-  o.direction = NoiseDirection::Depth;
-  o.axis = axis;
-  o.seed = seed;
+// \p clean with the noise \p o (geotex noise's options: a scanner's pattern or direction).
+Mesh noisy_copy(const Mesh& clean, const NoiseOptions& o) {
   Mesh m = clean;
   set_positions(m, add_noise(clean, o));
   return m;
@@ -689,7 +672,8 @@ TEST(AutoDenoise, ALowNoiseCoarseModelIsLeftAlmostAsItIs) {
 // release's result.
 TEST(AutoDenoise, DepthNoiseOnACurvedCadPartIsNotRefusedTheCreasedReading) {
   const Mesh clean = make_shape("cylinder", 2).base;
-  const Mesh noisy = with_depth_noise(clean, 0.2, Vec3(0.3, 0.4, 0.866), 7);
+  const Mesh noisy = noisy_copy(
+      clean, {.sigma = 0.2, .direction = NoiseDirection::Depth, .axis = Vec3(0.3, 0.4, 0.866), .seed = 7});
   const MatrixX3i F = faces(clean);
   const MatrixX3d V = positions(clean);
   const auto error = [&](const MatrixX3d& X) { return part_error(F, V, X, 0, F.rows()); };
@@ -782,7 +766,8 @@ TEST(AutoDenoise, LowFrequencyNoiseIsWithinTwoPercentOfTheBetterForcedReading) {
   mild.creased = false;
   for (const char* name : {"fandisk.obj", "spot.obj"}) {
     const Mesh clean = read_mesh(test::data_dir() / name);
-    const Mesh noisy = with_low_frequency_noise(clean, 0.5, 4, 7);
+    const Mesh noisy = noisy_copy(
+        clean, {.sigma = 0.5, .pattern = NoisePattern::LowFrequency, .wavelength = 4, .seed = 7});
     const auto error = [&](const AutoDenoiseResult& r) {
       Mesh m = clean;
       set_positions(m, r.positions);
@@ -885,7 +870,8 @@ TEST(RegionGuard, AChangeBeyondTheNoiseIsGivenBackTowardsTheInput) {
 // reading, so the test can fail. White noise on the cube is not read so: the result is the one without the rule.
 TEST(AutoDenoise, LowFrequencyNoiseOnACadPartIsReadCreasedThroughout) {
   const Mesh clean = subdivided_cube(40);
-  const Mesh noisy = with_low_frequency_noise(clean, 0.5, 4, 7);
+  const Mesh noisy = noisy_copy(
+      clean, {.sigma = 0.5, .pattern = NoisePattern::LowFrequency, .wavelength = 4, .seed = 7});
   const auto error = [&](const MatrixX3d& X) {
     Mesh m = clean;
     set_positions(m, X);
@@ -934,7 +920,8 @@ TEST(RegionNoise, AMeshHalfNoisyHalfCleanReadsTwoLevels) {
 // facing the scanner, are noisy; their regions read so, and are denoised at their level.
 TEST(RegionNoise, DepthNoiseAlongACylindersAxisIsNotReadNoiseFree) {
   const Mesh clean = make_shape("cylinder", 2).base;
-  const Mesh noisy = with_depth_noise(clean, 0.3, Vec3(0, 0, 1), 11);
+  const Mesh noisy = noisy_copy(
+      clean, {.sigma = 0.3, .direction = NoiseDirection::Depth, .axis = Vec3(0, 0, 1), .seed = 11});
   const MatrixX3i F = faces(clean);
   const MatrixX3d V = positions(clean), X = positions(noisy);
   const AutoDenoiseResult r = auto_denoise(noisy);
