@@ -12,6 +12,14 @@
 
 namespace geotex::test {
 
+Mesh soup(const std::vector<Vec3>& V, const std::vector<Eigen::Vector3i>& F) {
+  MatrixX3d X(static_cast<Eigen::Index>(V.size()), 3);
+  for (size_t i = 0; i < V.size(); ++i) X.row(static_cast<Eigen::Index>(i)) = V[i];
+  MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
+  for (size_t f = 0; f < F.size(); ++f) G.row(static_cast<Eigen::Index>(f)) = F[f];
+  return make_mesh(X, G);
+}
+
 // One BLAS thread in every test binary, as the CLI and Python use (resources.h: OpenBLAS's workers spin).
 [[maybe_unused]] const int kBlasThreadsBefore = set_blas_threads(1);
 

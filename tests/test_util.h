@@ -3,8 +3,11 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+
+#include "geotex/core/mesh.h"
 
 namespace geotex::test {
 
@@ -25,6 +28,9 @@ struct TempDir {
   ~TempDir();
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
+
+//! A mesh from a vertex list and a face list (a polygon soup as a test writes it out).
+Mesh soup(const std::vector<Vec3>& V, const std::vector<Eigen::Vector3i>& F);
 
 //! ../shared/data, or empty when absent (tests then skip with a message).
 std::filesystem::path data_dir();

@@ -9,19 +9,11 @@
 #include "geotex/core/weld.h"
 #include "geotex/tools/shapes.h"
 
+#include "test_util.h"
+
 using namespace geotex;
 
-namespace {
-
-Mesh soup(const std::vector<Vec3>& V, const std::vector<Eigen::Vector3i>& F) {
-  MatrixX3d X(static_cast<Eigen::Index>(V.size()), 3);
-  for (size_t i = 0; i < V.size(); ++i) X.row(static_cast<Eigen::Index>(i)) = V[i];
-  MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
-  for (size_t f = 0; f < F.size(); ++f) G.row(static_cast<Eigen::Index>(f)) = F[f];
-  return make_mesh(X, G);
-}
-
-}  // namespace
+using test::soup;
 
 TEST(Weld, CoincidentGroupsChainWithinTheToleranceAcrossCellWalls) {
   // Near copies on either side of a grid wall (the grid is 1024 tolerances from the lowest point), exact copies, and

@@ -385,7 +385,7 @@ namespace {
 // whose circle r = 1/2 is stored twice (unwelded, as the teapot's Bézier patches are).
 Mesh flat_disk(bool seam) {
   const int K = 32, M = 128, mid = K / 2;
-  std::vector<Eigen::Vector3d> V{{0, 0, 0.2}};
+  std::vector<Vec3> V{{0, 0, 0.2}};
   std::vector<std::vector<int>> ring(K + 2);
   auto add_ring = [&](int slot, int k) {
     for (int j = 0; j < M; ++j) {
@@ -406,11 +406,7 @@ Mesh flat_disk(bool seam) {
       F.emplace_back(a[j], ring[k + 1][j1], a[j1]);
     }
   }
-  MatrixX3d X(static_cast<Eigen::Index>(V.size()), 3);
-  for (size_t i = 0; i < V.size(); ++i) X.row(static_cast<Eigen::Index>(i)) = V[i];
-  MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
-  for (size_t f = 0; f < F.size(); ++f) G.row(static_cast<Eigen::Index>(f)) = F[f];
-  return make_mesh(X, G);
+  return test::soup(V, F);
 }
 }  // namespace
 
