@@ -507,7 +507,7 @@ struct RegionLevels {
   Eigen::VectorXd level, keep;
   double running = 0;
 };
-RegionLevels read_region_noise(const Mesh& mesh, AutoDenoiseResult& r) {
+RegionLevels read_region_noise(const Mesh& mesh, const Neighborhoods& N, AutoDenoiseResult& r) {
   detail::NoiseReading reading;  // the estimate's samples and fits, read again per region
   const double mesh_noise = resolve_noise(mesh, r, reading);
   RegionLevels out;
@@ -515,7 +515,7 @@ RegionLevels read_region_noise(const Mesh& mesh, AutoDenoiseResult& r) {
     r.noise_map = Eigen::VectorXd::Constant(mesh.n_vertices(), r.resolved.sigma.value_or(0) / std::sqrt(3.0));
     out.level = Eigen::VectorXd::Constant(mesh.n_vertices(), mesh_noise);
   } else {
-    const detail::RegionNoise map = detail::region_noise(mesh, reading);
+    const detail::RegionNoise map = detail::region_noise(N, reading);
     r.noise_map = map.level;
     r.choices.push_back(detail::describe_region_noise(r.noise_map, map.whole));
     out.level = detail::region_levels(map, r.noise, mesh_noise);
@@ -1279,7 +1279,8 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
 
   // 1. How noisy, per region (region_noise.h; impulses included): each vertex keeps the change in proportion to its
   // region's level. A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
-  const RegionLevels region = read_region_noise(mesh, r);
+  const Neighborhoods N = one_ring_neighborhoods(mesh);
+  const RegionLevels region = read_region_noise(mesh, N, r);
   const double normal_noise = region.running;
   stage("noise estimate");
   if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || region.keep.maxCoeff() < 1e-6)  // as keep's formula
@@ -1288,7 +1289,6 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   // A reading that is forced away is not computed (--creased skips the mild pass, --no-creased the sharp).
   const bool want_sharp = o.creased.value_or(true), want_mild = !o.creased.value_or(false);
   // 2. The mild pass: the smooth reading.
-  const Neighborhoods N = one_ring_neighborhoods(mesh);
   const Parts parts(mesh);
   const Surfels S0 = initial_surfels(mesh);
   const double m0 = median_neighbor_angle_deg(S0, N);

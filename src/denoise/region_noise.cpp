@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <utility>
 #include <vector>
 
@@ -50,8 +49,8 @@ double region_level(std::vector<std::pair<double, double>>& fits) {
 }
 }  // namespace
 
-RegionNoise region_noise(const Mesh& mesh, const NoiseReading& reading) {
-  const int nv = static_cast<int>(mesh.n_vertices());
+RegionNoise region_noise(const Neighborhoods& N, const NoiseReading& reading) {
+  const int nv = static_cast<int>(N.size());
   const NoiseEstimate& global = reading.estimate;
   RegionNoise out;
   out.level = Eigen::VectorXd::Zero(nv);
@@ -78,21 +77,20 @@ RegionNoise region_noise(const Mesh& mesh, const NoiseReading& reading) {
       for (size_t head = 0; head < queue.size() && near.size() < kRegionSamples && queue.size() < kRegionVisits; ++head) {
         const int u = queue[head];
         if (fit[u].second >= 0) near.push_back(fit[u]);
-        for (auto w : mesh.vv_range(mesh.vertex_handle(u)))
-          if (mark[w.idx()] != tag) mark[w.idx()] = tag, queue.push_back(w.idx());
+        for (int k = N.offsets[u]; k < N.offsets[u + 1]; ++k)
+          if (const int w = N.indices[k]; mark[w] != tag) mark[w] = tag, queue.push_back(w);
       }
       if (near.size() >= 4) level[samples[s]] = region_level(near) * unit, has[samples[s]] = 1;
     }
   }
   // Every other vertex: its nearest sample's level (breadth-first from all samples at once).
-  std::deque<int> front;
+  std::vector<int> front;
   for (int v = 0; v < nv; ++v)
     if (has[v]) front.push_back(v);
-  while (!front.empty()) {
-    const int u = front.front();
-    front.pop_front();
-    for (auto w : mesh.vv_range(mesh.vertex_handle(u)))
-      if (!has[w.idx()]) has[w.idx()] = 1, level[w.idx()] = level[u], front.push_back(w.idx());
+  for (size_t head = 0; head < front.size(); ++head) {
+    const int u = front[head];
+    for (int k = N.offsets[u]; k < N.offsets[u + 1]; ++k)
+      if (const int w = N.indices[k]; !has[w]) has[w] = 1, level[w] = level[u], front.push_back(w);
   }
   return out;
 }

@@ -963,7 +963,7 @@ TEST(RegionNoise, ReadsTheEstimatesOwnSamplesAndFits) {
       fitted += res >= 0;
     }
     EXPECT_EQ(e.samples, static_cast<int>(std::max<size_t>(1, fitted / 2))) << name << ": the better-fitting half";
-    const detail::RegionNoise map = detail::region_noise(*mesh, reading);
+    const detail::RegionNoise map = detail::region_noise(one_ring_neighborhoods(*mesh), reading);
     EXPECT_NEAR(map.whole, e.normal_sigma / e.noise_share, 1e-12 * map.whole) << name;
     EXPECT_EQ(map.level.size(), static_cast<Eigen::Index>(mesh->n_vertices())) << name;
   }
