@@ -280,6 +280,13 @@ void untangle_result(const Mesh& mesh, const MatrixX3i& F, const MatrixX3d& X, c
   r.turned_over = untangle(mesh, F, r.positions, FN, kUntangleRounds, gaussian ? &X : nullptr, kFlipSpread * normal_noise);
 }
 
+// The mesh's connected components (connected_components()), read once per call: steps 5 and 5c decide per part.
+struct Parts {
+  explicit Parts(const Mesh& mesh) : id(connected_components(mesh, &count)) {}
+  int count = 0;       // declared first: id's initializer sets it
+  Eigen::VectorXi id;  // per vertex
+};
+
 // The wall time of each stage since the previous one, appended to \p seconds by stage("name").
 struct StageClock {
   std::vector<std::pair<std::string, double>>& seconds;
@@ -459,13 +466,14 @@ ReadingSamples reading_samples_from(const Mesh& mesh, const Eigen::MatrixXd& fea
 
 namespace {
 
-// Step 1: the noise level, given (r.resolved.sigma) or estimated (into r.noise and r.resolved.sigma).
-// \return the normal noise (impulses included).
-double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
+// Step 1: the noise level, given (r.resolved.sigma) or estimated (into r.noise and r.resolved.sigma; the samples'
+// fits into \p reading, for the noise per region). \return the normal noise (impulses included).
+double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r, detail::NoiseReading& reading) {
   AutoDenoiseOptions& o = r.resolved;
   if (!o.sigma) {
     try {
-      r.noise = estimate_noise(mesh);
+      reading = detail::read_noise(mesh);
+      r.noise = reading.estimate;
     } catch (const InvalidInput& e) {
       throw InvalidInput(fmt::format("{} (too small a mesh to read its noise level from: give the noise level, sigma)", e.what()));
     }
@@ -487,10 +495,11 @@ double resolve_noise(const Mesh& mesh, AutoDenoiseResult& r) {
   return normal_noise;
 }
 
-// Step 1, the noise per region (region_noise.h) into r.noise_map: the given level everywhere where it was given.
-// Per vertex, the normal noise its region is measured against and the share of the change it keeps (step 6,
-// s = σ⁴ / (σ⁴ + σ0⁴) of its level); the level the denoiser runs at (running_level()). The regions' own levels
-// (region_levels()) only where the mesh reads (nearly) noise-free but some regions do not; elsewhere \p mesh_noise
+// Step 1, the mesh's level (resolve_noise(), the mesh noise below) and the noise per region (region_noise.h, from the
+// same samples' fits) into r.noise_map: the given level everywhere where it was given. Per vertex, the normal noise
+// its region is measured against and the share of the change it keeps (step 6, s = σ⁴ / (σ⁴ + σ0⁴) of its level);
+// the level the denoiser runs at (running_level()). The regions' own levels
+// (region_levels()) only where the mesh reads (nearly) noise-free but some regions do not; elsewhere the mesh noise
 // everywhere, as where the noise was given: on white noise a region read above twice the mesh's level is mostly
 // shape the cubic misses (creases, a coarse model's detail), and measuring it against that level cost the issue's
 // grid up to 2 % (fandisk σ 0.05 +1.99 %, spot with impulses +1.02 %; bench/denoise.md, fifteenth session).
@@ -498,13 +507,15 @@ struct RegionLevels {
   Eigen::VectorXd level, keep;
   double running = 0;
 };
-RegionLevels read_region_noise(const Mesh& mesh, double mesh_noise, AutoDenoiseResult& r) {
+RegionLevels read_region_noise(const Mesh& mesh, const Neighborhoods& N, AutoDenoiseResult& r) {
+  detail::NoiseReading reading;  // the estimate's samples and fits, read again per region
+  const double mesh_noise = resolve_noise(mesh, r, reading);
   RegionLevels out;
   if (r.noise.samples == 0) {
     r.noise_map = Eigen::VectorXd::Constant(mesh.n_vertices(), r.resolved.sigma.value_or(0) / std::sqrt(3.0));
     out.level = Eigen::VectorXd::Constant(mesh.n_vertices(), mesh_noise);
   } else {
-    const detail::RegionNoise map = detail::region_noise(mesh, r.noise);
+    const detail::RegionNoise map = detail::region_noise(N, reading);
     r.noise_map = map.level;
     r.choices.push_back(detail::describe_region_noise(r.noise_map, map.whole));
     out.level = detail::region_levels(map, r.noise, mesh_noise);
@@ -524,8 +535,8 @@ RegionLevels read_region_noise(const Mesh& mesh, double mesh_noise, AutoDenoiseR
   return out;
 }
 
-// No noise found: the mesh returned as it is, its edges labelled.
-void keep_noise_free(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, AutoDenoiseResult& r) {
+// No noise found: the mesh returned as it is, its edges labelled (into \p r, returned).
+AutoDenoiseResult keep_noise_free(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, AutoDenoiseResult r) {
   AutoDenoiseOptions& o = r.resolved;
   r.positions = X;
   r.choices.push_back("no noise found: the mesh is returned as it is");
@@ -541,6 +552,7 @@ void keep_noise_free(const Mesh& mesh, const MatrixX3d& X, const MatrixX3i& F, A
   r.refused = Eigen::VectorXd::Zero(F.rows());
   r.change_kept = Eigen::VectorXd::Ones(F.rows());
   r.relief_share = 1;
+  return r;
 }
 
 // Each face's target normal: the sharp (\p FNs) and mild (\p FNm) readings' blended by how creased the
@@ -819,8 +831,8 @@ std::vector<char> banded_parts(const Mesh& mesh, const MatrixX3i& F, const Matri
 // stand above the noise (kStripeEnergy; \p noise_var the normal noise's variance, absolute). \p striped_at:
 // 1 at the vertices of the parts so read. \p largest: the largest coherence over the parts measured (-1: none).
 // \return the vertices set.
-int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
-                               const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold,
+int read_striped_parts_creased(const Mesh& mesh, const Parts& parts, const Neighborhoods& N, const MatrixX3i& F,
+                               const MatrixX3d& X, const MatrixX3d& Xs, const Eigen::MatrixXd& features, double threshold,
                                double organic_threshold, double stripe_share, double noise_var, Eigen::VectorXd& sharp,
                                Eigen::VectorXd& striped_at, double* largest, double* best_share) {
   *largest = -1, *best_share = -1;  // no part measured
@@ -834,8 +846,8 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
   // The median over the closed 1-ring: impulses (a few vertices far out, each with a gradient of its own
   // direction) would otherwise make a part look banded by chance (fandisk with 10 % impulses: 0.19).
   const Eigen::VectorXd r = closed_ring_median(N, r0);
-  int n_parts = 0;
-  const Eigen::VectorXi part = connected_components(mesh, &n_parts);
+  const int n_parts = parts.count;
+  const Eigen::VectorXi& part = parts.id;
   std::vector<Eigen::Matrix3d> T(n_parts, Eigen::Matrix3d::Zero());
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Vec3 a = Xs.row(F(f, 0)), b = Xs.row(F(f, 1)), c = Xs.row(F(f, 2));
@@ -873,13 +885,13 @@ int read_striped_parts_creased(const Mesh& mesh, const Neighborhoods& N, const M
 }
 
 // Step 5's scanner stripes (read_striped_parts_creased() with the resolved threshold), said in the choices.
-Eigen::VectorXd read_stripes(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
-                             const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
+Eigen::VectorXd read_stripes(const Mesh& mesh, const Parts& parts, const Neighborhoods& N, const MatrixX3i& F,
+                             const MatrixX3d& X, const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
                              Eigen::VectorXd& sharp, AutoDenoiseResult& r) {
   const double threshold = r.resolved.stripe_coherence;
   double coherence = -1, share = -1;
   Eigen::VectorXd striped_at;
-  const int striped = read_striped_parts_creased(mesh, N, F, X, Xs, features, threshold,
+  const int striped = read_striped_parts_creased(mesh, parts, N, F, X, Xs, features, threshold,
                                                  r.resolved.stripe_coherence_organic, r.resolved.stripe_share,
                                                  noise_var, sharp, striped_at, &coherence, &share);
   if (coherence >= 0)
@@ -983,17 +995,17 @@ std::vector<double> part_noise_shares(const Mesh& mesh, const Eigen::VectorXi& p
   return share;
 }
 
-int read_low_frequency_parts_creased(const Mesh& mesh, const Eigen::MatrixXd& features, double residual,
-                                     const NoiseEstimate& noise, Eigen::VectorXd& sharp, Eigen::VectorXd& low_at,
-                                     PartMedians* largest) {
+int read_low_frequency_parts_creased(const Mesh& mesh, const Parts& parts, const Eigen::MatrixXd& features,
+                                     double residual, const NoiseEstimate& noise, Eigen::VectorXd& sharp,
+                                     Eigen::VectorXd& low_at, PartMedians* largest) {
   low_at = Eigen::VectorXd::Zero(features.rows());
   // The rule finds noise the estimate missed: none where the noise was given (the coarse cow at a given σ 0.02: its
   // facets stand at 40+ noise variances), nor where the estimate read part of the residual as a coarse model's own
   // facets (misfit_growth.h; the cow at σ 0.02 estimated: 40 noise variances, z5 0.25, read creased 6.36° against
   // 4.75°): the sharp fit's large move is those facets flattened.
   if (!(residual > 0) || noise.samples == 0 || noise.noise_share < 1) return 0;
-  int n_parts = 0;
-  const Eigen::VectorXi part = connected_components(mesh, &n_parts);
+  const int n_parts = parts.count;
+  const Eigen::VectorXi& part = parts.id;
   std::vector<PartMedians> m = part_medians(features, part, n_parts);
   const std::vector<double> share = part_noise_shares(mesh, part, m, noise);
   std::vector<char> low(n_parts, 0);
@@ -1014,12 +1026,12 @@ int read_low_frequency_parts_creased(const Mesh& mesh, const Eigen::MatrixXd& fe
 
 // Step 5's low-frequency noise (read_low_frequency_parts_creased()), said in the choices; \p full_change: 1 at the
 // vertices so read on CAD-looking parts (keep_share_of_change()).
-Eigen::VectorXd read_low_frequency(const Mesh& mesh, const Eigen::MatrixXd& features, Eigen::VectorXd& sharp,
-                                   Eigen::VectorXd& full_change, AutoDenoiseResult& r) {
+Eigen::VectorXd read_low_frequency(const Mesh& mesh, const Parts& parts, const Eigen::MatrixXd& features,
+                                   Eigen::VectorXd& sharp, Eigen::VectorXd& full_change, AutoDenoiseResult& r) {
   PartMedians largest;
   Eigen::VectorXd low_at;
-  const int set = read_low_frequency_parts_creased(mesh, features, r.resolved.low_frequency_residual, r.noise, sharp,
-                                                   low_at, &largest);
+  const int set = read_low_frequency_parts_creased(mesh, parts, features, r.resolved.low_frequency_residual, r.noise,
+                                                   sharp, low_at, &largest);
   if (largest.size >= 0)
     r.choices.push_back(fmt::format("low-frequency noise: the sharp fit moves a part by {:.3g} noise variances, "
                                     "z5 {:.3f} (medians over the part of {:.0f} vertices moved most; a part is read "
@@ -1038,11 +1050,11 @@ Eigen::VectorXd read_low_frequency(const Mesh& mesh, const Eigen::MatrixXd& feat
 // Step 5's parts read creased throughout: scanner stripes (read_stripes()) and low-frequency noise
 // (read_low_frequency(); \p low: 1 at those of CAD-looking parts); \return 1 at their vertices, which the creased
 // budget leaves alone.
-Eigen::VectorXd read_whole_parts(const Mesh& mesh, const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X,
-                                 const MatrixX3d& Xs, const Eigen::MatrixXd& features, double noise_var,
-                                 Eigen::VectorXd& sharp, Eigen::VectorXd& low, AutoDenoiseResult& r) {
-  const Eigen::VectorXd striped = read_stripes(mesh, N, F, X, Xs, features, noise_var, sharp, r);
-  return striped.cwiseMax(read_low_frequency(mesh, features, sharp, low, r));
+Eigen::VectorXd read_whole_parts(const Mesh& mesh, const Parts& parts, const Neighborhoods& N, const MatrixX3i& F,
+                                 const MatrixX3d& X, const MatrixX3d& Xs, const Eigen::MatrixXd& features,
+                                 double noise_var, Eigen::VectorXd& sharp, Eigen::VectorXd& low, AutoDenoiseResult& r) {
+  const Eigen::VectorXd striped = read_stripes(mesh, parts, N, F, X, Xs, features, noise_var, sharp, r);
+  return striped.cwiseMax(read_low_frequency(mesh, parts, features, sharp, low, r));
 }
 
 // Step 5b: the light pass's relief blended into the mild fit \p Xm and its normals \p FNm where it stands
@@ -1092,11 +1104,11 @@ Eigen::VectorXd normal_spread(const MatrixX3i& F, const MatrixX3d& P) {
 // is well above the sharp fit's own normal spread \p rough_s (kNoiseOverCurvature: at low noise the sharp fit's
 // facets cost more than the wobble; the mild fit's spread would count its wobble as curvature). \p normal_noise
 // in mean edge lengths. \return per vertex, the share so taken.
-Eigen::VectorXd plain_part_share(const Mesh& mesh, const Neighborhoods& N, const DepartureEnergy& e,
+Eigen::VectorXd plain_part_share(const Parts& parts, const Neighborhoods& N, const DepartureEnergy& e,
                                  const Eigen::VectorXd& rough_s, double normal_noise, double plain_departure) {
   if (!(plain_departure > 0)) return Eigen::VectorXd::Zero(rough_s.size());
-  int n_parts = 0;
-  const Eigen::VectorXi part = connected_components(mesh, &n_parts);
+  const int n_parts = parts.count;
+  const Eigen::VectorXi& part = parts.id;
   std::vector<std::vector<double>> shares(n_parts);
   for (Eigen::Index v = 0; v < part.size(); ++v)
     shares[part[v]].push_back(e.noise[v] > 0 ? e.departure[v] / e.noise[v] : std::numeric_limits<double>::infinity());
@@ -1131,7 +1143,7 @@ Eigen::VectorXd plain_part_share(const Mesh& mesh, const Neighborhoods& N, const
 // sharp fit's normals vary less around the vertices than the mild fit's over kReliefRings rings (smoother,
 // not faceted). Chosen on generated spheres, tori and capsules at levels 3-5, spot and cheburashka.
 // \p noise_var: the normal noise's variance (absolute). \return the share taken, per vertex.
-Eigen::VectorXd add_strong_smoothing(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X, const MatrixX3i& F,
+Eigen::VectorXd add_strong_smoothing(const Parts& parts, const Neighborhoods& N, const MatrixX3d& X, const MatrixX3i& F,
                                      const MatrixX3d& Xs, const MatrixX3d& FNs, const Eigen::VectorXd& cv,
                                      const AutoDenoiseOptions& o, double normal_noise, double noise_var, MatrixX3d& Xm,
                                      MatrixX3d& FNm) {
@@ -1152,7 +1164,7 @@ Eigen::VectorXd add_strong_smoothing(const Mesh& mesh, const Neighborhoods& N, c
   gate = ring_average(N, gate, kStrongBlendRings), plain = ring_average(N, plain, kStrongBlendRings);
   Eigen::VectorXd t(w.size());
   // A plain part (plain_part_share()) takes the sharp fit whatever the gate and the Wiener share say.
-  const Eigen::VectorXd whole = plain_part_share(mesh, N, energy, rough_s, normal_noise, o.plain_departure);
+  const Eigen::VectorXd whole = plain_part_share(parts, N, energy, rough_s, normal_noise, o.plain_departure);
   for (Eigen::Index v = 0; v < t.size(); ++v)
     t[v] = std::max(std::min(1.0, gate[v] / kStrongGatePass) * plain[v], cv[v] < 1 ? whole[v] : 0.0);
   t = keep_unfolded(N, F, Xm, Xs, t);
@@ -1267,18 +1279,17 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
 
   // 1. How noisy, per region (region_noise.h; impulses included): each vertex keeps the change in proportion to its
   // region's level. A given sigma needs no estimate (and a mesh too small to estimate from can still be denoised).
-  const RegionLevels region = read_region_noise(mesh, resolve_noise(mesh, r), r);
+  const Neighborhoods N = one_ring_neighborhoods(mesh);
+  const RegionLevels region = read_region_noise(mesh, N, r);
   const double normal_noise = region.running;
   stage("noise estimate");
-  if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || region.keep.maxCoeff() < 1e-6) {  // as keep's formula
-    keep_noise_free(mesh, X, F, r);
-    return r;
-  }
+  if (std::pow(normal_noise / o.keep_below, 4) < 1e-6 || region.keep.maxCoeff() < 1e-6)  // as keep's formula
+    return keep_noise_free(mesh, X, F, std::move(r));
 
   // A reading that is forced away is not computed (--creased skips the mild pass, --no-creased the sharp).
   const bool want_sharp = o.creased.value_or(true), want_mild = !o.creased.value_or(false);
   // 2. The mild pass: the smooth reading.
-  const Neighborhoods N = one_ring_neighborhoods(mesh);
+  const Parts parts(mesh);
   const Surfels S0 = initial_surfels(mesh);
   const double m0 = median_neighbor_angle_deg(S0, N);
   const SurfelOptions base = base_pass_options(mesh);
@@ -1318,14 +1329,14 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   if (o.creased) {
     cv = Eigen::VectorXd::Constant(N.size(), *o.creased ? 1.0 : 0.0);
   } else {
-    const Eigen::MatrixXd features = reading_features(mesh, N, X, Xs, Xm, normal_noise);
+    const Eigen::MatrixXd features = reading_features(mesh, N, X, Xs, Xm, normal_noise, &parts.id);
     if (truth) {
       *samples = reading_samples_from(mesh, features, Xs, Xm, *truth);
       return r;
     }
     look = {std::exp(features.col(4).minCoeff()), std::exp(features.col(4).maxCoeff())};
     Eigen::VectorXd sharp_here = sharp_vertices(features, o.reading);
-    const Eigen::VectorXd whole = read_whole_parts(mesh, N, F, X, Xs, features, noise_var, sharp_here, low, r);
+    const Eigen::VectorXd whole = read_whole_parts(mesh, parts, N, F, X, Xs, features, noise_var, sharp_here, low, r);
     refused = refuse_creased_beyond_noise(mesh, N, X, Xs, Xm, features, whole, o.creased_budget, noise_var,
                                           o.depth_anisotropy,
                                           (region.level / normal_noise).array().square().max(1.0).matrix(), sharp_here);
@@ -1349,7 +1360,7 @@ AutoDenoiseResult denoise_or_sample(const Mesh& mesh, const AutoDenoiseOptions& 
   Eigen::VectorXd strong = Eigen::VectorXd::Zero(X.rows());
   int unfolded = 0;
   if (want_mild && want_sharp && cv.minCoeff() < 1) {
-    strong = add_strong_smoothing(mesh, N, X, F, Xs, FNs, cv, o, normal_noise, noise_var, Xm, FNm);
+    strong = add_strong_smoothing(parts, N, X, F, Xs, FNs, cv, o, normal_noise, noise_var, Xm, FNm);
     unfolded = keep_transitions_unfolded(N, F, Xs, Xm, cad, cv, r.creased);
     stage("strong smoothing");
   }

@@ -33,12 +33,11 @@ constexpr double kLookPrior = 400;
 // CAD part the sharp fit flattens the faces between creases (most angles near 0: 0.21–0.53 on fandisk, the
 // cube and woody at σ 0.1–0.5); on an organic one it turns curvature into facets of a few edges, whose
 // angles stay (0.73–1.1 on spot, cheburashka, the teapot and the cow). \return one value per vertex, and
-// the whole mesh's in \p whole.
-Eigen::VectorXd component_look(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& Ns, const MatrixX3d& Nm,
-                               double* whole) {
+// the whole mesh's in \p whole. \p comp: the mesh's connected components (connected_components()).
+Eigen::VectorXd component_look(const Eigen::VectorXi& comp, const Neighborhoods& N, const MatrixX3d& Ns,
+                               const MatrixX3d& Nm, double* whole) {
   const Eigen::Index n = N.size();
-  int n_components = 0;
-  const Eigen::VectorXi comp = connected_components(mesh, &n_components);
+  const int n_components = comp.size() > 0 ? comp.maxCoeff() + 1 : 0;
   std::vector<std::vector<int>> members(n_components);
   for (Eigen::Index v = 0; v < n; ++v) members[comp[v]].push_back(static_cast<int>(v));
   const auto angle = [](const MatrixX3d& Nv, int i, int j) {
@@ -147,7 +146,7 @@ const std::vector<std::string>& reading_feature_names() {
 }
 
 Eigen::MatrixXd reading_features(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X, const MatrixX3d& Xs,
-                                 const MatrixX3d& Xm, double normal_noise) {
+                                 const MatrixX3d& Xm, double normal_noise, const Eigen::VectorXi* components) {
   const Eigen::Index n = X.rows();
   Mesh fit = mesh;
   set_positions(fit, Xs);
@@ -165,7 +164,8 @@ Eigen::MatrixXd reading_features(const Mesh& mesh, const Neighborhoods& N, const
   const double unit = mean_edge_length(mesh);
   const double noise = std::max(normal_noise, 1e-3), noise2 = std::pow(noise * unit, 2);
   double whole = 1;
-  const Eigen::VectorXd look = component_look(mesh, N, Ns, Nm, &whole);
+  const Eigen::VectorXi own = components ? Eigen::VectorXi() : connected_components(mesh);
+  const Eigen::VectorXd look = component_look(components ? *components : own, N, Ns, Nm, &whole);
   const Eigen::VectorXd as = ring_average(N, ring_angle(N, Ns), 2), am = ring_average(N, ring_angle(N, Nm), 2);
   const double log_whole = std::log(std::clamp(whole, 1e-3, 10.0));
   Eigen::MatrixXd x(n, static_cast<Eigen::Index>(reading_feature_names().size()));

@@ -4,14 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "geotex/core/geometry.h"
-#include "ring_fit.h"
 
 namespace geotex::detail {
 
@@ -22,7 +20,6 @@ constexpr size_t kRegionSamples = 36;
 constexpr size_t kRegionVisits = 4000;  // a region stops growing here (a strided sample of a huge mesh)
 // estimate_noise()'s statistic: outliers beyond 4 robust standard deviations (the lower quartile of |r|).
 constexpr double kRegionOutlier = 4, kLowerQuartileOfNormal = 0.31863936396437515;
-constexpr RingFitLimits kRegionRing{2, 200, 1e-10};
 // A region reads noisier than the mesh above this multiple of the whole's level (white noise: the region's
 // better-fitting half, 18 residuals, reads the level within about 17 %). Quieter regions are measured against the
 // mesh's level all the same: keeping less of the change where a region read below a third of the whole cost the
@@ -52,37 +49,21 @@ double region_level(std::vector<std::pair<double, double>>& fits) {
 }
 }  // namespace
 
-RegionNoise region_noise(const Mesh& mesh, const NoiseEstimate& global, int max_samples) {
-  const int nv = static_cast<int>(mesh.n_vertices());
+RegionNoise region_noise(const Neighborhoods& N, const NoiseReading& reading) {
+  const int nv = static_cast<int>(N.size());
+  const NoiseEstimate& global = reading.estimate;
   RegionNoise out;
   out.level = Eigen::VectorXd::Zero(nv);
   Eigen::VectorXd& level = out.level;
   if (nv == 0 || !(global.mean_edge > 0) || !(global.clean_edge > 0)) return out;
-  // The samples of estimate_noise() and their two-ring fits.
-  const int stride = std::max(1, nv / std::max(1, max_samples));
-  std::vector<int> samples;
-  for (int v = 0; v < nv; v += stride)
-    if (!mesh.is_boundary(mesh.vertex_handle(v)) && !mesh.is_isolated(mesh.vertex_handle(v))) samples.push_back(v);
+  // estimate_noise()'s samples and their two-ring fits, by vertex.
+  const std::vector<int>& samples = reading.samples;
   std::vector<std::pair<double, double>> fit(nv, {-1.0, -1.0});  // (ring fit, residual) at the samples
-#pragma omp parallel if (samples.size() > 2000)
-  {
-    std::vector<int> ring, mark(nv, -1);
-    std::vector<Vec3> P;
-#pragma omp for schedule(dynamic, 64)
-    for (size_t s = 0; s < samples.size(); ++s) {
-      const auto [res, rss] = leave_one_out_fit<10>(mesh, mesh.vertex_handle(samples[s]), global.mean_edge, kRegionRing,
-                                                    static_cast<int>(s), mark, ring, P);
-      fit[samples[s]] = {rss, res};
-    }
-  }
+  for (size_t s = 0; s < samples.size(); ++s) fit[samples[s]] = reading.fits[s];
   // Each sample's region, breadth-first.
   std::vector<char> has(nv, 0);
   const double unit = global.mean_edge / global.clean_edge;
-  std::vector<std::pair<double, double>> all;
-  for (int v : samples)
-    if (fit[v].second >= 0) all.push_back(fit[v]);
-  if (all.empty()) return out;
-  out.whole = region_level(all) * unit;
+  out.whole = reading.rms * unit;  // region_level() over all the samples: estimate_noise()'s reduction
 #pragma omp parallel if (samples.size() > 2000)
   {
     std::vector<int> mark(nv, -1), queue;
@@ -96,21 +77,20 @@ RegionNoise region_noise(const Mesh& mesh, const NoiseEstimate& global, int max_
       for (size_t head = 0; head < queue.size() && near.size() < kRegionSamples && queue.size() < kRegionVisits; ++head) {
         const int u = queue[head];
         if (fit[u].second >= 0) near.push_back(fit[u]);
-        for (auto w : mesh.vv_range(mesh.vertex_handle(u)))
-          if (mark[w.idx()] != tag) mark[w.idx()] = tag, queue.push_back(w.idx());
+        for (int k = N.offsets[u]; k < N.offsets[u + 1]; ++k)
+          if (const int w = N.indices[k]; mark[w] != tag) mark[w] = tag, queue.push_back(w);
       }
       if (near.size() >= 4) level[samples[s]] = region_level(near) * unit, has[samples[s]] = 1;
     }
   }
   // Every other vertex: its nearest sample's level (breadth-first from all samples at once).
-  std::deque<int> front;
+  std::vector<int> front;
   for (int v = 0; v < nv; ++v)
     if (has[v]) front.push_back(v);
-  while (!front.empty()) {
-    const int u = front.front();
-    front.pop_front();
-    for (auto w : mesh.vv_range(mesh.vertex_handle(u)))
-      if (!has[w.idx()]) has[w.idx()] = 1, level[w.idx()] = level[u], front.push_back(w.idx());
+  for (size_t head = 0; head < front.size(); ++head) {
+    const int u = front[head];
+    for (int k = N.offsets[u]; k < N.offsets[u + 1]; ++k)
+      if (const int w = N.indices[k]; !has[w]) has[w] = 1, level[w] = level[u], front.push_back(w);
   }
   return out;
 }

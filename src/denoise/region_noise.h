@@ -8,14 +8,17 @@
 
 #include "geotex/core/mesh.h"
 #include "geotex/denoise/auto_denoise.h"
+#include "geotex/denoise/surfel.h"
+#include "noise_estimate.h"
 
 namespace geotex::detail {
 
 //! Per vertex, the normal noise of its region (mean clean edge lengths, as NoiseEstimate::normal_sigma): at the
-//! vertices estimate_noise() samples (at most \p max_samples), the two-ring cubic's leave-one-out residuals of
+//! vertices estimate_noise() samples, the two-ring cubic's leave-one-out residuals (\p reading's, read_noise()) of
 //! the kRegionSamples sampled vertices nearest it (about three rings where every vertex is sampled), the half
 //! whose ring fits best, their mean square without outliers, as estimate_noise() reads the whole mesh; every
-//! other vertex takes its nearest sample's. \p global: the mesh's estimate (its mean and clean edge lengths).
+//! other vertex takes its nearest sample's. Breadth-first over the mesh's one-rings \p N (one_ring_neighborhoods(),
+//! in the order of the mesh's own circulators). The mesh's estimate (its mean and clean edge lengths): \p reading's.
 //! Depth noise along a scanner's axis a has the normal variance σ² (n·a)², which one level per mesh reads at the
 //! least noisy orientations; a mesh of which a part is noise-free reads the noise-free part. \return #V values;
 //! 0 where no vertex of a large enough two-ring is near (boundaries of small meshes).
@@ -25,7 +28,7 @@ struct RegionNoise {
   //! model's facets) is applied, the reference a region's level is compared with
   double whole = 0;
 };
-RegionNoise region_noise(const Mesh& mesh, const NoiseEstimate& global, int max_samples = 20000);
+RegionNoise region_noise(const Neighborhoods& N, const NoiseReading& reading);
 
 //! Per vertex, the normal noise (mean edge lengths) the denoiser measures a region against: \p normal_noise (the
 //! mesh's level, auto_denoise()'s) where the region reads at most kNoisierRegion × \p map's whole, its own level

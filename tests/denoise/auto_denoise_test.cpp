@@ -20,6 +20,8 @@
 #include "geotex/toolkit/smoothing.h"
 #include "test_util.h"
 #include "../../src/denoise/region_guard.h"
+#include "../../src/denoise/region_noise.h"
+#include "../../src/denoise/ring_fit.h"
 
 using namespace geotex;
 
@@ -932,4 +934,37 @@ TEST(RegionNoise, DepthNoiseAlongACylindersAxisIsNotReadNoiseFree) {
     if (std::abs(std::abs(V(v, 2)) - 0.5) < 1e-9) cap += r.noise_map[v], ++caps;
     else side += r.noise_map[v], ++sides;
   EXPECT_GT(cap / caps, 4 * side / sides) << "the caps read noisier than the side";
+}
+
+// The noise per region reads the estimate's own samples and fits (one sampling, one reduction per denoise call): the
+// estimate is estimate_noise()'s, each sample's fit is its two-ring cubic's, and the map's whole is the estimate's
+// normal_sigma before the noise_share, on white noise and on depth noise whose regions read apart.
+TEST(RegionNoise, ReadsTheEstimatesOwnSamplesAndFits) {
+  const Mesh cube = with_noise(subdivided_cube(30), 0.3);
+  const Mesh cylinder = noisy_copy(make_shape("cylinder", 2).base,
+                                   {.sigma = 0.3, .direction = NoiseDirection::Depth, .axis = Vec3(0, 0, 1), .seed = 11});
+  for (const auto& [name, mesh] : {std::pair{"cube", &cube}, std::pair{"cylinder", &cylinder}}) {
+    const detail::NoiseReading reading = detail::read_noise(*mesh, 2000);
+    const NoiseEstimate e = estimate_noise(*mesh, 2000);
+    EXPECT_EQ(reading.estimate.normal_sigma, e.normal_sigma) << name;
+    EXPECT_EQ(reading.estimate.rms_normal_sigma, e.rms_normal_sigma) << name;
+    EXPECT_EQ(reading.estimate.samples, e.samples) << name;
+    ASSERT_EQ(reading.fits.size(), reading.samples.size()) << name;
+    ASSERT_GT(reading.samples.size(), 1000u) << name;
+    EXPECT_LT(reading.samples.size(), mesh->n_vertices()) << name << ": strided";
+    std::vector<int> mark(mesh->n_vertices(), -1), ring;
+    std::vector<Vec3> P;
+    size_t fitted = 0;
+    for (size_t s = 0; s < reading.samples.size(); ++s) {
+      const auto [res, rss] = detail::leave_one_out_fit<10>(*mesh, mesh->vertex_handle(reading.samples[s]),
+                                                            e.mean_edge, {2, 200, 1e-10}, static_cast<int>(s), mark,
+                                                            ring, P);
+      EXPECT_EQ(reading.fits[s], std::pair(rss, res)) << name << " sample " << s;
+      fitted += res >= 0;
+    }
+    EXPECT_EQ(e.samples, static_cast<int>(std::max<size_t>(1, fitted / 2))) << name << ": the better-fitting half";
+    const detail::RegionNoise map = detail::region_noise(one_ring_neighborhoods(*mesh), reading);
+    EXPECT_NEAR(map.whole, e.normal_sigma / e.noise_share, 1e-12 * map.whole) << name;
+    EXPECT_EQ(map.level.size(), static_cast<Eigen::Index>(mesh->n_vertices())) << name;
+  }
 }

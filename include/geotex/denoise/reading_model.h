@@ -28,9 +28,10 @@ const std::vector<std::string>& reading_feature_names();
 
 //! \return #V by reading_feature_names().size(): the features of every vertex of \p mesh (input positions
 //! \p X) given the sharp fit \p Xs and the smooth fit \p Xm (both #V by 3, the same connectivity), \p N the
-//! one-rings, \p normal_noise the noise along the normals in mean edge lengths (the estimate's RMS).
+//! one-rings, \p normal_noise the noise along the normals in mean edge lengths (the estimate's RMS), \p components
+//! the mesh's connected components (connected_components(); computed here when null).
 Eigen::MatrixXd reading_features(const Mesh& mesh, const Neighborhoods& N, const MatrixX3d& X, const MatrixX3d& Xs,
-                                 const MatrixX3d& Xm, double normal_noise);
+                                 const MatrixX3d& Xm, double normal_noise, const Eigen::VectorXi* components = nullptr);
 
 //! The previous release's hand-made rule on the same features: sharp (1) where z5 < t, with t from 0.3 on a
 //! part that looks creased (look <= 0.55) to −0.5 on one that looks organic (look >= 0.70), log-linear
