@@ -834,6 +834,30 @@ TEST(RegionGuard, KeepsTheNoiseRemovedAndHoldsAChangeBeyondIt) {
   EXPECT_EQ(detail::region_guard_share(N, F, X, X, s).minCoeff(), 1.0) << "no change, nothing held";
 }
 
+// A sliver's noise does not excuse a turn of its well-shaped neighbours. On a flat 12 × 12 plate, a column of
+// vertices moved next to its left neighbour makes a column of slivers (width 0.03 edges: their normals' noise
+// ν² ~ 0.2 against 4 s² on a right triangle); a vertex beside them lifted by 20 noise deviations turns its faces by
+// ~0.2 rad. On the regular plate the guard holds that lift; before the faces were weighted by 1 / ν_f, the slivers'
+// noise in the same region sums excused it entirely (t = 1), though the error read is each face's own angle.
+TEST(RegionGuard, ASliversNoiseDoesNotExcuseItsNeighboursTurn) {
+  constexpr int n = 12;
+  const double h = 1.0 / n, s = 0.01 * h;
+  for (bool slivers : {false, true}) {
+    const Mesh m = plane(n, 1.0);
+    MatrixX3d X = positions(m);
+    Eigen::Index lifted = -1;
+    for (Eigen::Index v = 0; v < X.rows(); ++v) {
+      if (slivers && std::abs(X(v, 0)) < 1e-9) X(v, 0) = -h + 0.03 * h;
+      if (std::abs(X(v, 0) - h) < 1e-9 && std::abs(X(v, 1)) < 1e-9) lifted = v;
+    }
+    ASSERT_GE(lifted, 0);
+    MatrixX3d P = X;
+    P(lifted, 2) += 20 * s;
+    const Eigen::VectorXd t = detail::region_guard_share(one_ring_neighborhoods(m), faces(m), X, P, s);
+    EXPECT_LT(t[lifted], 0.5) << (slivers ? "beside the slivers" : "on the regular plate");
+  }
+}
+
 // The guard's shrinkage gives a change beyond what the noise explains back towards the input: the coarse cow at
 // σ 0.02 / 0.05, smoothed (an implicit cotangent step of λ 0.1, which rounds its facets as the smooth reading's
 // targets do: 2.9 / 1.3 times the input's error), guarded with the true σ, ends nearer the truth than the
