@@ -17,6 +17,8 @@ namespace geotex::detail {
 namespace {
 // Beyond about a radian the small-angle reading of ν² means nothing: a corner's noise can turn a sliver over.
 constexpr double kMaxNormalNoise = 1.0;
+// A floor for the weights 1 / ν_f (no noise: every change is beyond it, whatever the weights).
+constexpr double kMinNormalNoise = 1e-24;
 
 // The unit normal of face f over positions X, and its doubled area.
 Vec3 guard_face_normal(const MatrixX3i& F, const MatrixX3d& X, Eigen::Index f, double* doubled_area = nullptr) {
@@ -45,8 +47,12 @@ Eigen::VectorXd region_guard_share(const Neighborhoods& N, const MatrixX3i& F, c
   const Eigen::VectorXd nu2 = face_normal_noise(F, X, s);
   Eigen::VectorXd noise = Eigen::VectorXd::Zero(X.rows()), change = Eigen::VectorXd::Zero(X.rows());
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    // Each face's terms weighted by 1 / ν_f: the error read is each face's angle, E|θ_f| ≈ √(E θ_f²), whose
+    // derivative in t weighs E θ_f² by 1 / (2 ν_f) near the face's own scale. Unweighted, a sliver's large ν²
+    // (a thin face's corner height is small) excused a turn of its well-shaped neighbours (the beetle).
+    const double w = 1 / std::sqrt(std::max(nu2[f], kMinNormalNoise));
     const double d2 = (guard_face_normal(F, P, f) - guard_face_normal(F, X, f)).squaredNorm();
-    for (int k = 0; k < 3; ++k) noise[F(f, k)] += nu2[f], change[F(f, k)] += d2;
+    for (int k = 0; k < 3; ++k) noise[F(f, k)] += w * nu2[f], change[F(f, k)] += w * d2;
   }
   // Over the vertex's faces and its neighbours' (each face counted once per corner in the closed one-ring).
   noise = ring_sum(N, noise, 1);

@@ -17,9 +17,11 @@ Eigen::VectorXd face_normal_noise(const MatrixX3i& F, const MatrixX3d& X, double
 
 //! Per vertex, the share t of the change from the input \p X to \p P kept: t = min(1, ν̄² / D̄²), ν̄² the mean of
 //! face_normal_noise() and D̄² the mean of |n_P − n_X|² over the faces of the vertex's closed one-ring and of its
-//! neighbours'. Shrinking the change by t turns each normal by t (n_P − n_X) to first order; with the result's own
-//! error independent of the noise, E|n_t − n*|² = ν² − 2t ν² + t² D², least at t = ν² / D² and never above ν²,
-//! the input's own (a Wiener shrinkage of the change towards the input). Where the change is what the noise
+//! neighbours', each face weighted by 1 / ν_f. Shrinking the change by t turns each normal by t (n_P − n_X) to first
+//! order; with the result's own error independent of the noise, E|n_t − n*|² = ν² − 2t ν² + t² D², least at
+//! t = ν² / D² and never above ν², the input's own (a Wiener shrinkage of the change towards the input). The error
+//! read is each face's angle, E|θ_f| ≈ √(E θ_f²), whose sum is least at t = Σ ν_f / Σ (D_f² / ν_f): the weights,
+//! without which a sliver's large ν² excuses its well-shaped neighbours' turn. Where the change is what the noise
 //! explains (D² ≈ ν²: the noise removed) t = 1; where it is far beyond (a coarse model's facets rounded) the input
 //! is mostly kept. \p s as face_normal_noise(). \return #X values in [0, 1].
 Eigen::VectorXd region_guard_share(const Neighborhoods& N, const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& P,

@@ -100,9 +100,14 @@ Eigen::VectorXd region_levels(const RegionNoise& map, const NoiseEstimate& noise
   Eigen::VectorXd out = Eigen::VectorXd::Constant(n, normal_noise);
   // rms_normal_sigma over normal_sigma: impulses included, as normal_noise; 1 where the estimate read none.
   const double c = noise.normal_sigma > 0 ? noise.rms_normal_sigma / noise.normal_sigma : 1.0;
-  const double whole = map.whole, x1 = kNoisierRegion;
+  // Where the mesh's residual was read partly as a coarse model's facets (noise_share < 1, misfit_growth.h), a
+  // region's excess is read the same: a coarse model's misfit is not even over it (the ears and limbs coarser), and
+  // read whole it ran a mesh read noise-free at its coarsest regions' misfit (cheburashka decimated to 1500
+  // vertices at σ 0.02: share 0, 1.8 times the noisy input's error; bench/denoise.md, sixteenth session).
+  const double whole = map.whole, x1 = kNoisierRegion, share = std::clamp(noise.noise_share, 0.0, 1.0);
   for (Eigen::Index v = 0; v < n; ++v)
-    if (const double m = map.level[v]; m > x1 * whole) out[v] = std::max(normal_noise, c * (m - (x1 - 1) * whole));
+    if (const double m = map.level[v]; m > x1 * whole)
+      out[v] = std::max(normal_noise, share * c * (m - (x1 - 1) * whole));
   return out;
 }
 

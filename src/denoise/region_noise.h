@@ -33,7 +33,8 @@ RegionNoise region_noise(const Neighborhoods& N, const NoiseReading& reading);
 //! Per vertex, the normal noise (mean edge lengths) the denoiser measures a region against: \p normal_noise (the
 //! mesh's level, auto_denoise()'s) where the region reads at most kNoisierRegion × \p map's whole, its own level
 //! where it reads more (less the whole's level beyond 1: continuous there); in rms_normal_sigma's units (impulses
-//! included), \p noise the mesh's estimate.
+//! included), \p noise the mesh's estimate; a region's own level times the estimate's noise_share (the share of the
+//! residual read as noise, not a coarse model's facets).
 Eigen::VectorXd region_levels(const RegionNoise& map, const NoiseEstimate& noise, double normal_noise);
 
 //! The level the denoiser runs at: \p normal_noise, or where the mesh reads noise-free by it (keeps less than 1e-6 of

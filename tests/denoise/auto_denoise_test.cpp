@@ -17,11 +17,13 @@
 #include "geotex/tools/metrics.h"
 #include "geotex/tools/noise.h"
 #include "geotex/tools/shapes.h"
+#include "geotex/toolkit/simplify.h"
 #include "geotex/toolkit/smoothing.h"
 #include "test_util.h"
 #include "../../src/denoise/region_guard.h"
 #include "../../src/denoise/region_noise.h"
 #include "../../src/denoise/ring_fit.h"
+
 
 using namespace geotex;
 
@@ -754,6 +756,40 @@ TEST(AutoDenoise, ALowNoiseCoarseModelIsLeftNearerItselfWithTheNoiseEstimated) {
   }
 }
 
+// A coarse organic model nearly clean: cheburashka decimated to 1500 vertices (geotex::simplify, QEM, the vertices
+// kept where they are) at σ 0.02. The estimate reads the whole residual as the model's facets (noise share 0), but
+// the noise map read its coarsest regions' misfit as noise, and the mesh ran at their level: 1.75-1.86 times the
+// noisy input's error (seeds 3 / 7 / 11). Each region's excess is read with the mesh's noise share now
+// (region_levels()): the model is left as it is.
+TEST(AutoDenoise, ACoarseOrganicModelNearlyCleanIsNotMadeWorse) {
+  GEOTEX_REQUIRE_DATA();
+  const Mesh clean = simplify(read_mesh(test::data_dir() / "cheburashka.obj"), 1500).mesh;
+  for (uint64_t seed : {3, 7, 11}) {
+    const Mesh noisy = with_noise(clean, 0.02, false, seed);
+    Mesh out = noisy;
+    set_positions(out, auto_denoise(noisy, {}).positions);
+    EXPECT_LE(compare_meshes(out, clean).mean_normal_error_deg, 1.01 * compare_meshes(noisy, clean).mean_normal_error_deg)
+        << "seed " << seed;
+  }
+}
+
+// The regions' levels where the mesh's residual was read as facets: a region read above twice the whole keeps its
+// excess in proportion to the estimate's noise share (none of it at share 0; half of it at 1/2).
+TEST(RegionNoise, ARegionsExcessIsReadWithTheMeshsNoiseShare) {
+  detail::RegionNoise map;
+  map.whole = 0.1;
+  map.level = (Eigen::VectorXd(3) << 0.1, 0.3, 0.5).finished();
+  NoiseEstimate noise;
+  noise.normal_sigma = noise.rms_normal_sigma = 0.1;
+  for (double share : {1.0, 0.5, 0.0}) {
+    noise.noise_share = share;
+    const Eigen::VectorXd level = detail::region_levels(map, noise, 0.0);
+    EXPECT_EQ(level[0], 0.0) << share;
+    EXPECT_NEAR(level[1], share * (0.3 - 0.1), 1e-12) << share;
+    EXPECT_NEAR(level[2], share * (0.5 - 0.1), 1e-12) << share;
+  }
+}
+
 // Low-frequency scanner noise (a smooth field over 4 edges along the normals) on a CAD part and on an organic model:
 // the noise estimate follows most of it and the mild fit keeps the rest as relief, so the rule read both smooth (the
 // previous release, low_frequency_residual 0, more than 5 % above the better forced reading). Both fits move the
@@ -834,6 +870,30 @@ TEST(RegionGuard, KeepsTheNoiseRemovedAndHoldsAChangeBeyondIt) {
   for (Eigen::Index v = 0; v < X.rows(); v += 10) moved += held[v], ++n_moved;
   EXPECT_LT(moved / n_moved, 0.5 * kept.mean()) << "a change far beyond the noise is held";
   EXPECT_EQ(detail::region_guard_share(N, F, X, X, s).minCoeff(), 1.0) << "no change, nothing held";
+}
+
+// A sliver's noise does not excuse a turn of its well-shaped neighbours. On a flat 12 × 12 plate, a column of
+// vertices moved next to its left neighbour makes a column of slivers (width 0.03 edges: their normals' noise
+// ν² ~ 0.2 against 4 s² on a right triangle); a vertex beside them lifted by 20 noise deviations turns its faces by
+// ~0.2 rad. On the regular plate the guard holds that lift; before the faces were weighted by 1 / ν_f, the slivers'
+// noise in the same region sums excused it entirely (t = 1), though the error read is each face's own angle.
+TEST(RegionGuard, ASliversNoiseDoesNotExcuseItsNeighboursTurn) {
+  constexpr int n = 12;
+  const double h = 1.0 / n, s = 0.01 * h;
+  for (bool slivers : {false, true}) {
+    const Mesh m = plane(n, 1.0);
+    MatrixX3d X = positions(m);
+    Eigen::Index lifted = -1;
+    for (Eigen::Index v = 0; v < X.rows(); ++v) {
+      if (slivers && std::abs(X(v, 0)) < 1e-9) X(v, 0) = -h + 0.03 * h;
+      if (std::abs(X(v, 0) - h) < 1e-9 && std::abs(X(v, 1)) < 1e-9) lifted = v;
+    }
+    ASSERT_GE(lifted, 0);
+    MatrixX3d P = X;
+    P(lifted, 2) += 20 * s;
+    const Eigen::VectorXd t = detail::region_guard_share(one_ring_neighborhoods(m), faces(m), X, P, s);
+    EXPECT_LT(t[lifted], 0.5) << (slivers ? "beside the slivers" : "on the regular plate");
+  }
 }
 
 // The guard's shrinkage gives a change beyond what the noise explains back towards the input: the coarse cow at
