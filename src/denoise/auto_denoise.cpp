@@ -26,6 +26,7 @@
 #include "geotex/denoise/surfel.h"
 #include "misfit_growth.h"
 #include "region_guard.h"
+#include "mixed_levels.h"
 #include "region_noise.h"
 #include "stripes.h"
 
@@ -86,6 +87,10 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
            "step 5c takes a part read smooth whole where its median departure of the sharp fit from the mild one is "
            "below this × the local noise energy (wholly below 0.6 × it: the mild fit's wobble, no relief) and the "
            "noise is well above its curvature; 0 never", between(0, 1e6))
+      .add("region_spread", &O::region_spread,
+           "each region keeps the share of the change of its own noise level where the noise map's spread (its "
+           "90%/10% quantile ratio, averaged over three more rings) is above this and holds over twenty rings; 0 never",
+           between(0, 1e6))
       .add("keep_below", &O::keep_below,
            "normal noise (mean edge lengths) at which half of the change is kept; much less noisy inputs stay as they are",
            positive())
@@ -527,11 +532,19 @@ RegionLevels read_region_noise(const Mesh& mesh, const Neighborhoods& N, AutoDen
                                     "median {:.3f}, the change kept by each region's level", mesh_noise, out.running));
   else
     out.level.setConstant(mesh_noise);
+  // Levels that differ region to region (mixed_levels.h): the share of the change each region keeps by its own.
+  detail::MixedLevels mixed;
+  if (r.noise.samples > 0 && out.running == mesh_noise)
+    mixed = detail::mixed_levels(mesh, r.noise_map,
+                                 r.noise.normal_sigma > 0 ? r.noise.rms_normal_sigma / r.noise.normal_sigma : 1.0,
+                                 r.resolved.region_spread);
+  const Eigen::VectorXd& keep_level = mixed.level.size() > 0 ? mixed.level : out.level;
   out.keep.resize(out.level.size());
   for (Eigen::Index v = 0; v < out.keep.size(); ++v) {
-    const double s4 = std::pow(out.level[v] / keep_below, 4);
+    const double s4 = std::pow(keep_level[v] / keep_below, 4);
     out.keep[v] = s4 / (1 + s4);
   }
+  if (mixed.level.size() > 0) r.choices.push_back(detail::describe_mixed_levels(mixed, out.keep, r.resolved.region_spread));
   return out;
 }
 

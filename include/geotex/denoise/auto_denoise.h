@@ -165,6 +165,13 @@ struct AutoDenoiseOptions {
   //! normal noise is well above its curvature per edge, whatever strong_floor's share and the roughness test say
   //! (dense primitives at high noise, where these fail at scattered vertices). 0 never (the previous release).
   double plain_departure = 0.018;
+  //! Step 6, noise that differs region to region (mixed_levels.h): where the spread of the noise map (noise_map
+  //! averaged over three more rings; its 90 % over its 10 % quantile) is above region_spread and holds over twenty
+  //! rings (not the specks of impulses), each region keeps the share of the change of its own level. 0 never (the
+  //! default: white noise reads at most 2.7, regions of different noise 3-1000, but low-frequency and depth noise
+  //! 4-24 and impulses 2-1000; 4 gains on half-noisy meshes' noisy halves, not on all their quiet ones;
+  //! bench/denoise.md, sixteenth session).
+  double region_spread = 0;
   //! Normal noise (mean edge lengths) at which half of the change is kept: inputs much less noisy are
   //! returned (nearly) as they are.
   double keep_below = 0.02;
