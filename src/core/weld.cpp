@@ -307,10 +307,17 @@ std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance
 }
 
 void hold_ties(MatrixX3d& Y, const MatrixX3d& X, const std::vector<SurfaceTie>& ties) {
-  for (const SurfaceTie& t : ties) {
-    Vec3 y = X.row(t.vertex).transpose();
-    for (int k = 0; k < 3; ++k) y += t.weights[k] * (Y.row(t.corners[k]) - X.row(t.corners[k])).transpose();
-    Y.row(t.vertex) = y.transpose();
+  // Sweeps until nothing moves: a tie's corner may be another tie's vertex (the copies of a point contact on the
+  // rim of a part resting on the other: the teapot's handle's lower end has one), which the later tie moves again.
+  for (int sweep = 0; sweep < 16; ++sweep) {
+    double moved = 0;
+    for (const SurfaceTie& t : ties) {
+      Vec3 y = X.row(t.vertex).transpose();
+      for (int k = 0; k < 3; ++k) y += t.weights[k] * (Y.row(t.corners[k]) - X.row(t.corners[k])).transpose();
+      moved = std::max(moved, (y - Y.row(t.vertex).transpose()).norm());
+      Y.row(t.vertex) = y.transpose();
+    }
+    if (moved == 0) break;
   }
 }
 

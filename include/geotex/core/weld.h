@@ -84,7 +84,8 @@ inline constexpr double kContactLeave = 0.0;
 std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance = kContactTolerance);
 
 //! Each tied vertex of \p Y moved with its point: y_v = Σ_k w_k y_{c_k} + (x_v − Σ_k w_k x_{c_k}), its offset from
-//! the point in \p X kept (the repairs after a solve that holds \p ties: a tied vertex moves with its face point).
+//! the point in \p X kept (the repairs after a solve that holds \p ties: a tied vertex moves with its face point);
+//! swept until no vertex moves (at most 16 sweeps: ties chained through each other's corners).
 void hold_ties(MatrixX3d& Y, const MatrixX3d& X, const std::vector<SurfaceTie>& ties);
 
 }  // namespace geotex
