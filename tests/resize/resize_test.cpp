@@ -1842,7 +1842,7 @@ TEST(ResizeWeld, ARigidProtrusionTiedToAnotherPartIsLeftWhereTheSolvePutIt) {
     scale[a] = 2;
     const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
     ResizeOptions o;
-    o.untangle = false;  // (the repair moves parts that cross apart, ties or not: open)
+    o.untangle = false;  // the solve and the placement alone (the repairs hold ties too)
     const MatrixX3d Y = feature_aware_resize(m, C, f, o);
     const double gap = (Y.row(tip) - Y.row(n0 + touch)).norm();
     const MatrixX3d Ys = Y.topRows(n0);
