@@ -1,5 +1,6 @@
 #include "test_util.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +10,8 @@
 #include <unistd.h>
 
 #include "geotex/core/resources.h"
+#include "geotex/core/spatial.h"
+#include "geotex/tools/shapes.h"
 
 namespace geotex::test {
 
@@ -18,6 +21,32 @@ Mesh soup(const std::vector<Vec3>& V, const std::vector<Eigen::Vector3i>& F) {
   MatrixX3i G(static_cast<Eigen::Index>(F.size()), 3);
   for (size_t f = 0; f < F.size(); ++f) G.row(static_cast<Eigen::Index>(f)) = F[f];
   return make_mesh(X, G);
+}
+
+Mesh tube_on_a_ball(const Vec3& axis, int segments, int rings) {
+  const Mesh ball = icosphere(3);
+  const MatrixX3d B = positions(ball);
+  const MatrixX3i Fb = faces(ball);
+  const TriangleTree tree(B, Fb);
+  const Vec3 a = axis.normalized(), u = a.unitOrthogonal(), w = a.cross(u);
+  const Eigen::Index nb = B.rows(), nt = static_cast<Eigen::Index>(segments) * (rings + 1);
+  MatrixX3d X(nb + nt, 3);
+  X.topRows(nb) = B;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double t = 2 * M_PI * (s + 0.5) / segments;
+      const Vec3 p = 0.9 * a + 0.25 * (std::cos(t) * u + std::sin(t) * w) + (0.7 * r / rings) * a;
+      X.row(nb + r * segments + s) = (r == 0 ? tree.closest(p).point : p).transpose();
+    }
+  MatrixX3i F(Fb.rows() + 2 * segments * rings, 3);
+  F.topRows(Fb.rows()) = Fb;
+  for (int r = 0, k = static_cast<int>(Fb.rows()); r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const int i = static_cast<int>(nb) + r * segments, j = i + segments, s1 = (s + 1) % segments;
+      F.row(k++) = Eigen::RowVector3i(i + s, i + s1, j + s1);
+      F.row(k++) = Eigen::RowVector3i(i + s, j + s1, j + s);
+    }
+  return make_mesh(X, F);
 }
 
 // One BLAS thread in every test binary, as the CLI and Python use (resources.h: OpenBLAS's workers spin).

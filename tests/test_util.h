@@ -32,6 +32,11 @@ struct TempDir {
 //! A mesh from a vertex list and a face list (a polygon soup as a test writes it out).
 Mesh soup(const std::vector<Vec3>& V, const std::vector<Eigen::Vector3i>& F);
 
+//! An open tube (\p segments around, \p rings along) of radius 0.25 standing on the unit icosphere along \p axis: its
+//! lower rim's vertices moved onto their closest points on the ball's faces (none on a ball vertex: a rim resting on
+//! another part's faces, as the teapot's handle ends on its body), its upper rim 0.6 out. The ball's vertices first.
+Mesh tube_on_a_ball(const Vec3& axis, int segments = 16, int rings = 6);
+
 //! ../shared/data, or empty when absent (tests then skip with a message).
 std::filesystem::path data_dir();
 

@@ -223,40 +223,102 @@ Weld weld_coincident(const Mesh& mesh, double relative_tolerance) {
   return w;
 }
 
+namespace {
+
+// Mean length of the edges at each vertex of \p mesh (0 for an isolated one).
+Eigen::VectorXd local_edge_lengths(const Mesh& mesh, const MatrixX3d& X) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(X.rows()), count = Eigen::VectorXd::Zero(X.rows());
+  const MatrixX2i E = edges(mesh);
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const double l = (X.row(E(e, 0)) - X.row(E(e, 1))).norm();
+    for (int k = 0; k < 2; ++k) sum[E(e, k)] += l, count[E(e, k)] += 1;
+  }
+  return sum.cwiseQuotient(count.cwiseMax(1.0));
+}
+
+// The contact of the rim vertex \p v: its closest point on the nearest face of another part (\p parts, connected by
+// edges) within \p tol, where its own part leaves that face on its front (the direction from v to the mean of its
+// neighbours, \p inward, at least kContactLeave of a right angle off the face's plane, on the side its normal points
+// to): a part resting on the face, not one running along it or through it. \return a tie with vertex −1 when none.
+SurfaceTie rim_contact(const MatrixX3d& X, const MatrixX3i& F, const TriangleTree& tree, UnionFind& parts, int v,
+                       const Vec3& inward, double tol) {
+  const Vec3 p = X.row(v).transpose();
+  const int own = parts.find(v);
+  double best = tol;
+  SurfaceTie tie;
+  tree.visit_within(p, tol, [&](int f) {
+    if (parts.find(F(f, 0)) == own) return;
+    const Vec3 a = X.row(F(f, 0)).transpose(), b = X.row(F(f, 1)).transpose(), c = X.row(F(f, 2)).transpose();
+    const Vec3 n = (b - a).cross(c - a);
+    if (inward.dot(n) < kContactLeave * inward.norm() * n.norm()) return;
+    Vec3 bary;
+    const double d = (closest_point_on_triangle(p, a, b, c, &bary) - p).norm();
+    if (d < best || (d == best && tie.vertex < 0)) best = d, tie = SurfaceTie{v, {F(f, 0), F(f, 1), F(f, 2)}, bary};
+  });
+  return tie;
+}
+
+}  // namespace
+
 std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance) {
-  std::vector<int> rim;
-  for (auto v : mesh.vertices())
-    if (mesh.is_boundary(v)) rim.push_back(v.idx());
-  if (rim.empty() || mesh.n_faces() == 0) return {};
+  const std::vector<std::vector<int>> loops = boundary_loops(mesh);  // (isolated vertices are on none)
+  if (loops.empty()) return {};
   const MatrixX3d X = positions(mesh);
   const MatrixX3i F = faces(mesh);
   UnionFind parts(X.rows());  // connected by edges: parts touching at a point welded per fan stay apart
   for (Eigen::Index f = 0; f < F.rows(); ++f) parts.unite(F(f, 0), F(f, 1)), parts.unite(F(f, 0), F(f, 2));
-  const double unit = mean_edge_length(mesh), tol = std::max(relative_tolerance, 0.0) * unit;
+  const Eigen::VectorXd local = local_edge_lengths(mesh, X);
+  const double unit = mean_edge_length(mesh);
   const TriangleTree tree(X, F);
+  std::vector<SurfaceTie> contact(X.rows());
+  enum : signed char { kUnseen, kApart, kOnVertex, kOnFace };
+  std::vector<signed char> state(X.rows(), kUnseen);
   std::vector<SurfaceTie> ties;
-  for (int v : rim) {
-    const Vec3 p = X.row(v).transpose();
-    const int own = parts.find(v);
-    double best = tol;
-    SurfaceTie tie;
-    tree.visit_within(p, tol, [&](int f) {
-      if (parts.find(F(f, 0)) == own) return;
-      Vec3 bary;
-      const double d = (closest_point_on_triangle(p, X.row(F(f, 0)).transpose(), X.row(F(f, 1)).transpose(),
-                                                  X.row(F(f, 2)).transpose(), &bary) - p).norm();
-      if (d < best || (d == best && tie.vertex < 0))
-        best = d, tie = SurfaceTie{v, {F(f, 0), F(f, 1), F(f, 2)}, bary};
-    });
-    // A rim vertex on another part's vertex is the weld's: a point contact (tied there) or a group it left apart.
-    const bool on_vertex = tie.vertex >= 0 && [&] {
-      for (int k = 0; k < 3; ++k)
-        if ((X.row(tie.corners[k]) - X.row(v)).norm() <= kCoincidentTolerance * unit) return true;
-      return false;
-    }();
-    if (tie.vertex >= 0 && !on_vertex) ties.push_back(tie);
+  for (const std::vector<int>& loop : loops) {
+    size_t touching = 0;
+    for (int v : loop) {
+      if (state[v] != kUnseen) {
+        touching += state[v] != kApart;
+        continue;
+      }
+      Vec3 inward = Vec3::Zero();
+      int k = 0;
+      for (auto u : mesh.vv_range(mesh.vertex_handle(v))) inward += X.row(u.idx()).transpose(), ++k;
+      inward = inward / std::max(k, 1) - X.row(v).transpose();
+      const SurfaceTie t = rim_contact(X, F, tree, parts, v, inward, std::max(relative_tolerance, 0.0) * local[v]);
+      // A rim vertex on another part's vertex is the weld's: a point contact (tied there) or a group it left apart.
+      bool on_vertex = false;
+      for (int c = 0; c < 3 && t.vertex >= 0; ++c)
+        on_vertex = on_vertex || (X.row(t.corners[c]) - X.row(v)).norm() <= kCoincidentTolerance * unit;
+      state[v] = t.vertex < 0 ? kApart : on_vertex ? kOnVertex : kOnFace;
+      if (state[v] == kOnFace) contact[v] = t;
+      touching += state[v] != kApart;
+    }
+    // A rim rests on the other part when most of its loop does (a few vertices near a face are a pass, not a seat).
+    if (2 * touching > loop.size())
+      for (int v : loop)
+        if (state[v] == kOnFace) ties.push_back(contact[v]);
   }
+  std::sort(ties.begin(), ties.end(), [](const SurfaceTie& a, const SurfaceTie& b) { return a.vertex < b.vertex; });
+  ties.erase(std::unique(ties.begin(), ties.end(), [](const SurfaceTie& a, const SurfaceTie& b) {
+    return a.vertex == b.vertex;
+  }), ties.end());
   return ties;
+}
+
+void hold_ties(MatrixX3d& Y, const MatrixX3d& X, const std::vector<SurfaceTie>& ties) {
+  // Sweeps until nothing moves: a tie's corner may be another tie's vertex (the copies of a point contact on the
+  // rim of a part resting on the other: the teapot's handle's lower end has one), which the later tie moves again.
+  for (int sweep = 0; sweep < 16; ++sweep) {
+    double moved = 0;
+    for (const SurfaceTie& t : ties) {
+      Vec3 y = X.row(t.vertex).transpose();
+      for (int k = 0; k < 3; ++k) y += t.weights[k] * (Y.row(t.corners[k]) - X.row(t.corners[k])).transpose();
+      moved = std::max(moved, (y - Y.row(t.vertex).transpose()).norm());
+      Y.row(t.vertex) = y.transpose();
+    }
+    if (moved == 0) break;
+  }
 }
 
 }  // namespace geotex

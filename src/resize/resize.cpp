@@ -150,8 +150,8 @@ const OptionTable<ResizeOptions>& ResizeOptions::table() {
            "only count them (every method counts them)")
       .add("weld", &O::weld,
            "similarity, axis, axis-similarity: solve on the mesh with coincident vertices welded (unwelded patches as "
-           "one surface), parts touching at a point held together; false: the mesh as stored, each patch and part "
-           "solved apart")
+           "one surface), parts touching at a point or resting with a rim on another part's faces held together (the "
+           "teapot's handle), through the repairs too; false: the mesh as stored, each patch and part solved apart")
       .nest(&O::axis, AxisWarpOptions::table(), "axis_")
       .preset("thesis", "the thesis' method as written: Eq. (9.2) with Eq. (9.3)'s squared weights, T_i similarities "
               "(rotation and scale), umbrella Laplacian",
@@ -1532,6 +1532,7 @@ MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const Matri
   if (!room) return out;
   MatrixX3d Y = place_protrusions(mesh, X, *room, protrusions);
   relax_turned_faces(mesh, C, protrusions, Y);
+  if (ties) hold_ties(Y, X, *ties);  // a tied vertex the relaxation moved goes with its point
   fit_box_onto(Y, C);
   return Y;
 }
@@ -1539,15 +1540,18 @@ MatrixX3d put_back_protrusions(const Mesh& mesh, const MatrixX3d& X, const Matri
 // The faces \p out crosses against the input's own, into \p untangled when given; repaired towards \p safe
 // (untangle_resize()) when \p repair, and then towards \p plain (the plain stretch, affine, so crossing only what
 // the input does) when given and faces the safe result crosses itself are left (the axis warp crosses one beyond
-// the cow's own ×2 y and z). Not counted at all when neither is asked (feature_aware_resize() alone).
+// the cow's own ×2 y and z). Not counted at all when neither is asked (feature_aware_resize() alone). The vertices
+// of \p ties move with their points through the repair.
 MatrixX3d count_and_untangle(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& out, const MatrixX3d& safe,
-                             const MatrixX3d* plain, bool repair, const ResizeOptions& o, UntangleReport* untangled) {
+                             const MatrixX3d* plain, bool repair, const ResizeOptions& o, UntangleReport* untangled,
+                             const std::vector<SurfaceTie>* ties = nullptr) {
   UntangleReport counts;
   if (!repair && !untangled) return out;
-  MatrixX3d Y = untangle_resize(mesh, X, out, safe, repair, counts, o.progress);
+  constexpr UntangleRepair kHow = UntangleRepair::ShiftThenBlend;
+  MatrixX3d Y = untangle_resize(mesh, X, out, safe, repair, counts, o.progress, kHow, ties);
   if (repair && plain && counts.excess_after() > 0) {
     UntangleReport second;
-    Y = untangle_resize(mesh, X, Y, *plain, repair, second, o.progress);
+    Y = untangle_resize(mesh, X, Y, *plain, repair, second, o.progress, kHow, ties);
     counts.after = second.after;
     counts.blended = std::max(counts.blended, second.blended);
     counts.rounds += second.rounds;
@@ -1576,12 +1580,13 @@ bool welds_for_solve(const ResizeOptions& o, ResizeMethod m) {
   return o.weld && (m == ResizeMethod::Similarity || m == ResizeMethod::Axis || m == ResizeMethod::AxisSimilarity);
 }
 
-// The ties the similarity stage holds on the mesh solved: the copies of each point contact (w.ties). (Tying the rims
-// resting on another part's faces too, rim_contacts(), shut the teapot's handle notch but made the stanford-bunny ×2
-// x / y / z 0.253 / 0.353 / 0.197 → 0.454 / 0.622 / 0.402 and the beetle ×2 z 0.719 → 0.743 with a face turned:
-// not kept; bench/resize.md, issue 25, fifteenth session.)
-std::vector<SurfaceTie> solve_ties(const Weld& w) {
-  std::vector<SurfaceTie> ties;
+// The ties the similarity stage holds on \p m, the mesh solved (the welded one, or the input when \p w welds
+// nothing): the copies of each point contact (w.ties) and the rims resting on another part's faces (rim_contacts()):
+// the teapot's handle's lower end. (The fifteenth session's rim_contacts() took vertices of no face for rims: 1,085 of
+// the stanford-bunny's tied to its faces made its ×2 x 0.261 -> 0.453, one of the beetle's its ×2 z 0.743; those are
+// no rim now; bench/resize.md, issue 25, sixteenth session.)
+std::vector<SurfaceTie> solve_ties(const Weld& w, const Mesh& m) {
+  std::vector<SurfaceTie> ties = rim_contacts(m);
   for (const auto& [a, b] : w.ties) ties.push_back({b, {a, a, a}, Vec3(1, 0, 0)});
   return ties;
 }
@@ -1634,7 +1639,8 @@ MatrixX3d resize_at_origin(const Mesh& mesh, const MatrixX3d& C, const Eigen::Ve
                                                           : similarity_resize(mesh, X, W, features, o, base);
     // (Giving the protrusions' slabs full importance in the warp changed nothing measurable: bench/resize.md.)
     out = put_back_protrusions(mesh, X, C, features, out, protrusions, ties);
-    out = count_and_untangle(mesh, X, out, W, &C, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled);
+    out = count_and_untangle(mesh, X, out, W, &C, o.method == ResizeMethod::AxisSimilarity && o.untangle, o, untangled,
+                             ties);
     report(o.progress, 1.0, "done");
     return out;
   }
@@ -1687,7 +1693,7 @@ MatrixX3d feature_aware_resize(const Mesh& mesh, const MatrixX3d& C, const Eigen
       !welds_for_solve(options, resolved_resize_method(options, positions(mesh), C)))
     return resize_as_stored(mesh, C, features, options, untangled);  // (which refuses the sizes)
   const Weld w = weld_coincident(mesh);
-  const std::vector<SurfaceTie> ties = solve_ties(w);
+  const std::vector<SurfaceTie> ties = solve_ties(w, w.identity() ? mesh : w.mesh);
   if (w.identity()) return resize_as_stored(mesh, C, features, options, untangled, &ties);
   // A weight painted on one side of a seam holds the welded vertex (the largest of the copies').
   return w.to_input(resize_as_stored(w.mesh, w.to_welded(C), w.max_to_welded(features), options, untangled, &ties));
@@ -1765,7 +1771,7 @@ ResizeResult resize_mesh(const Mesh& mesh, const ResizeRunOptions& options, cons
     r.detector = map.method;
     r.summary = std::move(map.summary);
   }
-  const std::vector<SurfaceTie> ties = weld ? solve_ties(w) : std::vector<SurfaceTie>{};
+  const std::vector<SurfaceTie> ties = weld ? solve_ties(w, m) : std::vector<SurfaceTie>{};
   if (w.identity()) {
     r.V = resize_as_stored(mesh, r.mapped, f, ro, &r.untangle, &ties);
   } else {

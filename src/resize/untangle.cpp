@@ -256,6 +256,7 @@ namespace {
 struct Crossings {
   MatrixX3i F;
   std::vector<char> own, safe_hit;
+  const std::vector<SurfaceTie>* ties = nullptr;  // vertices moved with their points (hold_ties())
 };
 
 // Moves the parts that run into each other apart (kShiftRounds rounds of crossing_pushes() spread by spread_pushes(),
@@ -291,6 +292,7 @@ MatrixX3d shift_apart(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, 
     const MatrixX3d field = spread_pushes(g, X, push, kShiftEdges * edge, edge);
     for (Eigen::Index i = 0; i < X.rows(); ++i) moved[i] = moved[i] || !field.row(i).isZero(0);
     out += field;
+    if (c.ties) hold_ties(out, X, *c.ties);
     fit_box_onto(out, safe);
     counts.shift_rounds = round + 1;
   }
@@ -302,9 +304,10 @@ MatrixX3d shift_apart(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, 
 }  // namespace
 
 MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y0, const MatrixX3d& safe,
-                          bool repair, UntangleReport& counts, const ProgressFn& progress, UntangleRepair how) {
+                          bool repair, UntangleReport& counts, const ProgressFn& progress, UntangleRepair how,
+                          const std::vector<SurfaceTie>* ties) {
   counts = {};
-  Crossings c{faces(mesh), {}, {}};
+  Crossings c{faces(mesh), {}, {}, ties};
   const MatrixX3i& F = c.F;
   std::vector<char> hit = self_intersecting_faces(Y0, F);
   counts.before = counts.after = count(hit);
@@ -339,6 +342,7 @@ MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d&
     const Eigen::VectorXd t = kRaise[round % 3] * bump(X, seed, r);
     if (round % 3 == 2) r *= 2;
     out = Y + t.asDiagonal() * (safe - Y);
+    if (ties) hold_ties(out, X, *ties);
     fit_box_onto(out, safe);
     counts.rounds = round + 1;
     counts.blended = static_cast<size_t>((t.array() > 0).count());

@@ -14,6 +14,7 @@
 using namespace geotex;
 
 using test::soup;
+using test::tube_on_a_ball;
 
 TEST(Weld, CoincidentGroupsChainWithinTheToleranceAcrossCellWalls) {
   // Near copies on either side of a grid wall (the grid is 1024 tolerances from the lowest point), exact copies, and
@@ -95,39 +96,6 @@ TEST(Weld, AWeldedModelIsLeftAsItIs) {
   EXPECT_EQ(w.mesh.n_vertices(), 0u);
 }
 
-namespace {
-
-// An open tube (\p segments around, \p rings along) of radius 0.25 standing on the unit icosphere along \p axis: its
-// lower rim's vertices moved onto their closest points on the ball's faces (none on a ball vertex: a rim resting on
-// another part's faces, as the teapot's handle ends on its body), its upper rim 0.6 out. The ball's vertices first.
-Mesh tube_on_a_ball(const Vec3& axis, int segments = 16, int rings = 6) {
-  const Mesh ball = icosphere(3);
-  const MatrixX3d B = positions(ball);
-  const MatrixX3i Fb = faces(ball);
-  const TriangleTree tree(B, Fb);
-  const Vec3 a = axis.normalized(), u = a.unitOrthogonal(), w = a.cross(u);
-  const Eigen::Index nb = B.rows(), nt = static_cast<Eigen::Index>(segments) * (rings + 1);
-  MatrixX3d X(nb + nt, 3);
-  X.topRows(nb) = B;
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double t = 2 * M_PI * (s + 0.5) / segments;
-      const Vec3 p = 0.9 * a + 0.25 * (std::cos(t) * u + std::sin(t) * w) + (0.7 * r / rings) * a;
-      X.row(nb + r * segments + s) = (r == 0 ? tree.closest(p).point : p).transpose();
-    }
-  MatrixX3i F(Fb.rows() + 2 * segments * rings, 3);
-  F.topRows(Fb.rows()) = Fb;
-  for (int r = 0, k = static_cast<int>(Fb.rows()); r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const int i = static_cast<int>(nb) + r * segments, j = i + segments, s1 = (s + 1) % segments;
-      F.row(k++) = Eigen::RowVector3i(i + s, i + s1, j + s1);
-      F.row(k++) = Eigen::RowVector3i(i + s, j + s1, j + s);
-    }
-  return make_mesh(X, F);
-}
-
-}  // namespace
-
 // Rims resting on another part's faces: every vertex of the tube's lower rim is found, tied to a face of the ball
 // (never its own part's) at barycentric weights that give it back; the upper rim, 0.6 out, is not; a tolerance below
 // the lower rim's distance from the ball finds nothing once the rim is lifted off it.
@@ -152,12 +120,56 @@ TEST(Weld, RimsRestingOnAnotherPartsFacesAreTiedToTheirPointsOnThem) {
     EXPECT_LE((at - X.row(t.vertex).transpose()).norm(), 1e-9 * unit);
     EXPECT_LT(t.weights.maxCoeff(), 1.0);  // on a face or an edge, not at a ball vertex
   }
-  MatrixX3d lifted = X;  // the tube moved out by a tenth of a mean edge length
+  MatrixX3d lifted = X;  // the tube moved out by a twentieth of a mean edge length
   const Vec3 a = Vec3(1, 0.3, 0.2).normalized();
-  for (Eigen::Index i = nb; i < X.rows(); ++i) lifted.row(i) += 0.1 * unit * a.transpose();
+  for (Eigen::Index i = nb; i < X.rows(); ++i) lifted.row(i) += 0.05 * unit * a.transpose();
   Mesh off = m;
   set_positions(off, lifted);
   EXPECT_EQ(rim_contacts(off).size(), static_cast<size_t>(segments));
-  EXPECT_TRUE(rim_contacts(off, 0.05).empty());
+  EXPECT_TRUE(rim_contacts(off, 0.02).empty());
   EXPECT_TRUE(rim_contacts(icosphere(2)).empty());  // no rim
+}
+
+// Issue 25, sixteenth session: a rim near another part but not on it is not seated. Lifted a whole edge length off
+// the ball, the tube's rim finds nothing; with only 5 of its 16 rim vertices left on the ball (the rest a mean edge
+// length off), the loop mostly does not touch and nothing is tied (with 12, those are); a vertex of no face lying on a ball face is no
+// rim; the tube turned round (the rim on the ball's faces, the tube running into the ball through them) is not
+// resting on it.
+TEST(Weld, ARimNearButNotOnAnotherPartIsNotTied) {
+  const int segments = 16;
+  const Mesh m = tube_on_a_ball(Vec3(1, 0.3, 0.2), segments);
+  const MatrixX3d X = positions(m);
+  const int nb = static_cast<int>(icosphere(3).n_vertices());
+  const double unit = mean_edge_length(m);
+  const Vec3 a = Vec3(1, 0.3, 0.2).normalized();
+  ASSERT_EQ(rim_contacts(m).size(), static_cast<size_t>(segments));  // the seated rim, as above
+  const auto moved = [&](auto&& shift) {
+    Mesh c = m;
+    MatrixX3d Y = X;
+    for (Eigen::Index i = nb; i < X.rows(); ++i) Y.row(i) += shift(static_cast<int>(i - nb)).transpose();
+    set_positions(c, Y);
+    return c;
+  };
+  // The whole tube a mean edge length off: at the default tolerance and at 0.9 edge lengths.
+  const Mesh lifted = moved([&](int) { return Vec3(unit * a); });
+  EXPECT_TRUE(rim_contacts(lifted).empty());
+  EXPECT_TRUE(rim_contacts(lifted, 0.9).empty());
+  // 5 of the 16 lower-rim vertices on the ball, the others (and the rest of the tube) lifted.
+  const Mesh partly = moved([&](int k) { return Vec3(k < 5 ? Vec3::Zero() : Vec3(unit * a)); });
+  EXPECT_TRUE(rim_contacts(partly).empty());
+  // 12 of the 16 left on it: the loop mostly touches, and those 12 are tied.
+  EXPECT_EQ(rim_contacts(moved([&](int k) { return Vec3(k < 12 ? Vec3::Zero() : Vec3(unit * a)); })).size(), 12u);
+  // The tube mirrored through the plane of its lower rim: it runs into the ball from the rim on its faces.
+  const Mesh through = moved([&](int k) {
+    const Vec3 p = X.row(nb + k).transpose(), base = X.row(nb + k % segments).transpose();
+    return Vec3(-2 * (p - base).dot(a) * a);
+  });
+  EXPECT_TRUE(rim_contacts(through).empty());
+  // A vertex of no face on the centre of a ball face.
+  const Mesh ball = icosphere(3);
+  MatrixX3d B(ball.n_vertices() + 1, 3);
+  B.topRows(ball.n_vertices()) = positions(ball);
+  const MatrixX3i Fb = faces(ball);
+  B.row(B.rows() - 1) = (B.row(Fb(0, 0)) + B.row(Fb(0, 1)) + B.row(Fb(0, 2))) / 3;
+  EXPECT_TRUE(rim_contacts(make_mesh(B, Fb)).empty());
 }

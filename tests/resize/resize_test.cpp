@@ -1842,7 +1842,7 @@ TEST(ResizeWeld, ARigidProtrusionTiedToAnotherPartIsLeftWhereTheSolvePutIt) {
     scale[a] = 2;
     const MatrixX3d C = apply_map(scale_map(scale, bounding_box(m).center()), X);
     ResizeOptions o;
-    o.untangle = false;  // (the repair moves parts that cross apart, ties or not: open)
+    o.untangle = false;  // the solve and the placement alone (the repairs hold ties too)
     const MatrixX3d Y = feature_aware_resize(m, C, f, o);
     const double gap = (Y.row(tip) - Y.row(n0 + touch)).norm();
     const MatrixX3d Ys = Y.topRows(n0);
@@ -1853,5 +1853,83 @@ TEST(ResizeWeld, ARigidProtrusionTiedToAnotherPartIsLeftWhereTheSolvePutIt) {
     EXPECT_LT(r[0], 0.03);
     EXPECT_LT(r[1], 3.0);
     EXPECT_EQ(turned_over(m, Y, C), 0);
+  }
+}
+
+namespace {
+
+// How far each tie's vertex ends from its point, against its offset from it in the input \p C:
+// |(y_v − Σ w_k y_{c_k}) − (c_v − Σ w_k c_{c_k})|, the largest over \p ties (vertices of the welded mesh \p w, or of
+// the input when \p w welds nothing).
+double largest_tie_miss(const std::vector<SurfaceTie>& ties, const Weld& w, const MatrixX3d& Y, const MatrixX3d& C) {
+  const MatrixX3d y = w.identity() ? Y : w.to_welded(Y), c = w.identity() ? C : w.to_welded(C);
+  double miss = 0;
+  for (const SurfaceTie& t : ties) {
+    Vec3 d = (y.row(t.vertex) - c.row(t.vertex)).transpose();
+    for (int k = 0; k < 3; ++k) d -= t.weights[k] * (y.row(t.corners[k]) - c.row(t.corners[k])).transpose();
+    miss = std::max(miss, d.norm());
+  }
+  return miss;
+}
+
+}  // namespace
+
+// Issue 25, sixteenth session: a part resting on another with its rim on the other's faces (an open tube standing on
+// a ball, its rim on the interior of the ball's faces) stays seated, ×2 along each axis by the default method with its
+// repairs on; with the weld off (nothing tied) the resize opens the seat (the test could fail).
+TEST(ResizeWeld, ARimRestingOnAnotherPartsFacesStaysOnThem) {
+  const Mesh m = test::tube_on_a_ball(Vec3(1, 0.3, 0.2));
+  const MatrixX3d X = positions(m);
+  const Weld w = weld_coincident(m);
+  ASSERT_TRUE(w.identity());
+  const std::vector<SurfaceTie> ties = rim_contacts(m);
+  ASSERT_EQ(ties.size(), 16u);
+  const double unit = mean_edge_length(m);
+  double widest_off = 0;
+  for (int a = 0; a < 3; ++a) {
+    ResizeRunOptions o;
+    o.map.scale = Vec3::Ones();
+    o.map.scale[a] = 2;
+    const ResizeResult on = resize_mesh(m, o);
+    o.resize.weld = false;
+    const ResizeResult off = resize_mesh(m, o);
+    const double miss_on = largest_tie_miss(ties, w, on.V, X), miss_off = largest_tie_miss(ties, w, off.V, X);
+    std::printf("  tube on a ball x2 %c: rim off its points %.2e (ties) / %.2f (weld off) mean edge lengths\n",
+                "xyz"[a], miss_on / unit, miss_off / unit);
+    EXPECT_LE(miss_on, 1e-3 * unit);
+    EXPECT_EQ(turned_over(m, on.V, on.mapped), 0);
+    widest_off = std::max(widest_off, miss_off);
+  }
+  EXPECT_GT(widest_off, 0.1 * unit);
+}
+
+// Issue 25, fifteenth and sixteenth sessions: the teapot's handle's lower end rests on its body's faces (rim vertices
+// on the interior of the body's faces, one on a body vertex). Tied to their points on those faces in the similarity
+// stage and held there through the repairs (the untangle's shift and blend, the protrusions' relaxation), the rim
+// vertices keep their offsets from them, ×2 along each axis; with the weld off (the patches and parts solved apart,
+// nothing tied) the handle's end leaves the body at ×2 x (the notch) and no vertex is welded.
+TEST(ResizeWeld, RimsRestingOnAnotherPartStayOnIt) {
+  GEOTEX_REQUIRE_DATA();
+  const Mesh m = read_mesh(geotex::test::data_dir() / "teapot.obj");
+  const MatrixX3d X = positions(m);
+  const Weld w = weld_coincident(m);
+  const std::vector<SurfaceTie> ties = rim_contacts(w.mesh);
+  ASSERT_GE(ties.size(), 16u);  // the handle's lower end's rim
+  const double unit = mean_edge_length(m);
+  for (int a = 0; a < 3; ++a) {
+    ResizeRunOptions o;
+    o.map.scale = Vec3::Ones();
+    o.map.scale[a] = 2;
+    const ResizeResult on = resize_mesh(m, o);
+    o.resize.weld = false;
+    const ResizeResult off = resize_mesh(m, o);
+    const double miss_on = largest_tie_miss(ties, w, on.V, X), miss_off = largest_tie_miss(ties, w, off.V, X);
+    std::printf("  teapot x2 %c: rims off their points %.2e (weld on) / %.2f (off) mean edge lengths\n", "xyz"[a],
+                miss_on / unit, miss_off / unit);
+    EXPECT_LE(miss_on, 1e-3 * unit);
+    EXPECT_EQ(turned_over(m, on.V, on.mapped), 0);
+    EXPECT_GT(on.welded_vertices, 0);
+    EXPECT_EQ(off.welded_vertices, 0);
+    if (a == 0) EXPECT_GT(miss_off, 0.1 * unit);  // the handle's lower end off the body (the test could fail)
   }
 }

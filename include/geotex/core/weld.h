@@ -61,19 +61,31 @@ struct SurfaceTie {
   Vec3 weights = Vec3(1, 0, 0);
 };
 
-//! Rim vertices within this many mean edge lengths of another part's faces touch them (rim_contacts()). The teapot's
-//! handle's lower end rests on its body's faces (the body's facets chord the curved surface the rim was cut from)
-//! 0.002 to 0.094 mean edge lengths off. Tied too, the handle's upper end (0.32 to 0.43 into the body; at 0.5) cost
-//! the teapot's ×2 x / y / z detail ratios 0.015 / 0.011 / 0.066, and the beetle's second part's rim (0.19 to 0.23
-//! off the body; at 0.25) its ×2 z 0.016 (bench/resize.md, issue 25, fifteenth session).
+//! Rim vertices within this many of their own edges' mean length of another part's faces touch them
+//! (rim_contacts()). The teapot's handle's lower end rests on its body's faces (the body's facets chord the curved
+//! surface the rim was cut from) 0.002 to 0.094 mean edge lengths off. Tied too, the handle's upper end (0.32 to 0.43
+//! into the body; at 0.5) cost the teapot's ×2 x / y / z detail ratios 0.015 / 0.011 / 0.066, and the beetle's second
+//! part's rim (0.19 to 0.23 off the body; at 0.25) its ×2 z 0.016 (bench/resize.md, issue 25, fifteenth session).
 inline constexpr double kContactTolerance = 0.15;
 
+//! A rim's part rests on a face when it leaves the face on its front at least this far off its plane (the cosine of
+//! the angle between the face's normal and the direction from the rim vertex into its part): not along it, not
+//! through it (rim_contacts()).
+inline constexpr double kContactLeave = 0.0;
+
 //! The rims of parts resting on another part's faces, as the teapot's handle ends on its body: each boundary vertex
-//! of \p mesh within \p relative_tolerance mean edge lengths of a face of another connected part (sharing no vertex
-//! with its own: a point contact welded per fan leaves the two parts apart), tied to its closest point on the nearest
-//! such face; a rim vertex coinciding with a vertex of that face is left to the weld (a point contact, Weld::ties, or a
-//! group it leaves apart). A solve that keeps those points together keeps the parts in contact (T-junctions between parts, where
-//! only one of a rim's vertices, or none, is a vertex of the other part). \return the ties, by vertex.
+//! of \p mesh within \p relative_tolerance of its edges' mean length of a face of another connected part (sharing no
+//! vertex with its own: a point contact welded per fan leaves the two parts apart) whose front its part leaves from
+//! (kContactLeave), tied to its closest point on the nearest such face; a rim vertex coinciding with a vertex of that
+//! face is left to the weld (a point contact, Weld::ties, or a group it leaves apart). Only rims most of whose
+//! boundary loop touches are tied (a loop passing near a face is not seated on it); isolated vertices are no rim.
+//! A solve that keeps those points together keeps the parts in contact (T-junctions between parts, where only one
+//! of a rim's vertices, or none, is a vertex of the other part). \return the ties, sorted by vertex.
 std::vector<SurfaceTie> rim_contacts(const Mesh& mesh, double relative_tolerance = kContactTolerance);
+
+//! Each tied vertex of \p Y moved with its point: y_v = Σ_k w_k y_{c_k} + (x_v − Σ_k w_k x_{c_k}), its offset from
+//! the point in \p X kept (the repairs after a solve that holds \p ties: a tied vertex moves with its face point);
+//! swept until no vertex moves (at most 16 sweeps: ties chained through each other's corners).
+void hold_ties(MatrixX3d& Y, const MatrixX3d& X, const std::vector<SurfaceTie>& ties);
 
 }  // namespace geotex

@@ -8,9 +8,11 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "geotex/core/mesh.h"
 #include "geotex/core/progress.h"
+#include "geotex/core/weld.h"
 
 namespace geotex {
 
@@ -45,10 +47,13 @@ enum class UntangleRepair { ShiftThenBlend, Blend };
 //! a = 1/4, 1/2, 1 at each r, then r doubles from one mean edge length; faces crossed anew or turned over by a blend
 //! join the seeds. After each blend Y is scaled per axis back onto the box of \p safe (an affine map: it adds no
 //! crossing). Done when no more faces cross than in X, or those beyond are crossed in \p safe too; at the latest
-//! \p safe itself. \param X, Y, safe #V by 3 over \p mesh's faces. \return #V by 3 positions.
+//! \p safe itself. The vertices of \p ties (when given) move with their points after each shift and blend
+//! (hold_ties(): a contact the solve held stays shut). \param X, Y, safe #V by 3 over \p mesh's faces.
+//! \return #V by 3 positions.
 MatrixX3d untangle_resize(const Mesh& mesh, const MatrixX3d& X, const MatrixX3d& Y, const MatrixX3d& safe, bool repair,
                           UntangleReport& counts, const ProgressFn& progress = {},
-                          UntangleRepair how = UntangleRepair::ShiftThenBlend);
+                          UntangleRepair how = UntangleRepair::ShiftThenBlend,
+                          const std::vector<SurfaceTie>* ties = nullptr);
 
 //! \p Y scaled per axis onto the bounding box of \p B (axes where either box is flat are left as they are): the
 //! box fit the similarity stage and the repair end with (an affine map: it turns no face and adds no crossing).
