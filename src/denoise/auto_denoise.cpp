@@ -82,7 +82,8 @@ const OptionTable<AutoDenoiseOptions>& AutoDenoiseOptions::table() {
            between(0, 1e6))
       .add("plane_misfit", &O::plane_misfit,
            "a flat region of the sharp fit is read creased throughout where the input lies on one plane to within "
-           "this x the region's noise (root-mean-square distance) and no curvature stands above the noise; 0 never",
+           "this x the region's noise (root-mean-square distance) and no curvature stands above the noise, where the "
+           "noise runs along one axis (depth_anisotropy); 0 never",
            between(0, 1e6))
       .add("strong_floor", &O::strong_floor,
            "where a region read smooth takes the sharp pass's stronger smoothing: its departure from the mild fit "
