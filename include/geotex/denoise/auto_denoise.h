@@ -155,6 +155,13 @@ struct AutoDenoiseOptions {
   //! at most 7); the creased budget is not applied there (bench/denoise.md, fourteenth session). 0 never (the
   //! previous release).
   double low_frequency_residual = 20;
+  //! Step 5, flat regions: a region the sharp fit makes one plane (its faces joined where their normals differ by
+  //! less than 10°, 150+ vertices) is read creased throughout where the input's root-mean-square distance from its
+  //! least-squares plane is at most plane_misfit × the region's normal noise (noise_map) and a quadric explains no
+  //! more than noise would: a cylinder's caps under white or depth noise 0.9-1.2, organic regions of that size 1.5+.
+  //! Only where the noise runs along one axis (depth_anisotropy's test): under white noise an organic region whose
+  //! curvature is below the noise passes too (bench/denoise.md, sixteenth session). 0 never (the previous release).
+  double plane_misfit = 1.35;
   //! Step 5c: a vertex read smooth takes the sharp fit where the local energy of its departure from the
   //! mild fit stays below strong_floor × the local noise energy (in Wiener proportion) and the sharp fit's
   //! normals vary less around it: 0 never (the previous release), large values wherever it is smoother.
