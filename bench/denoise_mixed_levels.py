@@ -24,11 +24,12 @@ import numpy as np
 import geotex
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DATA = os.path.join(HERE, "..", "..", "shared", "data")
 sys.path.insert(0, os.path.join(HERE, "..", "..", "shared", "eval"))
 import geval  # noqa: E402
 
-OBLIQUE = (0.3, 0.4, 0.866)
+sys.path.insert(0, HERE)
+from denoise_scanner import OBLIQUE, load, value  # noqa: E402  (one loader for the scanner-noise benches)
+
 # name: (kind, parameters). half: σ on the side of the plane through the centre along `axis` the normal points to
 # (n), σ on the other (q); gradient: σ from q to n along `axis` (the regions: the two halves); blob: σ n within the
 # ball about the vertex farthest along `axis` holding 15 % of the area, q elsewhere.
@@ -45,24 +46,6 @@ CASES = {
 }
 TUNED = ["half0.3/0.05x", "half0.3/0x", "grad0.05-0.5x", "blob0.4/0.05"]
 MODELS = ["fandisk.obj", "stanford-bunny.obj", "cow.obj", "spot.obj", "gen:cube@4", "gen:cylinder@2"]
-
-
-def load(name):
-    if name.startswith("gen:"):
-        gen, _, level = name[4:].partition("@")
-        V, F = geotex.generate(gen, level=int(level or 1))
-    else:
-        V, F = geotex.read_mesh(os.path.join(DATA, name))
-    return np.asarray(V, float), np.asarray(F)
-
-
-def value(text):
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return {"true": True, "false": False}.get(text, text)
 
 
 def face_angles(X, V, F):
