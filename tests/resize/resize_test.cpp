@@ -1872,6 +1872,26 @@ double largest_tie_miss(const std::vector<SurfaceTie>& ties, const Weld& w, cons
   return miss;
 }
 
+// One ×2 resize along axis \p a of \p m by the default method, with the weld (and its ties) on and off: the two
+// results and how far each leaves \p ties' rim vertices off their points (largest_tie_miss()).
+struct SeatedRun {
+  ResizeResult on, off;
+  double miss_on = 0, miss_off = 0;
+};
+SeatedRun resize_weld_on_and_off(const Mesh& m, const std::vector<SurfaceTie>& ties, const Weld& w, int a) {
+  const MatrixX3d X = positions(m);
+  ResizeRunOptions o;
+  o.map.scale = Vec3::Ones();
+  o.map.scale[a] = 2;
+  SeatedRun r;
+  r.on = resize_mesh(m, o);
+  o.resize.weld = false;
+  r.off = resize_mesh(m, o);
+  r.miss_on = largest_tie_miss(ties, w, r.on.V, X);
+  r.miss_off = largest_tie_miss(ties, w, r.off.V, X);
+  return r;
+}
+
 }  // namespace
 
 // Issue 25, sixteenth session: a part resting on another with its rim on the other's faces (an open tube standing on
@@ -1879,7 +1899,6 @@ double largest_tie_miss(const std::vector<SurfaceTie>& ties, const Weld& w, cons
 // repairs on; with the weld off (nothing tied) the resize opens the seat (the test could fail).
 TEST(ResizeWeld, ARimRestingOnAnotherPartsFacesStaysOnThem) {
   const Mesh m = test::tube_on_a_ball(Vec3(1, 0.3, 0.2));
-  const MatrixX3d X = positions(m);
   const Weld w = weld_coincident(m);
   ASSERT_TRUE(w.identity());
   const std::vector<SurfaceTie> ties = rim_contacts(m);
@@ -1887,13 +1906,7 @@ TEST(ResizeWeld, ARimRestingOnAnotherPartsFacesStaysOnThem) {
   const double unit = mean_edge_length(m);
   double widest_off = 0;
   for (int a = 0; a < 3; ++a) {
-    ResizeRunOptions o;
-    o.map.scale = Vec3::Ones();
-    o.map.scale[a] = 2;
-    const ResizeResult on = resize_mesh(m, o);
-    o.resize.weld = false;
-    const ResizeResult off = resize_mesh(m, o);
-    const double miss_on = largest_tie_miss(ties, w, on.V, X), miss_off = largest_tie_miss(ties, w, off.V, X);
+    const auto [on, off, miss_on, miss_off] = resize_weld_on_and_off(m, ties, w, a);
     std::printf("  tube on a ball x2 %c: rim off its points %.2e (ties) / %.2f (weld off) mean edge lengths\n",
                 "xyz"[a], miss_on / unit, miss_off / unit);
     EXPECT_LE(miss_on, 1e-3 * unit);
@@ -1911,19 +1924,12 @@ TEST(ResizeWeld, ARimRestingOnAnotherPartsFacesStaysOnThem) {
 TEST(ResizeWeld, RimsRestingOnAnotherPartStayOnIt) {
   GEOTEX_REQUIRE_DATA();
   const Mesh m = read_mesh(geotex::test::data_dir() / "teapot.obj");
-  const MatrixX3d X = positions(m);
   const Weld w = weld_coincident(m);
   const std::vector<SurfaceTie> ties = rim_contacts(w.mesh);
   ASSERT_GE(ties.size(), 16u);  // the handle's lower end's rim
   const double unit = mean_edge_length(m);
   for (int a = 0; a < 3; ++a) {
-    ResizeRunOptions o;
-    o.map.scale = Vec3::Ones();
-    o.map.scale[a] = 2;
-    const ResizeResult on = resize_mesh(m, o);
-    o.resize.weld = false;
-    const ResizeResult off = resize_mesh(m, o);
-    const double miss_on = largest_tie_miss(ties, w, on.V, X), miss_off = largest_tie_miss(ties, w, off.V, X);
+    const auto [on, off, miss_on, miss_off] = resize_weld_on_and_off(m, ties, w, a);
     std::printf("  teapot x2 %c: rims off their points %.2e (weld on) / %.2f (off) mean edge lengths\n", "xyz"[a],
                 miss_on / unit, miss_off / unit);
     EXPECT_LE(miss_on, 1e-3 * unit);
